@@ -1,0 +1,58 @@
+// The application side of an ESC: the Process Data Interface. A µC on a real
+// ESC sees exactly this (SOES's ESC_read/ESC_write): reads and writes of the
+// register file and process RAM, with the sync-manager buffer rules applied
+// from the PDI side (ESC datasheet Section I §8). coe/ and ds402/ reach the
+// ESC only through it, so the emulated ESC could be swapped for a real one.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "common/le.hpp"
+
+namespace ecat::esc {
+
+class Pdi {
+ public:
+  virtual ~Pdi() = default;
+
+  // Reads `out.size()` bytes starting at `address`. Reading the last byte of
+  // a full write-direction SM buffer releases it (mailbox empty / 3-buffer
+  // swap), as on silicon. Addresses past the end read as 0.
+  virtual void read(std::uint16_t address, std::span<std::uint8_t> out) noexcept = 0;
+  // Writes `in` at `address`. Writing the last byte of a read-direction SM
+  // buffer makes it available to the master. Read-only bits are kept.
+  virtual void write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept = 0;
+
+  std::uint8_t read_u8(std::uint16_t address) noexcept {
+    std::uint8_t b[1]{};
+    read(address, b);
+    return b[0];
+  }
+  std::uint16_t read_u16(std::uint16_t address) noexcept {
+    std::uint8_t b[2]{};
+    read(address, b);
+    return load_le<std::uint16_t>(b);
+  }
+  std::uint32_t read_u32(std::uint16_t address) noexcept {
+    std::uint8_t b[4]{};
+    read(address, b);
+    return load_le<std::uint32_t>(b);
+  }
+  void write_u8(std::uint16_t address, std::uint8_t v) noexcept {
+    std::uint8_t b[1]{v};
+    write(address, b);
+  }
+  void write_u16(std::uint16_t address, std::uint16_t v) noexcept {
+    std::uint8_t b[2];
+    store_le(b, v);
+    write(address, b);
+  }
+  void write_u32(std::uint16_t address, std::uint32_t v) noexcept {
+    std::uint8_t b[4];
+    store_le(b, v);
+    write(address, b);
+  }
+};
+
+}  // namespace ecat::esc
