@@ -1,0 +1,41 @@
+#include "transport/unique_fd.hpp"
+
+#include <poll.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <ctime>
+
+namespace ecat::transport {
+
+void UniqueFd::reset() noexcept {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+Expected<void, TransportError> wait_readable(int fd, Nanoseconds timeout) noexcept {
+  if (fd < 0) return fail(TransportError::NotOpen);
+  if (timeout < Nanoseconds{0}) timeout = Nanoseconds{0};
+  constexpr long kNanosPerSecond = 1'000'000'000L;
+  const auto ns = timeout.count();
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(ns / kNanosPerSecond);
+  ts.tv_nsec = static_cast<long>(ns % kNanosPerSecond);
+  pollfd p{};
+  p.fd = fd;
+  p.events = POLLIN;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const int r = ::ppoll(&p, 1, &ts, nullptr);
+    if (r > 0) {
+      if ((p.revents & (POLLERR | POLLNVAL)) != 0) return fail(TransportError::ReceiveFailed);
+      return {};
+    }
+    if (r == 0) return fail(TransportError::Timeout);
+    if (errno != EINTR) return fail(TransportError::ReceiveFailed);
+  }
+  return fail(TransportError::Timeout);
+}
+
+}  // namespace ecat::transport
