@@ -1,0 +1,150 @@
+#include "coe/object_store.hpp"
+
+#include <algorithm>
+
+namespace ecat::coe {
+namespace {
+
+std::uint32_t capacity_of(const od::Entry& e, const ObjectStore::Options& options) noexcept {
+  if (od::is_string(e.type)) {
+    return e.bit_length > 0 ? (e.bit_length + 7u) / 8u : options.variable_capacity;
+  }
+  return std::max<std::uint32_t>(1, (e.bit_length + 7u) / 8u);
+}
+
+}  // namespace
+
+ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : dictionary_(dictionary) {
+  std::uint32_t offset = 0;
+  for (const od::Object& o : dictionary.objects()) {
+    ObjectRange r;
+    r.index = o.index;
+    r.first = static_cast<std::uint32_t>(slots_.size());
+    for (const od::Entry& e : o.entries) {
+      Slot s;
+      s.object = &o;
+      s.entry = &e;
+      s.offset = offset;
+      s.capacity = capacity_of(e, options);
+      offset += s.capacity;
+      max_capacity_ = std::max(max_capacity_, s.capacity);
+      slots_.push_back(s);
+    }
+    r.count = static_cast<std::uint32_t>(o.entries.size());
+    objects_.push_back(r);
+  }
+  buffer_.assign(offset, 0);
+  reset_to_defaults();
+}
+
+void ObjectStore::load_default(Slot& s) noexcept {
+  const od::Value& d = s.entry->default_value;
+  std::uint8_t* p = buffer_.data() + s.offset;
+  std::fill(p, p + s.capacity, std::uint8_t{0});
+  const std::size_t n = std::min<std::size_t>(d.size(), s.capacity);
+  std::copy_n(d.begin(), n, p);
+  s.length = s.variable() ? static_cast<std::uint32_t>(n) : s.capacity;
+}
+
+void ObjectStore::reset_to_defaults() noexcept {
+  for (Slot& s : slots_) load_default(s);
+}
+
+const ObjectStore::ObjectRange* ObjectStore::range(std::uint16_t index) const noexcept {
+  auto it = std::lower_bound(objects_.begin(), objects_.end(), index,
+                             [](const ObjectRange& r, std::uint16_t i) { return r.index < i; });
+  return (it != objects_.end() && it->index == index) ? &*it : nullptr;
+}
+
+bool ObjectStore::contains(std::uint16_t index) const noexcept { return range(index) != nullptr; }
+
+bool ObjectStore::set_hooks(std::uint16_t index, ObjectHooks* hooks) noexcept {
+  auto* r = const_cast<ObjectRange*>(range(index));
+  if (!r) return false;
+  r->hooks = hooks;
+  return true;
+}
+
+ObjectHooks* ObjectStore::hooks(std::uint16_t index) const noexcept {
+  const ObjectRange* r = range(index);
+  return r ? r->hooks : nullptr;
+}
+
+const ObjectStore::Slot* ObjectStore::slot(std::uint16_t index, std::uint8_t subindex) const noexcept {
+  const ObjectRange* r = range(index);
+  if (!r) return nullptr;
+  auto first = slots_.begin() + r->first;
+  auto last = first + r->count;
+  auto it = std::lower_bound(first, last, subindex,
+                             [](const Slot& s, std::uint8_t sub) { return s.entry->subindex < sub; });
+  return (it != last && it->entry->subindex == subindex) ? &*it : nullptr;
+}
+
+ObjectStore::Slot* ObjectStore::slot(std::uint16_t index, std::uint8_t subindex) noexcept {
+  return const_cast<Slot*>(static_cast<const ObjectStore*>(this)->slot(index, subindex));
+}
+
+ConstBytes ObjectStore::value(std::uint16_t index, std::uint8_t subindex) const noexcept {
+  const Slot* s = slot(index, subindex);
+  return s ? value(*s) : ConstBytes{};
+}
+
+Expected<void, SdoAbort> ObjectStore::assign(std::uint16_t index, std::uint8_t subindex,
+                                             ConstBytes data) noexcept {
+  Slot* s = slot(index, subindex);
+  if (!s) return fail(missing(index));
+  return assign(*s, data);
+}
+
+Expected<void, SdoAbort> ObjectStore::assign(Slot& s, ConstBytes data) noexcept {
+  if (data.size() > s.capacity) return fail(SdoAbort::LengthTooHigh);
+  if (!s.variable() && data.size() < s.capacity) return fail(SdoAbort::LengthTooLow);
+  std::uint8_t* p = buffer_.data() + s.offset;
+  if (!data.empty()) std::memcpy(p, data.data(), data.size());
+  if (s.variable()) {
+    std::fill(p + data.size(), p + s.capacity, std::uint8_t{0});
+    s.length = static_cast<std::uint32_t>(data.size());
+  }
+  return {};
+}
+
+Expected<std::size_t, SdoAbort> ObjectStore::read(std::uint16_t index, std::uint8_t subindex,
+                                                  Bytes out) noexcept {
+  Slot* s = slot(index, subindex);
+  if (!s) return fail(missing(index));
+  if (ObjectHooks* h = hooks(index)) h->on_read(*this, index, subindex);
+  if (out.size() < s->length) return fail(SdoAbort::ObjectLengthExceedsMailbox);
+  if (s->length > 0) std::memcpy(out.data(), buffer_.data() + s->offset, s->length);
+  return std::size_t{s->length};
+}
+
+Expected<void, SdoAbort> ObjectStore::check(const Slot& s, ConstBytes data) const noexcept {
+  const od::Entry& e = *s.entry;
+  if (data.size() > s.capacity) return fail(SdoAbort::LengthTooHigh);
+  if (!s.variable() && data.size() < s.capacity) return fail(SdoAbort::LengthTooLow);
+  if (!is_numeric(e.type)) return {};
+  // Bit fields and booleans must fit their bit length (CiA 301 §7.1.4).
+  if (e.bit_length < 8 * data.size() && e.bit_length < 64) {
+    if ((load_bits(data, static_cast<unsigned>(8 * data.size()), false) >> e.bit_length) != 0) {
+      return fail(SdoAbort::ValueRange);
+    }
+  }
+  if (e.has_max() && compare_values(e.type, data, e.max_value) > 0) return fail(SdoAbort::ValueTooHigh);
+  if (e.has_min() && compare_values(e.type, data, e.min_value) < 0) return fail(SdoAbort::ValueTooLow);
+  return {};
+}
+
+Expected<void, SdoAbort> ObjectStore::write(const WriteRequest& request) noexcept {
+  Slot* s = slot(request.index, request.subindex);
+  if (!s) return fail(missing(request.index));
+  if (auto ok = check(*s, request.data); !ok) return ok;
+  ObjectHooks* h = hooks(request.index);
+  if (h) {
+    if (auto ok = h->on_write(*this, request); !ok) return ok;
+  }
+  if (auto ok = assign(*s, request.data); !ok) return ok;
+  if (h) h->after_write(*this, request.index, request.subindex);
+  return {};
+}
+
+}  // namespace ecat::coe

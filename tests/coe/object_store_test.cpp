@@ -1,0 +1,111 @@
+#include "coe/object_store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+
+#include "tests/coe/test_device.hpp"
+
+namespace ecat::coe {
+namespace {
+
+class Refuser : public ObjectHooks {
+ public:
+  Expected<void, SdoAbort> on_write(ObjectStore&, const WriteRequest& r) noexcept override {
+    ++checks;
+    if (r.state != od::EsmState::PreOp) return fail(SdoAbort::DataTransferDeviceState);
+    return {};
+  }
+  void after_write(ObjectStore&, std::uint16_t, std::uint8_t sub) noexcept override { last_written = sub; }
+  void on_read(ObjectStore& s, std::uint16_t index, std::uint8_t sub) noexcept override {
+    (void)s.set<std::uint16_t>(index, sub, 0x4242);
+  }
+  int checks = 0;
+  int last_written = -1;
+};
+
+class ObjectStoreTest : public ::testing::Test {
+ protected:
+  od::DeviceDescription device = test::make_device();
+  ObjectStore store{device.dictionary};
+};
+
+TEST_F(ObjectStoreTest, DefaultsAreLoaded) {
+  EXPECT_EQ(store.get<std::uint32_t>(0x1000, 0), 0x00020192u);
+  EXPECT_EQ(store.get<std::int16_t>(0x2000, 0), 5);
+  EXPECT_EQ(store.get<std::uint8_t>(0x1018, 0), 4);
+  EXPECT_EQ(store.get<std::uint32_t>(0x1018, 4), 0x0BADCAFEu);
+  auto name = store.value(0x1008, 0);
+  EXPECT_EQ(std::string(name.begin(), name.end()), "ecat test");
+  EXPECT_EQ(store.slot(0x2002, 0)->capacity, 65536u);
+  EXPECT_EQ(store.slot(0x2002, 0)->length, 0u);
+}
+
+TEST_F(ObjectStoreTest, TypedSetAndSignExtension) {
+  ASSERT_TRUE(store.set<std::int16_t>(0x2000, 0, -3));
+  EXPECT_EQ(store.get<std::int16_t>(0x2000, 0), -3);
+  EXPECT_EQ(store.get<std::int32_t>(0x2000, 0), -3);  // sign-extended from 16 bits
+  const auto v = store.value(0x2000, 0);
+  EXPECT_EQ(v[0], 0xFD);
+  EXPECT_EQ(v[1], 0xFF);
+  EXPECT_EQ(store.set<std::uint8_t>(0x2000, 9, 1).error(), SdoAbort::NoSubindex);
+  EXPECT_EQ(store.set<std::uint8_t>(0x5555, 0, 1).error(), SdoAbort::NoObject);
+}
+
+TEST_F(ObjectStoreTest, WriteChecksLengthAndRange) {
+  std::array<std::uint8_t, 3> three{1, 2, 3};
+  std::array<std::uint8_t, 1> one{1};
+  std::array<std::uint8_t, 2> too_high{101, 0};
+  std::array<std::uint8_t, 2> too_low{0x9B, 0xFF};  // -101
+  std::array<std::uint8_t, 2> ok{0x9C, 0xFF};       // -100
+  EXPECT_EQ(store.write({0x2000, 0, three}).error(), SdoAbort::LengthTooHigh);
+  EXPECT_EQ(store.write({0x2000, 0, one}).error(), SdoAbort::LengthTooLow);
+  EXPECT_EQ(store.write({0x2000, 0, too_high}).error(), SdoAbort::ValueTooHigh);
+  EXPECT_EQ(store.write({0x2000, 0, too_low}).error(), SdoAbort::ValueTooLow);
+  EXPECT_EQ(store.get<std::int16_t>(0x2000, 0), 5);  // unchanged by the refused writes
+  ASSERT_TRUE(store.write({0x2000, 0, ok}));
+  EXPECT_EQ(store.get<std::int16_t>(0x2000, 0), -100);
+}
+
+TEST_F(ObjectStoreTest, BitFieldsMustFitTheirLength) {
+  std::array<std::uint8_t, 1> eight{8};
+  std::array<std::uint8_t, 1> seven{7};
+  EXPECT_EQ(store.write({0x2005, 2, eight}).error(), SdoAbort::ValueRange);
+  EXPECT_TRUE(store.write({0x2005, 2, seven}));
+  std::array<std::uint8_t, 1> two{2};
+  EXPECT_EQ(store.write({0x2005, 1, two}).error(), SdoAbort::ValueRange);
+}
+
+TEST_F(ObjectStoreTest, HooksRefuseReactAndCompute) {
+  Refuser hooks;
+  ASSERT_TRUE(store.set_hooks(0x2003, &hooks));
+  EXPECT_FALSE(store.set_hooks(0x4444, &hooks));
+  std::array<std::uint8_t, 2> v{0x34, 0x12};
+  EXPECT_EQ(store.write({0x2003, 1, v, od::EsmState::SafeOp}).error(), SdoAbort::DataTransferDeviceState);
+  EXPECT_EQ(store.get<std::uint16_t>(0x2003, 1), 0x1111);
+  EXPECT_EQ(hooks.last_written, -1);
+  ASSERT_TRUE(store.write({0x2003, 1, v, od::EsmState::PreOp}));
+  EXPECT_EQ(store.get<std::uint16_t>(0x2003, 1), 0x1234);
+  EXPECT_EQ(hooks.last_written, 1);
+  EXPECT_EQ(hooks.checks, 2);
+  std::array<std::uint8_t, 4> out{};
+  auto n = store.read(0x2003, 2, out);
+  ASSERT_TRUE(n);
+  EXPECT_EQ(*n, 2u);
+  EXPECT_EQ(out[0], 0x42);
+  EXPECT_EQ(out[1], 0x42);
+}
+
+TEST_F(ObjectStoreTest, VariableLengthStrings) {
+  std::array<std::uint8_t, 5> data{1, 2, 3, 4, 5};
+  ASSERT_TRUE(store.write({0x2002, 0, data}));
+  EXPECT_EQ(store.value(0x2002, 0).size(), 5u);
+  std::vector<std::uint8_t> big(65537, 0xAA);
+  EXPECT_EQ(store.write({0x2002, 0, big}).error(), SdoAbort::LengthTooHigh);
+  EXPECT_EQ(store.value(0x2002, 0).size(), 5u);
+  store.reset_to_defaults();
+  EXPECT_EQ(store.value(0x2002, 0).size(), 0u);
+}
+
+}  // namespace
+}  // namespace ecat::coe
