@@ -1,0 +1,306 @@
+#include "esi/sii_writer.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "common/le.hpp"
+#include "esi/sii_crc.hpp"
+#include "esi/sii_layout.hpp"
+#include "esi/sii_strings.hpp"
+
+namespace ecat::esi {
+namespace {
+
+// Two MII ports (ESI Physics="YY"): port 0 and port 1 nibbles = 1.
+constexpr std::uint16_t kDefaultPhysicalPorts = sii::kPortMii | (sii::kPortMii << 4);
+constexpr std::size_t kMaxEepromBytes = sii::kBytesPerSizeUnit * 0x10000;
+
+std::uint8_t fmmu_code(od::FmmuUsage u) {
+  switch (u) {
+    case od::FmmuUsage::Outputs: return sii::kFmmuOutputs;
+    case od::FmmuUsage::Inputs: return sii::kFmmuInputs;
+    case od::FmmuUsage::MailboxState: return sii::kFmmuSyncMStatus;
+    case od::FmmuUsage::Unused: break;
+  }
+  return sii::kFmmuUnused;
+}
+
+// Process-data size of an SM whose device file leaves it to the PDOs: the
+// default-assigned PDOs' bits, rounded up to bytes.
+std::uint16_t pdo_bytes_for_sm(const od::DeviceDescription& d, std::size_t sm) {
+  std::uint32_t bits = 0;
+  for (const auto* list : {&d.rx_pdos, &d.tx_pdos}) {
+    for (const auto& p : *list) {
+      if (p.sm && *p.sm == sm) bits += p.bit_length();
+    }
+  }
+  return static_cast<std::uint16_t>((bits + 7) / 8);
+}
+
+SiiPdo make_pdo(const od::Pdo& p, SiiStringTable& strings) {
+  SiiPdo out;
+  out.index = p.index;
+  out.sync_manager = p.sm ? *p.sm : sii::kPdoNoSm;
+  out.name_idx = strings.add(p.name);
+  out.flags = static_cast<std::uint16_t>((p.mandatory ? sii::kPdoMandatory : 0) |
+                                         (p.sm ? sii::kPdoDefault : 0) |
+                                         (p.fixed ? sii::kPdoFixed : 0));
+  for (const auto& e : p.entries) {
+    SiiPdoEntry se;
+    se.index = e.index;
+    se.subindex = e.subindex;
+    se.name_idx = e.index == 0 ? 0 : strings.add(e.name);
+    se.data_type = e.index == 0 ? 0 : static_cast<std::uint8_t>(static_cast<std::uint16_t>(e.type));
+    se.bit_length = e.bit_length;
+    out.entries.push_back(se);
+  }
+  return out;
+}
+
+void put_header(ByteWriter& w, sii::CategoryType type, std::size_t data_bytes) {
+  w.u16(static_cast<std::uint16_t>(type));
+  w.u16(static_cast<std::uint16_t>((data_bytes + 1) / 2));
+}
+
+void put_pad(ByteWriter& w, std::size_t data_bytes, std::uint8_t pad) {
+  if (data_bytes % 2 != 0) w.u8(pad);
+}
+
+void put_pdos(ByteWriter& w, sii::CategoryType type, const std::vector<SiiPdo>& pdos) {
+  if (pdos.empty()) return;
+  std::size_t bytes = 0;
+  for (const auto& p : pdos) bytes += sii::kPdoHeaderBytes + p.entries.size() * sii::kPdoEntryBytes;
+  put_header(w, type, bytes);
+  for (const auto& p : pdos) {
+    w.u16(p.index);
+    w.u8(static_cast<std::uint8_t>(p.entries.size()));
+    w.u8(p.sync_manager);
+    w.u8(p.synchronization);
+    w.u8(p.name_idx);
+    w.u16(p.flags);
+    for (const auto& e : p.entries) {
+      w.u16(e.index);
+      w.u8(e.subindex);
+      w.u8(e.name_idx);
+      w.u8(e.data_type);
+      w.u8(e.bit_length);
+      w.u16(e.flags);
+    }
+  }
+}
+
+void put_general(ByteWriter& w, const SiiGeneral& g) {
+  put_header(w, sii::CategoryType::General, sii::kGeneralBytes);
+  for (std::uint8_t b : {g.group_idx, g.image_idx, g.order_idx, g.name_idx, g.reserved4,
+                         g.coe_details, g.foe_details, g.eoe_details, g.soe_channels,
+                         g.ds402_channels, g.sysman_class, g.flags}) {
+    w.u8(b);
+  }
+  w.u16(static_cast<std::uint16_t>(g.current_on_ebus_ma));
+  w.u8(g.group_idx2);
+  w.u8(g.reserved15);
+  w.u16(g.physical_ports);
+  w.u16(g.physical_memory_address);
+  w.fill(0, sii::kGeneralBytes - 0x14);  // bytes 14h..1Fh reserved
+}
+
+void put_categories(ByteWriter& w, const SiiImage& img) {
+  if (!img.strings.empty()) {
+    std::size_t bytes = 1;
+    for (const auto& s : img.strings) bytes += 1 + std::min(s.size(), sii::kMaxStringLength);
+    put_header(w, sii::CategoryType::Strings, bytes);
+    w.u8(static_cast<std::uint8_t>(img.strings.size()));
+    for (const auto& s : img.strings) {
+      const std::size_t n = std::min(s.size(), sii::kMaxStringLength);
+      w.u8(static_cast<std::uint8_t>(n));
+      w.bytes(ConstBytes(reinterpret_cast<const std::uint8_t*>(s.data()), n));
+    }
+    put_pad(w, bytes, 0);
+  }
+  if (img.general) put_general(w, *img.general);
+  if (!img.fmmus.empty()) {
+    put_header(w, sii::CategoryType::Fmmu, img.fmmus.size());
+    w.bytes(img.fmmus);
+    put_pad(w, img.fmmus.size(), sii::kFmmuPad);
+  }
+  if (!img.sync_managers.empty()) {
+    put_header(w, sii::CategoryType::SyncM, img.sync_managers.size() * sii::kSyncManagerBytes);
+    for (const auto& sm : img.sync_managers) {
+      w.u16(sm.start_address);
+      w.u16(sm.length);
+      w.u8(sm.control);
+      w.u8(sm.status);
+      w.u8(sm.enable);
+      w.u8(sm.type);
+    }
+  }
+  put_pdos(w, sii::CategoryType::TxPdo, img.tx_pdos);
+  put_pdos(w, sii::CategoryType::RxPdo, img.rx_pdos);
+  if (!img.dc_modes.empty()) {
+    put_header(w, sii::CategoryType::Dc, img.dc_modes.size() * sii::kDcModeBytes);
+    for (const auto& m : img.dc_modes) {
+      w.u32(m.cycle_time_sync0);
+      w.u32(m.shift_time_sync0);
+      w.u32(m.shift_time_sync1);
+      w.u16(static_cast<std::uint16_t>(m.cycle_time_sync1_factor));
+      w.u16(m.assign_activate);
+      w.u16(static_cast<std::uint16_t>(m.cycle_time_sync0_factor));
+      w.u8(m.name_idx);
+      w.u8(m.desc_idx);
+      w.bytes(m.reserved);
+    }
+  }
+  for (const auto& c : img.other_categories) {
+    w.u16(c.type);
+    w.u16(static_cast<std::uint16_t>((c.data.size() + 1) / 2));
+    w.bytes(c.data);
+    put_pad(w, c.data.size(), 0);
+  }
+  w.u16(static_cast<std::uint16_t>(sii::CategoryType::End));
+}
+
+}  // namespace
+
+std::array<std::uint8_t, 14> sii_config_bytes(const od::EscProperties& esc) {
+  std::array<std::uint8_t, 14> out{};
+  ByteWriter w(out);
+  w.u16(esc.pdi_control);
+  w.u16(esc.pdi_configuration);
+  w.u16(esc.sync_impulse_length);
+  w.u16(esc.pdi_configuration2);
+  w.u16(esc.configured_station_alias);
+  return out;  // words 5 and 6 reserved, 0
+}
+
+SiiImage sii_from_device(const od::DeviceDescription& d) {
+  SiiImage img;
+  const auto cfg = sii_config_bytes(d.esc);
+  ByteReader r(cfg);
+  img.config = {r.u16(), r.u16(), r.u16(), r.u16(), r.u16(), r.u16(), r.u16()};
+  img.vendor_id = d.identity.vendor_id;
+  img.product_code = d.identity.product_code;
+  img.revision = d.identity.revision;
+  img.serial = d.identity.serial;
+
+  // Mailbox words 18h..1Bh mirror SM0/SM1 (checked by the ESC at Init->PreOp);
+  // Bootstrap reuses the standard mailbox when the device supports it.
+  for (const auto& sm : d.sync_managers) {
+    if (sm.type == od::SmType::MailboxOut) {
+      img.standard_mailbox.receive_offset = sm.start_address;
+      img.standard_mailbox.receive_size = sm.default_size;
+    } else if (sm.type == od::SmType::MailboxIn) {
+      img.standard_mailbox.send_offset = sm.start_address;
+      img.standard_mailbox.send_size = sm.default_size;
+    }
+  }
+  if (d.bootstrap_supported) img.bootstrap_mailbox = img.standard_mailbox;
+  const auto& mb = d.mailbox;
+  img.mailbox_protocols = static_cast<std::uint16_t>(
+      (mb.coe ? sii::kProtoCoE : 0) | (mb.foe ? sii::kProtoFoE : 0) |
+      (mb.eoe ? sii::kProtoEoE : 0) | (mb.soe ? sii::kProtoSoE : 0));
+  img.size_word = static_cast<std::uint16_t>(d.esc.eeprom_bytes / sii::kBytesPerSizeUnit - 1);
+  img.version = sii::kVersion;
+
+  SiiStringTable strings;
+  SiiGeneral g;
+  g.order_idx = strings.add(d.identity.type_name);
+  g.name_idx = strings.add(d.identity.name);
+  g.group_idx = strings.add(d.identity.group_type);
+  g.group_idx2 = g.group_idx;
+  if (mb.coe) {
+    g.coe_details = static_cast<std::uint8_t>(
+        sii::kCoeEnableSdo | (mb.sdo_info ? sii::kCoeSdoInfo : 0) |
+        (mb.pdo_assign ? sii::kCoePdoAssign : 0) | (mb.pdo_config ? sii::kCoePdoConfig : 0) |
+        (mb.pdo_upload ? sii::kCoePdoUpload : 0) |
+        (mb.complete_access ? sii::kCoeCompleteAccess : 0));
+  }
+  g.foe_details = mb.foe ? sii::kFoeEnable : 0;
+  g.eoe_details = mb.eoe ? sii::kEoeEnable : 0;
+  g.flags = d.esc.no_lrw ? sii::kFlagNotLrw : 0;
+  g.physical_ports = kDefaultPhysicalPorts;
+  img.general = g;
+
+  for (auto u : d.fmmus) img.fmmus.push_back(fmmu_code(u));
+  for (std::size_t i = 0; i < d.sync_managers.size(); ++i) {
+    const auto& sm = d.sync_managers[i];
+    SiiSyncManager s;
+    s.start_address = sm.start_address;
+    s.length = sm.default_size;
+    const bool process_data = sm.type == od::SmType::Outputs || sm.type == od::SmType::Inputs;
+    if (process_data && s.length == 0) s.length = pdo_bytes_for_sm(d, i);
+    s.control = sm.control;
+    s.enable = sm.enable ? sii::kSmEnable : 0;
+    s.type = static_cast<std::uint8_t>(sm.type);
+    img.sync_managers.push_back(s);
+  }
+  for (const auto& p : d.tx_pdos) img.tx_pdos.push_back(make_pdo(p, strings));
+  for (const auto& p : d.rx_pdos) img.rx_pdos.push_back(make_pdo(p, strings));
+  for (const auto& m : d.dc_op_modes) {
+    SiiDcMode s;
+    s.shift_time_sync0 = static_cast<std::uint32_t>(m.shift_time_sync0);
+    s.shift_time_sync1 = static_cast<std::uint32_t>(m.shift_time_sync1);
+    s.cycle_time_sync1_factor = static_cast<std::int16_t>(m.cycle_time_sync1_factor);
+    s.assign_activate = m.assign_activate;
+    s.cycle_time_sync0_factor = static_cast<std::int16_t>(m.cycle_time_sync0_factor);
+    s.name_idx = strings.add(m.name);
+    s.desc_idx = strings.add(m.description);
+    img.dc_modes.push_back(s);
+  }
+  img.strings = strings.take();
+  return img;
+}
+
+Expected<std::vector<std::uint8_t>, std::string> encode_sii(const SiiImage& img,
+                                                            std::size_t eeprom_bytes) {
+  if (eeprom_bytes < sii::kFixedAreaBytes + sii::kBytesPerSizeUnit ||
+      eeprom_bytes % sii::kBytesPerSizeUnit != 0 || eeprom_bytes > kMaxEepromBytes) {
+    return fail(fmt::format("EEPROM size {} bytes cannot be encoded: it must be a multiple of {} "
+                            "between {} and {}",
+                            eeprom_bytes, sii::kBytesPerSizeUnit,
+                            sii::kFixedAreaBytes + sii::kBytesPerSizeUnit, kMaxEepromBytes));
+  }
+  std::vector<std::uint8_t> out(eeprom_bytes, 0xFF);
+  ByteWriter w(out);
+  const auto& c = img.config;
+  for (std::uint16_t v : {c.pdi_control, c.pdi_configuration, c.sync_impulse_length,
+                          c.pdi_configuration2, c.station_alias, c.reserved5, c.reserved6}) {
+    w.u16(v);
+  }
+  w.u8(sii::crc8(ConstBytes(out).first(sii::kConfigAreaCrcBytes)));
+  w.u8(0);
+  w.u32(img.vendor_id);
+  w.u32(img.product_code);
+  w.u32(img.revision);
+  w.u32(img.serial);
+  w.u16(img.execution_delay);
+  w.u16(img.port0_delay);
+  w.u16(img.port1_delay);
+  w.u16(0);
+  for (const auto* m : {&img.bootstrap_mailbox, &img.standard_mailbox}) {
+    w.u16(m->receive_offset);
+    w.u16(m->receive_size);
+    w.u16(m->send_offset);
+    w.u16(m->send_size);
+  }
+  w.u16(img.mailbox_protocols);
+  w.fill(0, (sii::kWordSize - sii::kWordMailboxProtocols - 1) * 2);
+  w.u16(static_cast<std::uint16_t>(eeprom_bytes / sii::kBytesPerSizeUnit - 1));
+  w.u16(img.version);
+  put_categories(w, img);
+  if (!w.ok()) {
+    std::vector<std::uint8_t> big(kMaxEepromBytes);
+    ByteWriter m(big);
+    m.fill(0, sii::kFixedAreaBytes);
+    put_categories(m, img);
+    return fail(fmt::format("SII image needs {} bytes but the EEPROM holds only {} bytes",
+                            m.position(), eeprom_bytes));
+  }
+  return out;
+}
+
+Expected<std::vector<std::uint8_t>, std::string> write_sii(const od::DeviceDescription& device) {
+  return encode_sii(sii_from_device(device), device.esc.eeprom_bytes);
+}
+
+}  // namespace ecat::esi
