@@ -1,0 +1,59 @@
+// Construction-time description of one emulated ESC (Beckhoff ESC datasheet
+// Section II §2: ESC information 0x0000-0x0008). The ESC knows nothing of
+// CoE: the slave layer fills this from the device model (SII image, ports).
+// Defaults describe an ET1100 with 2 MII ports, 8 FMMUs, 8 SMs, 8 KiB RAM.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "common/clock.hpp"
+
+namespace ecat::esc {
+
+// ESC type codes (0x0000), Section II Table 2.
+inline constexpr std::uint8_t kEscTypeEt1100 = 0x11;
+inline constexpr std::uint8_t kMaxPorts = 4;
+inline constexpr std::uint8_t kMaxFmmus = 16;
+inline constexpr std::uint8_t kMaxSyncManagers = 16;
+inline constexpr std::uint32_t kMaxProcessRam = 0x10000 - 0x1000;  // 60 KiB
+
+// Port descriptor 0x0007, two bits per port.
+enum class PortType : std::uint8_t { NotImplemented = 0b00, NotConfigured = 0b01, Ebus = 0b10, Mii = 0b11 };
+
+// Called when the master writes an SII word through 0x0502 (write command),
+// so the owner can persist it. Set-up only; never called on the cyclic path
+// except for an SII write command.
+using SiiWriteBack = std::function<void(std::uint16_t word_address, std::uint16_t value)>;
+
+struct EscConfig {
+  std::uint8_t type = kEscTypeEt1100;
+  std::uint8_t revision = 0x00;
+  std::uint16_t build = 0x0000;
+  std::uint8_t fmmu_count = 8;           // <= kMaxFmmus
+  std::uint8_t sync_manager_count = 8;   // <= kMaxSyncManagers
+  std::uint32_t process_ram_size = 8 * 1024;  // bytes at 0x1000.., <= kMaxProcessRam, multiple of 1 KiB
+  std::uint8_t port_count = 2;           // ports 0..port_count-1 exist, <= kMaxPorts
+  PortType port_type = PortType::Mii;    // type reported for each existing port in 0x0007
+
+  // Features 0x0008.
+  bool dc = true;               // bit 2: DC available (0x0900-0x09FF routed to DcUnit)
+  bool dc_64bit = true;         // bit 3
+  bool enhanced_dc_sync = true; // bit 8
+  bool lrw = true;              // bit 9 set when false: LRW passes with WKC untouched
+  bool read_write_commands = true;  // bit 10 set when false: APRW/FPRW/BRW pass untouched
+
+  // SII EEPROM image (bytes, little-endian words). Words 0..4 initialise
+  // 0x0140/0x0141, 0x0150/0x0151, 0x0982 (via DcUnit), 0x0152 and the alias
+  // 0x0012 at power-on, as an ET1100 does after its EEPROM load.
+  std::vector<std::uint8_t> sii;
+  SiiWriteBack sii_write_back;
+  // Time the SII interface stays busy after a command (0: finishes at once,
+  // which every common master accepts - shared/spec/masters.md §6 #8).
+  Nanoseconds sii_busy_time{0};
+  // Read size reported in 0x0502 bit 6: true = 8 bytes (as an ET1100), false = 4 bytes.
+  bool sii_read_8_bytes = true;
+};
+
+}  // namespace ecat::esc

@@ -1,0 +1,41 @@
+// FMMU register decoding (Section II 0x0600+16n).
+#include "esc/fmmu.hpp"
+
+#include "common/le.hpp"
+
+namespace ecat::esc {
+
+Fmmu Fmmu::decode(const std::uint8_t* block) noexcept {
+  using namespace fmmu_reg;
+  Fmmu f;
+  f.logical_start = load_le<std::uint32_t>(block + kLogicalStart);
+  f.length = load_le<std::uint16_t>(block + kLength);
+  f.logical_start_bit = static_cast<std::uint8_t>(block[kLogicalStartBit] & kBitMask);
+  f.logical_stop_bit = static_cast<std::uint8_t>(block[kLogicalStopBit] & kBitMask);
+  f.physical_start = load_le<std::uint16_t>(block + kPhysicalStart);
+  f.physical_start_bit = static_cast<std::uint8_t>(block[kPhysicalStartBit] & kBitMask);
+  f.read = (block[kType] & kTypeRead) != 0;
+  f.write = (block[kType] & kTypeWrite) != 0;
+  f.enabled = (block[kActivate] & kActivateEnable) != 0;
+  return f;
+}
+
+bool Fmmu::active() const noexcept {
+  if (!enabled || length == 0 || (!read && !write)) return false;
+  // A one-byte mapping needs stop bit >= start bit.
+  return !(length == 1 && logical_stop_bit < logical_start_bit);
+}
+
+std::uint64_t Fmmu::first_bit() const noexcept {
+  return static_cast<std::uint64_t>(logical_start) * 8 + logical_start_bit;
+}
+
+std::uint64_t Fmmu::last_bit() const noexcept {
+  return (static_cast<std::uint64_t>(logical_start) + length - 1) * 8 + logical_stop_bit;
+}
+
+bool Fmmu::byte_aligned() const noexcept {
+  return logical_start_bit == 0 && logical_stop_bit == 7 && physical_start_bit == 0;
+}
+
+}  // namespace ecat::esc

@@ -1,0 +1,1 @@
+#include "esc/sii_interface.hpp"

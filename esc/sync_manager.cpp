@@ -1,0 +1,1 @@
+#include "esc/sync_manager.hpp"

@@ -1,0 +1,1 @@
+#include "esc/watchdog.hpp"

@@ -1,0 +1,43 @@
+// ESC watchdogs (Section I §10, Section II 0x0400-0x0443;
+// shared/spec/esc-registers.md §8): a divider turning 40 ns ticks into the
+// watchdog base unit, the PDI watchdog (restarted by PDI accesses) and the
+// process-data watchdog (restarted by ECAT writes to SMs with control bit 6).
+// Expiry is evaluated on the injected time.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "common/clock.hpp"
+
+namespace ecat::esc {
+
+inline constexpr std::uint16_t kWatchdogDividerReset = 0x09C2;  // 2498 -> 100 µs
+inline constexpr std::uint16_t kWatchdogTimeReset = 0x03E8;     // 1000 units -> 100 ms
+inline constexpr std::int64_t kEscClockPeriodNs = 40;           // 25 MHz
+inline constexpr std::uint16_t kWatchdogDividerOffset = 2;      // divider = ticks - 2
+
+class Watchdogs {
+ public:
+  // Timeout for a time register value under `divider` (0 = disabled).
+  static Nanoseconds timeout(std::uint16_t divider, std::uint16_t time) noexcept;
+
+  void reset() noexcept;
+  // Restart on a trigger at `now` with the current register values.
+  void trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept;
+  void trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept;
+
+  struct Expired {
+    bool process_data = false;
+    bool pdi = false;
+  };
+  // Reports (once each) the watchdogs that expired by `now`.
+  Expired check(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> next_deadline() const noexcept;
+
+ private:
+  std::optional<Nanoseconds> pd_deadline_;
+  std::optional<Nanoseconds> pdi_deadline_;
+};
+
+}  // namespace ecat::esc
