@@ -1,0 +1,245 @@
+#include "coe/mailbox_server.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "coe/sm_bits.hpp"
+#include "esc/registers.hpp"
+
+namespace ecat::coe {
+namespace {
+
+constexpr std::size_t kReserveSlots = 1;  // kept free for a repeat that displaces SM1's content
+
+bool mailbox_state(std::uint8_t s) noexcept {
+  switch (static_cast<od::EsmState>(s)) {
+    case od::EsmState::PreOp:
+    case od::EsmState::SafeOp:
+    case od::EsmState::Op:
+    case od::EsmState::Bootstrap: return true;
+    default: return false;
+  }
+}
+
+}  // namespace
+
+MailboxServer::MailboxServer(esc::Pdi& pdi, std::size_t max_mailbox_bytes, std::size_t queue_capacity)
+    : pdi_(pdi),
+      max_bytes_(max_mailbox_bytes),
+      queue_(std::max<std::size_t>(queue_capacity, kReserveSlots + 1), max_mailbox_bytes),
+      request_(max_mailbox_bytes),
+      reply_(max_mailbox_bytes),
+      sm1_image_(max_mailbox_bytes),
+      last_reply_(max_mailbox_bytes) {
+  written_[0].resize(max_mailbox_bytes);
+  written_[1].resize(max_mailbox_bytes);
+}
+
+bool MailboxServer::add_service(MailboxService& service) noexcept {
+  if (service_count_ == services_.size()) return false;
+  services_[service_count_++] = &service;
+  return true;
+}
+
+MailboxService* MailboxServer::find(std::uint8_t type) const noexcept {
+  for (std::size_t i = 0; i < service_count_; ++i) {
+    if (static_cast<std::uint8_t>(services_[i]->type()) == type) return services_[i];
+  }
+  return nullptr;
+}
+
+MailboxServer::SmRegs MailboxServer::read_sm(unsigned n) noexcept {
+  std::uint8_t raw[esc::reg::kSyncManagerStride]{};
+  pdi_.read(esc::reg::sync_manager(n), raw);
+  SmRegs sm;
+  sm.start = load_le<std::uint16_t>(raw + esc::reg::sm::kStartAddress);
+  sm.length = load_le<std::uint16_t>(raw + esc::reg::sm::kLength);
+  sm.status = raw[esc::reg::sm::kStatus];
+  sm.activate = raw[esc::reg::sm::kActivate];
+  sm.pdi_control = raw[esc::reg::sm::kPdiControl];
+  return sm;
+}
+
+bool MailboxServer::usable(const SmRegs& sm) const noexcept {
+  return (sm.activate & bits::kSmActivateEnable) && !(sm.pdi_control & bits::kSmPdiDeactivate) &&
+         sm.length > MailboxHeader::kSize && sm.length <= max_bytes_;
+}
+
+void MailboxServer::close() noexcept {
+  open_ = false;
+  queue_.clear();
+  continuing_ = nullptr;
+  last_request_counter_ = 0;
+  last_reply_length_ = 0;
+  have_written_[0] = have_written_[1] = false;
+  for (std::size_t i = 0; i < service_count_; ++i) services_[i]->reset();
+}
+
+void MailboxServer::poll(Nanoseconds now) noexcept {
+  (void)now;
+  const std::uint8_t al = pdi_.read_u8(esc::reg::kAlStatus) & bits::kAlStateMask;
+  if (!mailbox_state(al)) {
+    state_ = od::EsmState::Init;
+    if (open_) close();
+    return;
+  }
+  state_ = static_cast<od::EsmState>(al);
+  // The SM event bits of 0x0220 only say "look"; the SM status registers
+  // read below are what decides, so a missed event costs nothing.
+  (void)pdi_.read_u32(esc::reg::kAlEventRequest);
+  const SmRegs sm0 = read_sm(kWriteMailboxSm);
+  SmRegs sm1 = read_sm(kReadMailboxSm);
+  if (!usable(sm0) || !usable(sm1)) {
+    if (open_) close();
+    return;
+  }
+  open_ = true;
+  sm1_length_ = sm1.length;
+  if ((sm1.activate ^ sm1.pdi_control) & bits::kSmActivateRepeatRequest) {
+    handle_repeat_request(sm1);
+    sm1 = read_sm(kReadMailboxSm);
+  }
+  if (deliver(sm1)) sm1 = read_sm(kReadMailboxSm);
+  if ((sm0.status & bits::kSmStatusMailboxFull) && queue_.size() + kReserveSlots < queue_.capacity()) {
+    receive(sm0);
+    deliver(sm1);
+  }
+}
+
+// ESC datasheet Section I §8.2.3 (mailbox repeat): write the last reply
+// again, then make the repeat ack equal the request.
+void MailboxServer::handle_repeat_request(const SmRegs& sm1) noexcept {
+  const int newest = newest_;
+  const int older = 1 - newest_;
+  if (sm1.status & bits::kSmStatusMailboxFull) {
+    // SM1 already holds a newer reply: the lost one is the one before. Empty
+    // SM1, send the lost one and put the newer one back at the head.
+    if (have_written_[older]) {
+      pdi_.write_u8(static_cast<std::uint16_t>(esc::reg::sync_manager(kReadMailboxSm) + esc::reg::sm::kPdiControl),
+                    static_cast<std::uint8_t>(sm1.pdi_control | bits::kSmPdiDeactivate));
+      pdi_.write_u8(static_cast<std::uint16_t>(esc::reg::sync_manager(kReadMailboxSm) + esc::reg::sm::kPdiControl),
+                    static_cast<std::uint8_t>(sm1.pdi_control & ~bits::kSmPdiDeactivate));
+      (void)queue_.push_front({written_[newest].data(), written_length_[newest]});
+      write_sm1(sm1, {written_[older].data(), written_length_[older]});
+      newest_ = older;
+    }
+  } else if (have_written_[newest]) {
+    write_sm1(sm1, {written_[newest].data(), written_length_[newest]});
+  }
+  const std::uint8_t ack = static_cast<std::uint8_t>((sm1.pdi_control & ~bits::kSmPdiRepeatAck) |
+                                                     (sm1.activate & bits::kSmActivateRepeatRequest));
+  pdi_.write_u8(static_cast<std::uint16_t>(esc::reg::sync_manager(kReadMailboxSm) + esc::reg::sm::kPdiControl),
+                static_cast<std::uint8_t>(ack & ~bits::kSmPdiDeactivate));
+}
+
+void MailboxServer::write_sm1(const SmRegs& sm1, ConstBytes frame) noexcept {
+  const std::size_t n = std::min<std::size_t>(frame.size(), sm1.length);
+  if (n > 0) std::memmove(sm1_image_.data(), frame.data(), n);
+  std::fill(sm1_image_.begin() + static_cast<std::ptrdiff_t>(n), sm1_image_.begin() + sm1.length, std::uint8_t{0});
+  // Writing the last byte of the SM1 area makes the mailbox full for the master.
+  pdi_.write(sm1.start, {sm1_image_.data(), sm1.length});
+}
+
+bool MailboxServer::deliver(const SmRegs& sm1) noexcept {
+  if (sm1.status & bits::kSmStatusMailboxFull) return false;
+  const int slot = 1 - newest_;
+  std::size_t length = 0;
+  if (!queue_.empty()) {
+    const ConstBytes frame = queue_.front();
+    std::memcpy(written_[slot].data(), frame.data(), frame.size());
+    length = frame.size();
+    queue_.pop_front();
+  } else if (continuing_) {
+    const std::size_t n = continuing_->next_reply({written_[slot].data() + MailboxHeader::kSize,
+                                                   static_cast<std::size_t>(sm1.length - MailboxHeader::kSize)});
+    if (n == 0) {
+      continuing_ = nullptr;
+      return false;
+    }
+    reply_counter_ = MailboxHeader::next_counter(reply_counter_);
+    MailboxHeader h;
+    h.length = static_cast<std::uint16_t>(n);
+    h.type = static_cast<std::uint8_t>(continuing_->type());
+    h.counter = reply_counter_;
+    h.pack({written_[slot].data(), MailboxHeader::kSize});
+    length = MailboxHeader::kSize + n;
+  } else {
+    return false;
+  }
+  written_length_[slot] = length;
+  have_written_[slot] = true;
+  newest_ = slot;
+  write_sm1(sm1, {written_[slot].data(), length});
+  return true;
+}
+
+void MailboxServer::receive(const SmRegs& sm0) noexcept {
+  // Reading the whole area (last byte included) frees SM0 for the master.
+  pdi_.read(sm0.start, {request_.data(), sm0.length});
+  const auto header = MailboxHeader::unpack({request_.data(), sm0.length});
+  if (!header) return;
+  if (header->counter != 0 && header->counter == last_request_counter_) {
+    // Same counter as the last request: the master did not get our reply
+    // (ETG.1000.4 §5.6). Do not execute again; send the reply again.
+    if (last_reply_length_ > 0) (void)queue_.push_back({last_reply_.data(), last_reply_length_});
+    return;
+  }
+  last_request_counter_ = header->counter;
+  if (header->length > sm0.length - MailboxHeader::kSize) return queue_error(MailboxError::InvalidSize);
+  if (header->length == 0 || header->type == static_cast<std::uint8_t>(MailboxType::Error)) {
+    return queue_error(MailboxError::InvalidHeader);
+  }
+  if (header->channel != 0) return queue_error(MailboxError::InvalidChannel);
+  dispatch(*header, {request_.data() + MailboxHeader::kSize, header->length});
+}
+
+void MailboxServer::dispatch(const MailboxHeader& header, ConstBytes payload) noexcept {
+  MailboxService* service = find(header.type);
+  if (!service || !service->active_in(state_)) return queue_error(MailboxError::UnsupportedProtocol);
+  continuing_ = nullptr;
+  const auto n = service->handle(payload, {reply_.data() + MailboxHeader::kSize,
+                                           static_cast<std::size_t>(sm1_length_ - MailboxHeader::kSize)},
+                                 state_);
+  if (!n) return queue_error(n.error());
+  if (*n > 0) queue_reply(service->type(), *n);
+  continuing_ = service;
+}
+
+void MailboxServer::queue_reply(MailboxType type, std::size_t payload_length) noexcept {
+  reply_counter_ = MailboxHeader::next_counter(reply_counter_);
+  MailboxHeader h;
+  h.length = static_cast<std::uint16_t>(payload_length);
+  h.type = static_cast<std::uint8_t>(type);
+  h.counter = reply_counter_;
+  h.pack({reply_.data(), MailboxHeader::kSize});
+  const std::size_t length = MailboxHeader::kSize + payload_length;
+  std::memcpy(last_reply_.data(), reply_.data(), length);
+  last_reply_length_ = length;
+  (void)queue_.push_back({reply_.data(), length});
+}
+
+void MailboxServer::queue_error(MailboxError error) noexcept {
+  ByteWriter w({reply_.data() + MailboxHeader::kSize, kMailboxErrorPayload});
+  w.u16(kMailboxErrorService);
+  w.u16(static_cast<std::uint16_t>(error));
+  queue_reply(MailboxType::Error, kMailboxErrorPayload);
+}
+
+Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes payload) noexcept {
+  if (!open_ || queue_.size() + kReserveSlots + 1 > queue_.capacity()) return fail(MailboxError::NoMoreMemory);
+  if (payload.size() + MailboxHeader::kSize > sm1_length_) return fail(MailboxError::InvalidSize);
+  std::uint8_t header[MailboxHeader::kSize];
+  reply_counter_ = MailboxHeader::next_counter(reply_counter_);
+  MailboxHeader h;
+  h.length = static_cast<std::uint16_t>(payload.size());
+  h.type = static_cast<std::uint8_t>(type);
+  h.counter = reply_counter_;
+  h.pack(header);
+  // Build in SM1 image scratch: poll() is not running (single-threaded).
+  std::memcpy(sm1_image_.data(), header, MailboxHeader::kSize);
+  if (!payload.empty()) std::memcpy(sm1_image_.data() + MailboxHeader::kSize, payload.data(), payload.size());
+  (void)queue_.push_back({sm1_image_.data(), MailboxHeader::kSize + payload.size()});
+  return {};
+}
+
+}  // namespace ecat::coe

@@ -1,0 +1,106 @@
+// The slave side of the EtherCAT mailbox (ETG.1000.4 §5.6, ETG.1000.6 §5.6;
+// shared/spec/coe-mailbox.md §1-3, esc-registers.md §7): requests arrive in
+// SM0 (write mailbox), replies leave through SM1 (read mailbox), all through
+// the PDI. poll() reads the AL status (0x0130), the AL event request (0x0220)
+// and the SM0/SM1 registers, and
+//  - answers a repeat request (SM1 activate bit 1 toggled by the master) by
+//    writing the last reply again and toggling the repeat ack (SM1 PDI
+//    control bit 1);
+//  - moves the next queued reply into SM1 when it is empty;
+//  - reads a full SM0, checks the header and hands the payload to the
+//    service registered for its type; a request with the same non-zero
+//    counter as the previous one is a repeat: not executed again, its reply
+//    is sent again.
+// Replies wait in a fixed-capacity FIFO; while it is full SM0 is not read,
+// so the master's next write is refused by the ESC instead of a reply being
+// dropped. The mailbox is open in PreOp, SafeOp and Op (and Bootstrap for
+// services that say so).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "coe/mailbox_header.hpp"
+#include "coe/mailbox_queue.hpp"
+#include "coe/mailbox_service.hpp"
+#include "common/clock.hpp"
+#include "common/expected.hpp"
+#include "esc/pdi.hpp"
+#include "od/access.hpp"
+
+namespace ecat::coe {
+
+class MailboxServer {
+ public:
+  static constexpr std::size_t kMaxServices = 4;
+  static constexpr std::size_t kDefaultQueueCapacity = 8;
+  // SM numbers of the mailboxes (ETG.1000.6 §5.6.7.4.1: SM0 write, SM1 read).
+  static constexpr unsigned kWriteMailboxSm = 0;
+  static constexpr unsigned kReadMailboxSm = 1;
+
+  // `max_mailbox_bytes`: the largest SM0/SM1 length served (header included);
+  // buffers are sized from it once.
+  MailboxServer(esc::Pdi& pdi, std::size_t max_mailbox_bytes,
+                std::size_t queue_capacity = kDefaultQueueCapacity);
+
+  // Start-up only. Returns false when the table is full.
+  bool add_service(MailboxService& service) noexcept;
+
+  void poll(Nanoseconds now) noexcept;
+
+  // Queues an unsolicited message (CoE emergency). Fails with NoMoreMemory
+  // when the queue is full or the mailbox is closed (Init).
+  Expected<void, MailboxError> send(MailboxType type, ConstBytes payload) noexcept;
+
+  // ESM state seen at the last poll.
+  od::EsmState state() const noexcept { return state_; }
+  bool open() const noexcept { return open_; }
+  std::size_t queued() const noexcept { return queue_.size(); }
+
+ private:
+  struct SmRegs {
+    std::uint16_t start = 0;
+    std::uint16_t length = 0;
+    std::uint8_t status = 0;
+    std::uint8_t activate = 0;
+    std::uint8_t pdi_control = 0;
+  };
+  SmRegs read_sm(unsigned n) noexcept;
+  bool usable(const SmRegs& sm) const noexcept;
+  void close() noexcept;
+  void handle_repeat_request(const SmRegs& sm1) noexcept;
+  bool deliver(const SmRegs& sm1) noexcept;
+  void write_sm1(const SmRegs& sm1, ConstBytes frame) noexcept;
+  void receive(const SmRegs& sm0) noexcept;
+  void dispatch(const MailboxHeader& header, ConstBytes payload) noexcept;
+  void queue_reply(MailboxType type, std::size_t payload_length) noexcept;
+  void queue_error(MailboxError error) noexcept;
+  MailboxService* find(std::uint8_t type) const noexcept;
+
+  esc::Pdi& pdi_;
+  std::size_t max_bytes_;
+  MailboxQueue queue_;
+  std::array<MailboxService*, kMaxServices> services_{};
+  std::size_t service_count_ = 0;
+  MailboxService* continuing_ = nullptr;  // service with more replies to give
+
+  od::EsmState state_ = od::EsmState::Init;
+  bool open_ = false;
+  std::uint8_t last_request_counter_ = 0;
+  std::uint8_t reply_counter_ = 0;
+  std::uint16_t sm1_length_ = 0;
+
+  std::vector<std::uint8_t> request_;     // SM0 image
+  std::vector<std::uint8_t> reply_;       // reply being built
+  std::vector<std::uint8_t> sm1_image_;   // what is written to SM1 (padded)
+  std::vector<std::uint8_t> last_reply_;  // last direct reply, for counter repeats
+  std::size_t last_reply_length_ = 0;
+  // The last two frames written into SM1, for the repeat protocol.
+  std::vector<std::uint8_t> written_[2];
+  std::size_t written_length_[2] = {0, 0};
+  bool have_written_[2] = {false, false};
+  int newest_ = 0;  // index into written_ of the frame written last
+};
+
+}  // namespace ecat::coe

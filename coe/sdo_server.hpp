@@ -1,0 +1,59 @@
+// SDO server (CiA 301 §7.2.4, ETG.1000.6 §5.6.2; shared/spec/coe-mailbox.md
+// §5): expedited, normal and segmented download and upload, complete access
+// from subindex 0 or 1, abort frames with the CiA 301 codes. Access rights
+// per ESM state come from od::Access; values, lengths, ranges and hooks from
+// the ObjectStore. One transfer at a time (the mailbox is one request, one
+// reply); its buffer is sized once from the dictionary.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "coe/mailbox_header.hpp"
+#include "coe/object_store.hpp"
+#include "coe/sdo_abort.hpp"
+#include "common/expected.hpp"
+#include "common/le.hpp"
+#include "od/access.hpp"
+
+namespace ecat::coe {
+
+class SdoServer {
+ public:
+  explicit SdoServer(ObjectStore& store);
+
+  // `request`: the bytes after the CoE header. Writes the whole CoE reply
+  // (CoE header included) into `reply`; returns its length (0 = no reply).
+  Expected<std::size_t, MailboxError> handle(ConstBytes request, Bytes reply, od::EsmState state) noexcept;
+  void reset() noexcept { transfer_ = Transfer::None; }
+
+  std::size_t transfer_capacity() const noexcept { return buffer_.size(); }
+
+ private:
+  enum class Transfer : std::uint8_t { None, Download, Upload };
+
+  std::size_t initiate_download(std::uint8_t cmd, std::uint16_t index, std::uint8_t sub, ConstBytes request,
+                                Bytes reply, od::EsmState state) noexcept;
+  std::size_t download_segment(std::uint8_t cmd, ConstBytes request, Bytes reply, od::EsmState state) noexcept;
+  std::size_t initiate_upload(std::uint8_t cmd, std::uint16_t index, std::uint8_t sub, Bytes reply,
+                              od::EsmState state) noexcept;
+  std::size_t upload_segment(std::uint8_t cmd, Bytes reply) noexcept;
+
+  Expected<void, SdoAbort> check_target(std::uint16_t index, std::uint8_t sub, bool complete_access) const noexcept;
+  Expected<void, SdoAbort> commit(std::uint16_t index, std::uint8_t sub, bool complete_access, ConstBytes data,
+                                  od::EsmState state) noexcept;
+  std::size_t abort(Bytes reply, std::uint16_t index, std::uint8_t sub, SdoAbort code) noexcept;
+
+  ObjectStore& store_;
+  std::vector<std::uint8_t> buffer_;   // segmented transfer data
+  std::vector<std::uint8_t> scratch_;  // complete-access rollback
+  Transfer transfer_ = Transfer::None;
+  std::uint16_t index_ = 0;
+  std::uint8_t subindex_ = 0;
+  bool complete_access_ = false;
+  bool toggle_ = false;
+  std::size_t size_ = 0;    // complete size
+  std::size_t offset_ = 0;  // bytes received / sent
+};
+
+}  // namespace ecat::coe
