@@ -12,6 +12,7 @@ import importlib
 import os
 import sys
 
+sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from seedlib import (element, emit_object, emit_pdo, needs_remove,  # noqa: E402

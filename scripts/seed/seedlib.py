@@ -255,8 +255,8 @@ def pdo_from_mapping(obj: Obj, name: str, names: dict[tuple[int, int], str], **k
         v = num(e.default)
         idx, sub, bits = v >> 16, (v >> 8) & 0xFF, v & 0xFF
         ents.append((idx, sub, bits, names.get((idx, sub), "")))
-    return PdoSpec(index=obj.index, name=name, entries=ents,
-                   max_entries=len(obj.entries) - 1, **kw)
+    kw.setdefault("max_entries", len(obj.entries) - 1)
+    return PdoSpec(index=obj.index, name=name, entries=ents, **kw)
 
 
 def emit_pdo(p: PdoSpec, tag: str) -> str:
@@ -321,3 +321,40 @@ def strip_notes(e: Entry, patterns: list[str]) -> None:
         e.desc = re.sub(p, "", e.desc, flags=re.I)
     e.desc = re.sub(r"(;\s*)+$", "", re.sub(r"^\s*;\s*", "", e.desc)).strip()
     e.desc = re.sub(r";\s*;", ";", e.desc)
+
+
+def type_range(t: str) -> Optional[tuple[int, int]]:
+    m = re.fullmatch(r"(UNSIGNED|INTEGER)(\d+)", t)
+    if not m:
+        return (0, 1) if t == "BOOLEAN" else None
+    n = int(m.group(2))
+    return (0, 2**n - 1) if m.group(1) == "UNSIGNED" else (-(2**(n - 1)), 2**(n - 1) - 1)
+
+
+def check_values(objs: dict) -> list[str]:
+    """Problems the loader would reject: values outside the type, a default
+    outside min..max, non-numeric limits. Returned for the policy to fix."""
+    out = []
+    for o in objs.values():
+        for e in o.entries:
+            r = type_range(e.type)
+            if r is None:
+                continue
+            vals = {}
+            for k in ("default", "min", "max"):
+                v = getattr(e, k)
+                if v == "":
+                    continue
+                if e.type == "BOOLEAN" and v in ("true", "false"):
+                    continue
+                if not is_number(v):
+                    out.append(f"{o.index:#06x}:{e.sub} {k}={v!r} not a number")
+                    continue
+                vals[k] = num(v)
+                if not r[0] <= vals[k] <= r[1]:
+                    out.append(f"{o.index:#06x}:{e.sub} {k}={v} outside {e.type}")
+            d = vals.get("default")
+            if d is not None and (("min" in vals and d < vals["min"]) or
+                                  ("max" in vals and d > vals["max"])):
+                out.append(f"{o.index:#06x}:{e.sub} default {d} outside {vals.get('min')}..{vals.get('max')}")
+    return out
