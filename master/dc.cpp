@@ -1,0 +1,96 @@
+// Distributed clocks set-up (esc-registers.md §10, masters.md §1.3 DC, §4.3):
+// BWR 0x0900 latches the port receive times in every ESC; per DC slave the
+// master reads 0x0900-0x090F and 0x0918, computes the propagation delay from
+// the reference clock (first DC slave) along a line, writes the offset
+// 0x0920 = master time - 0x0918 and the delay 0x0928. Drift compensation is
+// FRMW 0x0910 from the reference clock; Sync0 via 0x0981/0x09A0/0x0990.
+#include "master/master.hpp"
+#include "master/registers.hpp"
+
+namespace ecat::master {
+
+namespace {
+constexpr std::size_t kPorts = 4;
+constexpr unsigned kPort0 = 0;
+constexpr unsigned kPort1 = 1;
+}  // namespace
+
+Expected<std::size_t, MasterError> Master::configure_dc(Nanoseconds master_time) {
+  const std::uint8_t latch[4]{};
+  if (auto r = bwr(reg::kDcPortReceiveTime, latch); !r) return fail(r.error());
+  std::vector<std::size_t> dc;
+  for (std::size_t i = 0; i < slaves_.size(); ++i) {
+    SlaveInfo& s = slaves_[i];
+    if (!s.esc.has_dc()) continue;
+    dc.push_back(i);
+    std::uint8_t times[4 * kPorts]{};
+    if (auto r = fprd(s.station_address, reg::kDcPortReceiveTime, times); !r) return fail(r.error());
+    for (std::size_t p = 0; p < kPorts; ++p) s.dc.port_receive_time[p] = load_le<std::uint32_t>(times + 4 * p);
+    std::uint8_t pu[8]{};
+    if (auto r = fprd(s.station_address, reg::kDcProcessingUnitReceiveTime, pu); !r) return fail(r.error());
+    s.dc.processing_unit_time = load_le<std::uint64_t>(pu);
+  }
+  if (dc.empty()) {
+    reference_clock_.reset();
+    return std::size_t{0};
+  }
+  reference_clock_ = dc.front();
+  // Line topology, frame enters port 0 and leaves on port 1: the time a frame
+  // spends behind slave k is t1 - t0 (0 for the last slave, port 1 closed).
+  // Delay from the reference to slave k = (behind(ref) - behind(k)) / 2.
+  auto behind = [&](const SlaveInfo& s) -> std::int64_t {
+    const std::uint32_t t0 = s.dc.port_receive_time[kPort0];
+    const std::uint32_t t1 = s.dc.port_receive_time[kPort1];
+    if (t1 == 0 || t1 == t0) return 0;
+    return static_cast<std::int64_t>(static_cast<std::uint32_t>(t1 - t0));  // 32-bit wrap safe
+  };
+  const std::int64_t behind_ref = behind(slaves_[dc.front()]);
+  for (std::size_t i : dc) {
+    SlaveInfo& s = slaves_[i];
+    const std::int64_t d = i == dc.front() ? 0 : (behind_ref - behind(s)) / 2;
+    s.dc.delay_ns = static_cast<std::uint32_t>(d < 0 ? 0 : d);
+    s.dc.offset_ns = master_time.count() - static_cast<std::int64_t>(s.dc.processing_unit_time);
+    std::uint8_t off[8];
+    store_le(off, static_cast<std::uint64_t>(s.dc.offset_ns));
+    if (auto r = fpwr(s.station_address, reg::kDcSystemTimeOffset, off); !r) return fail(r.error());
+    if (auto r = fpwr_u32(s.station_address, reg::kDcSystemTimeDelay, s.dc.delay_ns); !r) return fail(r.error());
+  }
+  dc_cyclic_ = true;
+  return dc.size();
+}
+
+Expected<void, MasterError> Master::dc_static_drift_compensation(unsigned iterations) {
+  if (!reference_clock_) return fail(MasterError::NotConfigured);
+  const std::uint16_t ref = slaves_[*reference_clock_].station_address;
+  for (unsigned i = 0; i < iterations; ++i) {
+    std::fill(dc_time_.begin(), dc_time_.end(), 0);
+    auto wkc = link_.exchange(Command::Frmw, device_address(ref, reg::kDcSystemTime), Bytes(dc_time_));
+    if (!wkc) return fail(wkc.error());
+    if (*wkc == 0) return fail(MasterError::WorkingCounter);
+  }
+  return {};
+}
+
+Expected<std::uint64_t, MasterError> Master::configure_sync0(std::size_t slave, std::uint32_t cycle_ns,
+                                                             std::uint32_t shift_ns, Nanoseconds start_delay) {
+  if (auto c = check_slave(slave); !c) return fail(c.error());
+  if (cycle_ns == 0) return fail(MasterError::InvalidArgument);
+  const std::uint16_t station = slaves_[slave].station_address;
+  if (auto r = fpwr_u8(station, reg::kDcActivation, 0); !r) return fail(r.error());
+  std::uint8_t now_b[8]{};
+  if (auto r = fprd(station, reg::kDcSystemTime, now_b); !r) return fail(r.error());
+  const std::uint64_t now = load_le<std::uint64_t>(now_b);
+  const std::uint64_t first = now + static_cast<std::uint64_t>(start_delay.count());
+  // Start on a whole cycle (SOEM ecx_dcsync0, ethercrab configure_dc_sync) plus the shift.
+  const std::uint64_t start = (first / cycle_ns + 1) * cycle_ns + shift_ns;
+  if (auto r = fpwr_u32(station, reg::kDcSync0CycleTime, cycle_ns); !r) return fail(r.error());
+  std::uint8_t st[8];
+  store_le(st, start);
+  if (auto r = fpwr(station, reg::kDcStartTime, st); !r) return fail(r.error());
+  if (auto r = fpwr_u8(station, reg::kDcActivation, reg::kDcActivateCyclic | reg::kDcActivateSync0); !r) {
+    return fail(r.error());
+  }
+  return start;
+}
+
+}  // namespace ecat::master

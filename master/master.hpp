@@ -1,0 +1,186 @@
+// A small EtherCAT master over any Transport, doing the standard start-up
+// sequence the way SOEM/IgH/ethercrab do it (shared/spec/masters.md): count
+// slaves (BRD 0x0000), assign station addresses (APWR 0x0010), read ESC info
+// and the SII, configure the mailbox SMs from the SII, walk the ESM, talk
+// CoE through the mailbox (see coe_client.hpp), map process data and run the
+// cyclic LRW exchange, and set up distributed clocks. One object holds all
+// state (no globals); buffers are sized at set-up, the cyclic exchange does
+// not allocate. Time comes from the injected Clock; nothing sleeps — polling
+// loops are bounded by a deadline and by a poll count.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/clock.hpp"
+#include "common/expected.hpp"
+#include "master/datagram_link.hpp"
+#include "master/mailbox.hpp"
+#include "master/master_error.hpp"
+#include "master/slave_info.hpp"
+#include "transport/transport.hpp"
+
+namespace ecat::master {
+
+struct MasterConfig {
+  LinkConfig link{};
+  std::uint16_t first_station_address = 0x1001;  // SOEM: 0x1000 + position + 1
+  std::size_t max_slaves = 64;
+  Nanoseconds sii_timeout = std::chrono::milliseconds(20);
+  Nanoseconds state_timeout = std::chrono::seconds(5);
+  Nanoseconds mailbox_timeout = std::chrono::seconds(1);
+  // Upper bound on polls of one register in a wait loop, so a loop ends even
+  // when the clock does not move (in-process runs on a ManualClock).
+  unsigned max_polls = 5000;
+};
+
+// Result of one cyclic exchange.
+struct CyclicResult {
+  std::uint16_t wkc = 0;
+  std::uint16_t expected_wkc = 0;
+  Nanoseconds round_trip{0};
+  bool ok() const noexcept { return wkc == expected_wkc; }
+};
+
+struct CyclicStats {
+  std::uint64_t cycles = 0;
+  std::uint64_t wkc_errors = 0;
+  std::uint64_t lost_frames = 0;
+  Nanoseconds min_round_trip{0};
+  Nanoseconds max_round_trip{0};
+  Nanoseconds total_round_trip{0};
+  Nanoseconds average_round_trip() const noexcept {
+    return cycles == 0 ? Nanoseconds{0} : Nanoseconds{total_round_trip.count() / static_cast<std::int64_t>(cycles)};
+  }
+};
+
+// A reply read from a slave's read mailbox (SM1).
+struct MailboxMessage {
+  mbx::Header header;
+  std::span<const std::uint8_t> payload;  // valid until the next mailbox call
+};
+
+class Master {
+ public:
+  Master(transport::Transport& transport, const Clock& clock, MasterConfig config = {});
+
+  // --- datagrams and registers ---------------------------------------------------
+  DatagramLink& link() noexcept { return link_; }
+  const MasterConfig& config() const noexcept { return config_; }
+  const Clock& clock() const noexcept { return clock_; }
+  // Any command; `data` is sent and replaced by the reply. Returns the WKC.
+  Expected<std::uint16_t, MasterError> transact(Command command, std::uint32_t address, Bytes data);
+  // FPRD/FPWR to a configured station address; WKC must be 1.
+  Expected<void, MasterError> fprd(std::uint16_t station, std::uint16_t reg, Bytes out);
+  Expected<void, MasterError> fpwr(std::uint16_t station, std::uint16_t reg, ConstBytes in);
+  Expected<std::uint8_t, MasterError> fprd_u8(std::uint16_t station, std::uint16_t reg);
+  Expected<std::uint16_t, MasterError> fprd_u16(std::uint16_t station, std::uint16_t reg);
+  Expected<std::uint32_t, MasterError> fprd_u32(std::uint16_t station, std::uint16_t reg);
+  Expected<void, MasterError> fpwr_u8(std::uint16_t station, std::uint16_t reg, std::uint8_t v);
+  Expected<void, MasterError> fpwr_u16(std::uint16_t station, std::uint16_t reg, std::uint16_t v);
+  Expected<void, MasterError> fpwr_u32(std::uint16_t station, std::uint16_t reg, std::uint32_t v);
+  // Broadcast write; returns the WKC (number of slaves that took it).
+  Expected<std::uint16_t, MasterError> bwr(std::uint16_t reg, ConstBytes in);
+
+  // --- scan (masters.md §1.1) -------------------------------------------------------
+  // BRD 0x0000: the WKC is the number of slaves.
+  Expected<std::size_t, MasterError> count_slaves();
+  // Init + ack broadcast, reset FMMUs/SMs/DC activation, SII to ECAT, station
+  // addresses, ESC info, DL status, AL status, SII image per slave.
+  Expected<std::size_t, MasterError> scan();
+  std::size_t slave_count() const noexcept { return slaves_.size(); }
+  SlaveInfo& slave(std::size_t i) { return slaves_.at(i); }
+  const std::vector<SlaveInfo>& slaves() const noexcept { return slaves_; }
+
+  // --- SII (esc-registers.md §9) --------------------------------------------------
+  // One read command at `word_address`; fills 4 or 8 bytes (0x0502 bit 6) into
+  // `out` (at least 8 bytes) and returns how many the ESC delivered.
+  Expected<std::size_t, MasterError> sii_read(std::uint16_t station, std::uint16_t word_address, Bytes out);
+  // The whole image up to and including the 0xFFFF end marker.
+  Expected<std::vector<std::uint8_t>, MasterError> read_sii_image(std::uint16_t station);
+
+  // --- ESM (ETG.1000.6 §6.4; esm-al-codes.md) --------------------------------------
+  Expected<AlStatus, MasterError> read_al_status(std::size_t slave);
+  // Writes 0x0120 (= state, | 0x10 if ack) and polls 0x0130 until the state is
+  // reached without error (success) or the error bit is set (refused: the
+  // returned status has error() and the 0x0134 code). Timeout -> StateTimeout.
+  Expected<AlStatus, MasterError> request_state(std::size_t slave, AlState state, bool ack = false);
+  // Same with a raw 0x0120 value (to test unknown state codes).
+  Expected<AlStatus, MasterError> write_al_control(std::size_t slave, std::uint16_t value);
+  // Acknowledges a pending error: writes current state | 0x10, polls until ErrInd clears.
+  Expected<AlStatus, MasterError> acknowledge_error(std::size_t slave);
+  // Every slave; stops at the first failure or refusal (returned as error StateTimeout/refusal code kept per slave).
+  Expected<void, MasterError> request_state_all(AlState state);
+
+  // --- mailbox (ETG.1000.4 §5.6; coe-mailbox.md §1-§3) ------------------------------
+  // SM0/SM1 from the SII SYNCM category (words 0x18-0x1B, control 0x26/0x22 as fallback).
+  Expected<void, MasterError> configure_mailbox(std::size_t slave);
+  // Writes SM0/SM1 exactly as given (for tests of invalid configurations).
+  Expected<void, MasterError> write_mailbox_sms(std::size_t slave, const MailboxLayout& layout, bool enable = true);
+  // Sends one message (header added, counter rotated 1..7) as one FPWR of the
+  // whole SM0 area; retries while the mailbox is full. Returns the counter used.
+  Expected<std::uint8_t, MasterError> mailbox_send(std::size_t slave, std::uint8_t type, ConstBytes payload);
+  // Same with an explicit counter (0..7), for repeat/counter tests.
+  Expected<void, MasterError> mailbox_send_raw(std::size_t slave, std::uint8_t type, std::uint8_t counter,
+                                               ConstBytes payload, std::uint16_t length_override = 0xFFFF);
+  // Polls SM1 status bit 3 until full, reads the whole SM1 area. A read with
+  // WKC 0 after "full" triggers the repeat-request handshake.
+  Expected<MailboxMessage, MasterError> mailbox_receive(std::size_t slave, Nanoseconds timeout);
+  Expected<bool, MasterError> mailbox_has_reply(std::size_t slave);
+  // Repeat request (esc-registers.md §7.2): toggle SM1 activate bit 1, wait for
+  // PDI control bit 1 to follow.
+  Expected<void, MasterError> mailbox_repeat_request(std::size_t slave);
+  // Detail code of the last mailbox error reply (type 0).
+  mbx::MailboxErrorCode last_mailbox_error() const noexcept { return last_mailbox_error_; }
+
+  // --- process data (masters.md §1.3) ----------------------------------------------
+  // Lays out the image (all outputs, then all inputs, slave order), programs
+  // SM2/SM3 (start/control from SII, length from pd.output_bytes/input_bytes,
+  // which the caller or CoeClient::read_pdo_sizes filled) and FMMU0/FMMU1.
+  Expected<void, MasterError> configure_process_data();
+  // One LRW over the whole image (+ FRMW 0x0910 to the reference clock when DC
+  // is on). Copies outputs in and inputs out; no allocation.
+  Expected<CyclicResult, MasterError> exchange_process_data();
+  std::uint16_t expected_wkc() const noexcept { return expected_wkc_; }
+  Bytes outputs(std::size_t slave);
+  ConstBytes inputs(std::size_t slave) const;
+  std::span<std::uint8_t> process_image() noexcept { return image_; }
+  const CyclicStats& cyclic_stats() const noexcept { return cyclic_stats_; }
+
+  // --- distributed clocks (masters.md §1.3 DC, §4.3; esc-registers.md §10) ---------
+  // BWR 0x0900 latch, read port times and 0x0918 per DC slave, compute line
+  // delays, write 0x0920 offsets and 0x0928 delays. Returns the DC slave count.
+  Expected<std::size_t, MasterError> configure_dc(Nanoseconds master_time);
+  // `iterations` x FRMW 0x0910:8 addressed at the reference clock.
+  Expected<void, MasterError> dc_static_drift_compensation(unsigned iterations);
+  // 0x0981 = 0, 0x09A0 cycle, 0x0990 start (now + start_delay aligned to the cycle + shift), 0x0981 = 3.
+  Expected<std::uint64_t, MasterError> configure_sync0(std::size_t slave, std::uint32_t cycle_ns,
+                                                       std::uint32_t shift_ns, Nanoseconds start_delay);
+  // Position of the first DC slave (reference clock), if any.
+  std::optional<std::size_t> reference_clock() const noexcept { return reference_clock_; }
+
+ private:
+  Expected<AlStatus, MasterError> poll_state(std::size_t slave, std::uint8_t wanted);
+  Expected<void, MasterError> sii_wait_idle(std::uint16_t station, std::uint16_t& status);
+  Expected<void, MasterError> check_slave(std::size_t slave) const;
+  Expected<void, MasterError> read_mailbox_area(std::size_t slave, bool& got);
+
+  transport::Transport& transport_;
+  const Clock& clock_;
+  MasterConfig config_;
+  DatagramLink link_;
+  std::vector<SlaveInfo> slaves_;
+  mbx::MailboxErrorCode last_mailbox_error_ = mbx::MailboxErrorCode::None;
+  std::vector<std::uint8_t> mailbox_buffer_;  // sized at configure_mailbox
+  std::vector<std::uint8_t> image_;           // outputs, then inputs
+  std::uint32_t output_bytes_ = 0;
+  std::uint32_t input_bytes_ = 0;
+  std::uint16_t expected_wkc_ = 0;
+  CyclicStats cyclic_stats_{};
+  std::optional<std::size_t> reference_clock_;
+  bool dc_cyclic_ = false;
+  std::array<std::uint8_t, 8> dc_time_{};
+};
+
+}  // namespace ecat::master

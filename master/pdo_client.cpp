@@ -1,0 +1,86 @@
+// PDO mapping and assignment over SDO, the IgH way (masters.md §2.3 step 11,
+// coe-mailbox.md §11.1/§11.2): disable with sub 0 = 0, write the entries,
+// enable with sub 0 = n. Sizes are read back the same way IgH and SOEM do:
+// 1C1x:00 (1 byte), 1C1x:i (2 bytes), PDO:00 (1 byte), PDO:j (4 bytes).
+#include "master/coe_client.hpp"
+
+namespace ecat::master {
+
+namespace {
+constexpr std::uint32_t kEntryBitLengthMask = 0xFF;
+constexpr std::size_t kSi0Size = 1;
+constexpr std::size_t kAssignEntrySize = 2;
+constexpr std::size_t kMappingEntrySize = 4;
+constexpr std::uint32_t kBitsPerByte = 8;
+}  // namespace
+
+Expected<void, SdoError> CoeClient::write_pdo_mapping(std::uint16_t pdo, std::span<const std::uint32_t> entries) {
+  if (entries.size() > 0xFF) return fail(SdoError::master(MasterError::InvalidArgument));
+  if (auto r = download_value(pdo, 0, 0, kSi0Size); !r) return r;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (auto r = download_value(pdo, static_cast<std::uint8_t>(i + 1), entries[i], kMappingEntrySize); !r) return r;
+  }
+  return download_value(pdo, 0, static_cast<std::uint32_t>(entries.size()), kSi0Size);
+}
+
+Expected<void, SdoError> CoeClient::write_pdo_assignment(std::uint16_t assign, std::span<const std::uint16_t> pdos) {
+  if (pdos.size() > 0xFF) return fail(SdoError::master(MasterError::InvalidArgument));
+  if (auto r = download_value(assign, 0, 0, kSi0Size); !r) return r;
+  for (std::size_t i = 0; i < pdos.size(); ++i) {
+    if (auto r = download_value(assign, static_cast<std::uint8_t>(i + 1), pdos[i], kAssignEntrySize); !r) return r;
+  }
+  return download_value(assign, 0, static_cast<std::uint32_t>(pdos.size()), kSi0Size);
+}
+
+Expected<std::vector<std::uint16_t>, SdoError> CoeClient::read_pdo_assignment(std::uint16_t assign) {
+  auto n = upload(assign, 0);
+  if (!n) return fail(n.error());
+  if (n->size() != kSi0Size) return fail(SdoError::master(MasterError::InvalidResponse));
+  std::vector<std::uint16_t> out;
+  for (std::uint8_t i = 1; i <= (*n)[0]; ++i) {
+    auto e = upload(assign, i);
+    if (!e) return fail(e.error());
+    if (e->size() != kAssignEntrySize) return fail(SdoError::master(MasterError::InvalidResponse));
+    out.push_back(load_le<std::uint16_t>(e->data()));
+  }
+  return out;
+}
+
+Expected<std::vector<std::uint32_t>, SdoError> CoeClient::read_pdo_mapping(std::uint16_t pdo) {
+  auto n = upload(pdo, 0);
+  if (!n) return fail(n.error());
+  if (n->size() != kSi0Size) return fail(SdoError::master(MasterError::InvalidResponse));
+  std::vector<std::uint32_t> out;
+  for (std::uint8_t i = 1; i <= (*n)[0]; ++i) {
+    auto e = upload(pdo, i);
+    if (!e) return fail(e.error());
+    if (e->size() != kMappingEntrySize) return fail(SdoError::master(MasterError::InvalidResponse));
+    out.push_back(load_le<std::uint32_t>(e->data()));
+  }
+  return out;
+}
+
+Expected<std::uint32_t, SdoError> CoeClient::assigned_bits(std::uint16_t assign) {
+  auto pdos = read_pdo_assignment(assign);
+  if (!pdos) return fail(pdos.error());
+  std::uint32_t bits = 0;
+  for (std::uint16_t pdo : *pdos) {
+    auto entries = read_pdo_mapping(pdo);
+    if (!entries) return fail(entries.error());
+    for (std::uint32_t e : *entries) bits += e & kEntryBitLengthMask;
+  }
+  return bits;
+}
+
+Expected<void, SdoError> CoeClient::read_pdo_sizes() {
+  auto out_bits = assigned_bits(coe::kRxPdoAssign);
+  if (!out_bits) return fail(out_bits.error());
+  auto in_bits = assigned_bits(coe::kTxPdoAssign);
+  if (!in_bits) return fail(in_bits.error());
+  auto& pd = master_.slave(slave_).pd;
+  pd.output_bytes = static_cast<std::uint16_t>((*out_bits + kBitsPerByte - 1) / kBitsPerByte);
+  pd.input_bytes = static_cast<std::uint16_t>((*in_bits + kBitsPerByte - 1) / kBitsPerByte);
+  return {};
+}
+
+}  // namespace ecat::master

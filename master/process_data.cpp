@@ -1,0 +1,150 @@
+// Process data: SM2/SM3 + FMMU set-up from the PDO sizes and the cyclic LRW
+// (masters.md §1.3/§1.4, esc-registers.md §6/§7). Layout as SOEM: all
+// outputs in slave order, then all inputs; expected WKC = 2 per slave with
+// outputs + 1 per slave with inputs (ETG.1000.4 §5.4.3 LRW counting).
+#include <algorithm>
+#include <cstring>
+
+#include "common/frame.hpp"
+#include "master/master.hpp"
+#include "master/registers.hpp"
+
+namespace ecat::master {
+
+namespace {
+constexpr std::uint8_t kOutputsControl = 0x64;  // 3-buffer, write, watchdog trigger
+constexpr std::uint8_t kInputsControl = 0x20;   // 3-buffer, read
+constexpr std::uint8_t kFmmuStopBit = 7;
+constexpr unsigned kOutputSm = 2;
+constexpr unsigned kInputSm = 3;
+
+// FMMU register block (esc-registers.md §6).
+std::array<std::uint8_t, reg::kFmmuSize> fmmu_block(std::uint32_t logical, std::uint16_t length,
+                                                    std::uint16_t physical, std::uint8_t type) {
+  std::array<std::uint8_t, reg::kFmmuSize> b{};
+  ByteWriter w(b);
+  w.u32(logical);
+  w.u16(length);
+  w.u8(0);             // logical start bit
+  w.u8(kFmmuStopBit);  // logical stop bit
+  w.u16(physical);
+  w.u8(0);  // physical start bit
+  w.u8(type);
+  w.u8(length > 0 ? 1 : 0);  // activate
+  return b;
+}
+
+std::array<std::uint8_t, reg::kSyncManagerSize> sm_block(std::uint16_t start, std::uint16_t length,
+                                                         std::uint8_t control) {
+  std::array<std::uint8_t, reg::kSyncManagerSize> b{};
+  ByteWriter w(b);
+  w.u16(start);
+  w.u16(length);
+  w.u8(control);
+  w.u8(0);
+  w.u8(length > 0 ? reg::kSmActivateEnable : 0);
+  w.u8(0);
+  return b;
+}
+}  // namespace
+
+Expected<void, MasterError> Master::configure_process_data() {
+  output_bytes_ = 0;
+  input_bytes_ = 0;
+  expected_wkc_ = 0;
+  for (auto& s : slaves_) {
+    s.pd.output_offset = output_bytes_;
+    output_bytes_ += s.pd.output_bytes;
+  }
+  for (auto& s : slaves_) {
+    s.pd.input_offset = output_bytes_ + input_bytes_;
+    input_bytes_ += s.pd.input_bytes;
+  }
+  if (output_bytes_ + input_bytes_ > kMaxDatagramData) return fail(MasterError::InvalidArgument);
+  image_.assign(output_bytes_ + input_bytes_, 0);
+
+  for (auto& s : slaves_) {
+    // SM2/SM3 start and control from the SII SYNCM category when it has them.
+    const auto& sms = s.sii.sync_managers;
+    if (sms.size() > kOutputSm && sms[kOutputSm].start != 0) {
+      s.pd.sm2_start = sms[kOutputSm].start;
+      s.pd.sm2_control = sms[kOutputSm].control;
+    } else if (s.pd.sm2_start == 0) {
+      s.pd.sm2_control = kOutputsControl;
+    }
+    if (sms.size() > kInputSm && sms[kInputSm].start != 0) {
+      s.pd.sm3_start = sms[kInputSm].start;
+      s.pd.sm3_control = sms[kInputSm].control;
+    } else if (s.pd.sm3_start == 0) {
+      s.pd.sm3_control = kInputsControl;
+    }
+    if (s.pd.output_bytes > 0) {
+      const auto b = sm_block(s.pd.sm2_start, s.pd.output_bytes, s.pd.sm2_control);
+      if (auto r = fpwr(s.station_address, reg::sync_manager(kOutputSm), b); !r) return fail(r.error());
+    }
+    if (s.pd.input_bytes > 0) {
+      const auto b = sm_block(s.pd.sm3_start, s.pd.input_bytes, s.pd.sm3_control);
+      if (auto r = fpwr(s.station_address, reg::sync_manager(kInputSm), b); !r) return fail(r.error());
+    }
+    unsigned next_fmmu = 0;
+    if (s.pd.output_bytes > 0) {
+      const auto b = fmmu_block(s.pd.output_offset, s.pd.output_bytes, s.pd.sm2_start, reg::kFmmuWrite);
+      if (auto r = fpwr(s.station_address, reg::fmmu(next_fmmu++), b); !r) return fail(r.error());
+      expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 2);
+    }
+    if (s.pd.input_bytes > 0) {
+      const auto b = fmmu_block(s.pd.input_offset, s.pd.input_bytes, s.pd.sm3_start, reg::kFmmuRead);
+      if (auto r = fpwr(s.station_address, reg::fmmu(next_fmmu++), b); !r) return fail(r.error());
+      expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 1);
+    }
+    s.pd.configured = true;
+  }
+  return {};
+}
+
+Bytes Master::outputs(std::size_t slave) {
+  if (slave >= slaves_.size() || image_.empty()) return {};
+  const auto& pd = slaves_[slave].pd;
+  return Bytes(image_.data() + pd.output_offset, pd.output_bytes);
+}
+
+ConstBytes Master::inputs(std::size_t slave) const {
+  if (slave >= slaves_.size() || image_.empty()) return {};
+  const auto& pd = slaves_[slave].pd;
+  return ConstBytes(image_.data() + pd.input_offset, pd.input_bytes);
+}
+
+Expected<CyclicResult, MasterError> Master::exchange_process_data() {
+  if (image_.empty()) return fail(MasterError::NotConfigured);
+  // The LRW carries the outputs and gets the inputs back; keep the outputs
+  // region of the image intact (the reply data of output bytes equals them).
+  std::array<Datagram, 2> dgs{};
+  std::size_t n = 0;
+  if (dc_cyclic_ && reference_clock_) {
+    std::fill(dc_time_.begin(), dc_time_.end(), 0);
+    dgs[n++] = Datagram{Command::Frmw, device_address(slaves_[*reference_clock_].station_address, reg::kDcSystemTime),
+                        Bytes(dc_time_), 0};
+  }
+  const std::size_t lrw = n;
+  dgs[n++] = Datagram{Command::Lrw, 0, Bytes(image_), 0};
+  const Nanoseconds start = clock_.now();
+  auto r = link_.exchange(std::span<Datagram>(dgs.data(), n));
+  ++cyclic_stats_.cycles;
+  if (!r) {
+    ++cyclic_stats_.lost_frames;
+    return fail(r.error());
+  }
+  CyclicResult res;
+  res.wkc = dgs[lrw].wkc;
+  res.expected_wkc = expected_wkc_;
+  res.round_trip = clock_.now() - start;
+  if (!res.ok()) ++cyclic_stats_.wkc_errors;
+  if (cyclic_stats_.cycles == 1 || res.round_trip < cyclic_stats_.min_round_trip) {
+    cyclic_stats_.min_round_trip = res.round_trip;
+  }
+  cyclic_stats_.max_round_trip = std::max(cyclic_stats_.max_round_trip, res.round_trip);
+  cyclic_stats_.total_round_trip += res.round_trip;
+  return res;
+}
+
+}  // namespace ecat::master

@@ -1,0 +1,80 @@
+// SII reads through the ESC's EEPROM interface 0x0500-0x050F the way SOEM and
+// ethercrab do it (esc-registers.md §9, masters.md §1.2): wait until not busy,
+// clear errors, write {0x0100, word address} to 0x0502, wait until not busy,
+// read 4 or 8 bytes (0x0502 bit 6) from 0x0508.
+#include <algorithm>
+
+#include "master/master.hpp"
+#include "master/registers.hpp"
+
+namespace ecat::master {
+
+namespace {
+constexpr std::size_t kSiiReadMax = 8;
+constexpr std::size_t kSiiMaxBytes = 0x10000;  // 32 K words: far beyond any real EEPROM
+constexpr unsigned kSiiCommandTries = 3;
+}  // namespace
+
+Expected<void, MasterError> Master::sii_wait_idle(std::uint16_t station, std::uint16_t& status) {
+  const Nanoseconds deadline = clock_.now() + config_.sii_timeout;
+  for (unsigned n = 0; n < config_.max_polls; ++n) {
+    auto s = fprd_u16(station, reg::kEepromControlStatus);
+    if (!s) return fail(s.error());
+    status = *s;
+    if ((status & reg::kEepromBusy) == 0) return {};
+    if (clock_.now() > deadline) break;
+  }
+  return fail(MasterError::SiiTimeout);
+}
+
+Expected<std::size_t, MasterError> Master::sii_read(std::uint16_t station, std::uint16_t word_address, Bytes out) {
+  if (out.size() < kSiiReadMax) return fail(MasterError::InvalidArgument);
+  std::uint16_t status = 0;
+  if (auto r = sii_wait_idle(station, status); !r) return fail(r.error());
+  if ((status & reg::kEepromErrorBits) != 0) {
+    if (auto r = fpwr_u16(station, reg::kEepromControlStatus, 0); !r) return fail(r.error());
+  }
+  for (unsigned attempt = 0; attempt < kSiiCommandTries; ++attempt) {
+    std::uint8_t cmd[6];
+    store_le(cmd, reg::kEepromCmdRead);
+    store_le(cmd + 2, static_cast<std::uint32_t>(word_address));
+    if (auto r = fpwr(station, reg::kEepromControlStatus, cmd); !r) return fail(r.error());
+    if (auto r = sii_wait_idle(station, status); !r) return fail(r.error());
+    if ((status & reg::kEepromAckError) != 0) continue;  // SOEM retries on ack error
+    if ((status & reg::kEepromErrorBits) != 0) return fail(MasterError::SiiError);
+    const std::size_t n = (status & reg::kEepromReadSize8) != 0 ? 8 : 4;
+    if (auto r = fprd(station, reg::kEepromData, out.first(n)); !r) return fail(r.error());
+    return n;
+  }
+  return fail(MasterError::SiiError);
+}
+
+Expected<std::vector<std::uint8_t>, MasterError> Master::read_sii_image(std::uint16_t station) {
+  std::vector<std::uint8_t> image;
+  image.reserve(sii::kFixedAreaBytes * 4);
+  std::uint8_t chunk[kSiiReadMax]{};
+  auto read_until = [&](std::size_t bytes) -> Expected<void, MasterError> {
+    while (image.size() < bytes) {
+      const auto word = static_cast<std::uint16_t>(image.size() / 2);
+      auto n = sii_read(station, word, chunk);
+      if (!n) return fail(n.error());
+      image.insert(image.end(), chunk, chunk + *n);
+    }
+    return {};
+  };
+  if (auto r = read_until(sii::kFixedAreaBytes); !r) return fail(r.error());
+  // Walk category headers, reading each category in full.
+  std::size_t w = sii::kFirstCategory;
+  for (;;) {
+    if (auto r = read_until(2 * (w + 2)); !r) return fail(r.error());
+    const auto type = load_le<std::uint16_t>(image.data() + 2 * w);
+    if (type == static_cast<std::uint16_t>(sii::Category::End)) break;
+    const auto words = load_le<std::uint16_t>(image.data() + 2 * (w + 1));
+    w += 2u + words;
+    if (2 * w >= kSiiMaxBytes) return fail(MasterError::SiiInvalid);
+  }
+  image.resize(std::min(image.size(), 2 * (w + 1)));
+  return image;
+}
+
+}  // namespace ecat::master

@@ -1,0 +1,87 @@
+// What the master knows about one slave after the scan and configuration.
+// Register layouts: ESC datasheet Section II (shared/spec/esc-registers.md §3-§7).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "master/sii.hpp"
+
+namespace ecat::master {
+
+// AL control/status state codes (ETG.1000.6 §6.4.1; esm-al-codes.md §1).
+enum class AlState : std::uint8_t { Init = 0x1, PreOp = 0x2, Boot = 0x3, SafeOp = 0x4, Op = 0x8 };
+
+inline constexpr std::uint8_t kAlStateMask = 0x0F;
+inline constexpr std::uint8_t kAlErrorBit = 0x10;     // AL status ErrInd / AL control ack
+inline constexpr std::uint8_t kAlIdentBit = 0x20;     // device identification
+
+std::string_view describe(AlState s) noexcept;
+
+// 0x0130 (low byte) and 0x0134 as read in one 6-byte FPRD (SOEM, TwinCAT).
+struct AlStatus {
+  std::uint16_t raw = 0;
+  std::uint16_t code = 0;
+  std::uint8_t state() const noexcept { return static_cast<std::uint8_t>(raw & kAlStateMask); }
+  bool error() const noexcept { return (raw & kAlErrorBit) != 0; }
+  bool is(AlState s) const noexcept { return state() == static_cast<std::uint8_t>(s); }
+};
+
+// Registers 0x0000-0x0009 (ESC information, features).
+struct EscInfo {
+  std::uint8_t type = 0;
+  std::uint8_t revision = 0;
+  std::uint16_t build = 0;
+  std::uint8_t fmmus = 0;
+  std::uint8_t sync_managers = 0;
+  std::uint8_t ram_kib = 0;
+  std::uint8_t port_descriptor = 0;
+  std::uint16_t features = 0;
+  static constexpr std::uint16_t kFeatureDc = 0x0004;
+  static constexpr std::uint16_t kFeatureDc64 = 0x0008;
+  static constexpr std::uint16_t kFeatureNoLrw = 0x0200;
+  bool has_dc() const noexcept { return (features & kFeatureDc) != 0; }
+};
+
+// SM0 (master -> slave) and SM1 (slave -> master) as programmed.
+struct MailboxLayout {
+  std::uint16_t rx_start = 0, rx_size = 0;  // SM0
+  std::uint16_t tx_start = 0, tx_size = 0;  // SM1
+  std::uint8_t rx_control = 0x26, tx_control = 0x22;
+  bool configured = false;
+};
+
+// SM2/SM3 + FMMU programming and the slave's place in the process image.
+struct ProcessDataLayout {
+  std::uint16_t output_bytes = 0;   // RxPDO (SM2)
+  std::uint16_t input_bytes = 0;    // TxPDO (SM3)
+  std::uint32_t output_offset = 0;  // in the logical image
+  std::uint32_t input_offset = 0;
+  std::uint16_t sm2_start = 0, sm3_start = 0;
+  std::uint8_t sm2_control = 0x64, sm3_control = 0x20;
+  bool configured = false;
+};
+
+struct DcInfo {
+  std::array<std::uint32_t, 4> port_receive_time{};  // 0x0900-0x090F
+  std::uint64_t processing_unit_time = 0;             // 0x0918
+  std::uint32_t delay_ns = 0;                         // written to 0x0928
+  std::int64_t offset_ns = 0;                         // written to 0x0920
+};
+
+struct SlaveInfo {
+  std::uint16_t position = 0;
+  std::uint16_t station_address = 0;
+  EscInfo esc;
+  std::uint16_t dl_status = 0;
+  AlStatus al;
+  std::vector<std::uint8_t> sii_image;
+  SiiInfo sii;
+  MailboxLayout mailbox;
+  std::uint8_t mailbox_counter = 0;  // last counter used, 1..7
+  ProcessDataLayout pd;
+  DcInfo dc;
+};
+
+}  // namespace ecat::master
