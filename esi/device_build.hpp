@@ -1,0 +1,25 @@
+// Turns the merged DeviceSpec into od::DeviceDescription: derives the
+// objects that follow from identity, sync managers and PDOs
+// (esi/device_derive.cpp), builds and checks every object
+// (esi/device_objects.cpp), then the sync managers and PDOs
+// (esi/device_checks.cpp). Throws LoadFailure with file:line.
+#pragma once
+
+#include "esi/device_spec.hpp"
+#include "od/device.hpp"
+
+namespace ecat::esi {
+
+od::DeviceDescription build_device(DeviceSpec spec);
+
+// Steps of build_device, each in its own file.
+void derive_objects(DeviceSpec& spec);                        // device_derive.cpp
+od::Object build_object(std::uint16_t index, const ObjectSpec& spec);  // device_objects.cpp
+void build_layout(const DeviceSpec& spec, od::DeviceDescription& dev);  // device_layout.cpp
+void build_pdos(const DeviceSpec& spec, od::DeviceDescription& dev);    // device_checks.cpp
+void check_sync_manager_memory(const DeviceSpec& spec, const od::DeviceDescription& dev);  // device_checks.cpp
+
+// 6502h bits of <Drive modes> (CiA 402: bit 0 PP ... bit 9 CST).
+std::uint32_t drive_mode_bits(const ElementSpec& drive);  // device_layout.cpp
+
+}  // namespace ecat::esi
