@@ -119,7 +119,8 @@ std::size_t SdoServer::initiate_download(std::uint8_t cmd, std::uint16_t index, 
     return abort(reply, index, sub, SdoAbort::LengthTooLow);
   }
   const ConstBytes first = request.subspan(sdo::kHeaderSize);
-  if (first.size() >= size) {
+  if (first.size() > size) return abort(reply, index, sub, SdoAbort::LengthMismatch);
+  if (first.size() == size) {
     if (auto ok = commit(index, sub, ca, first.first(size), state); !ok) return abort(reply, index, sub, ok.error());
   } else {
     std::memcpy(buffer_.data(), first.data(), first.size());

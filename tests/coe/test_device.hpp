@@ -127,9 +127,12 @@ inline od::DeviceDescription make_device() {
                  entry(2, "A2", DataType::Unsigned16, 16, kRw, le(0x2222, 2)),
                  entry(3, "A3", DataType::Unsigned16, 16, kRo, le(0x3333, 2))}));
   put(var(0x2004, "PreOp only", DataType::Unsigned8, 8, kRwPreOp, {7}));
-  put(composite(0x2005, "Bits", ObjectCode::Record, DataType::Record, kRo,
-                {entry(1, "Flag", DataType::Boolean, 1, kRw, {1}), entry(2, "Three", DataType::Bit3, 3, kRw, {5}),
-                 entry(3, "Word", DataType::Unsigned16, 16, kRw, le(0xBEEF, 2))}));
+  od::Object bits = composite(0x2005, "Bits", ObjectCode::Record, DataType::Record, kRo,
+                              {entry(1, "Flag", DataType::Boolean, 1, kRw, {1}),
+                               entry(2, "Three", DataType::Bit3, 3, kRw, {5}),
+                               entry(3, "Word", DataType::Unsigned16, 16, kRw, le(0xBEEF, 2))});
+  bits.entries[3].max_value = le(0xF000, 2);
+  put(bits);
   put(var(0x6000, "Input 32", DataType::Unsigned32, 32, kRo | kTxMap, le(0x11223344, 4)));
   put(var(0x6001, "Input 8", DataType::Unsigned8, 8, kRo | kTxMap, {0x55}));
   put(var(0x7000, "Output 16", DataType::Unsigned16, 16, kRw | kRxMap));

@@ -1,0 +1,174 @@
+#include <gtest/gtest.h>
+
+#include "tests/coe/rig.hpp"
+
+namespace ecat::coe {
+namespace {
+
+using test::Frame;
+using test::mbx;
+using test::sdo;
+
+TEST(MailboxHeader, RoundTrip) {
+  const std::uint8_t raw[6] = {0x0A, 0x00, 0x34, 0x12, 0x41, 0x53};
+  auto h = MailboxHeader::unpack(raw);
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->length, 10);
+  EXPECT_EQ(h->address, 0x1234);
+  EXPECT_EQ(h->channel, 1);
+  EXPECT_EQ(h->priority, 1);
+  EXPECT_EQ(h->type, 3);
+  EXPECT_EQ(h->counter, 5);
+  std::uint8_t out[6]{};
+  h->pack(out);
+  EXPECT_EQ(Frame(out, out + 6), Frame(raw, raw + 6));
+  EXPECT_FALSE(MailboxHeader::unpack(ConstBytes(raw, 5)));
+  EXPECT_EQ(MailboxHeader::next_counter(7), 1);
+  EXPECT_EQ(MailboxHeader::next_counter(0), 1);
+}
+
+TEST(Mailbox, UploadExpeditedByteExact) {
+  test::Rig rig;
+  auto reply = rig.request(mbx(3, 1, sdo(0x40, 0x1000, 0)));
+  ASSERT_TRUE(reply);
+  // length 10, address 0, channel 0, CoE with counter 1; SDO response 0x43, 4 bytes.
+  EXPECT_EQ(*reply, (Frame{0x0A, 0x00, 0x00, 0x00, 0x00, 0x13, 0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01,
+                           0x02, 0x00}));
+  EXPECT_FALSE(rig.esc.full(0));  // SM0 was released by reading its last byte
+}
+
+TEST(Mailbox, ErrorRepliesCarryTheirCodes) {
+  test::Rig rig;
+  auto expect_error = [&](const Frame& request, std::uint16_t code) {
+    auto reply = rig.request(request);
+    ASSERT_TRUE(reply);
+    ASSERT_EQ(reply->size(), 10u);
+    EXPECT_EQ((*reply)[0], 4);
+    EXPECT_EQ((*reply)[5] & 0x0F, 0);  // type 0: error reply
+    EXPECT_EQ((*reply)[6], 0x01);      // service "error"
+    EXPECT_EQ((*reply)[7], 0x00);
+    EXPECT_EQ((*reply)[8] | ((*reply)[9] << 8), code);
+  };
+  expect_error(mbx(2, 1, Frame(10, 0)), 0x0002);             // EoE not offered
+  expect_error(mbx(3, 2, sdo(0x40, 0x1000, 0), 5), 0x0003);  // channel 5
+  expect_error(mbx(3, 3, {0x00, 0x40}), 0x0004);             // CoE service 4 (TxPDO)
+  expect_error(mbx(0, 4, {0x00, 0x00}), 0x0005);             // type 0 from the master
+  expect_error(mbx(3, 5, {}), 0x0005);                       // length 0
+  expect_error(mbx(3, 6, {0x00}), 0x0006);                   // CoE header cut short
+  expect_error(mbx(3, 7, {0x00, 0x20, 0x40, 0x00}), 0x0006);  // SDO header cut short
+  Frame too_long = mbx(3, 1, sdo(0x40, 0x1000, 0));
+  too_long[0] = 0x7B;  // 123 > 128 - 6
+  expect_error(too_long, 0x0008);
+  expect_error(mbx(3, 2, {0x00, 0x80, 0x09, 0x00, 0x00, 0x00}), 0x0004);  // SDO info opcode 9
+  expect_error(mbx(3, 3, {0x00, 0x80, 0x01, 0x00, 0x00, 0x00}), 0x0006);  // OD list without list type
+}
+
+TEST(Mailbox, ClosedOutsidePreOpSafeOpOp) {
+  test::Rig rig;
+  rig.esc.set_state(0x01);  // Init
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 1, sdo(0x40, 0x1000, 0))));
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.full(0));  // not read
+  EXPECT_FALSE(rig.mailbox.open());
+  EXPECT_FALSE(rig.mailbox.send(MailboxType::CoE, Frame{1, 2}));
+  rig.esc.set_state(0x03);  // Bootstrap: CoE is not offered
+  rig.mailbox.poll(Nanoseconds{0});
+  auto reply = rig.fetch();
+  ASSERT_TRUE(reply);
+  EXPECT_EQ((*reply)[8], 0x02);  // unsupported protocol
+}
+
+TEST(Mailbox, SameCounterIsARepeatNotANewRequest) {
+  test::Rig rig;
+  // Download 0x2000 = 7 with counter 3.
+  auto first = rig.request(mbx(3, 3, sdo(0x2B, 0x2000, 0, 7)));
+  ASSERT_TRUE(first);
+  EXPECT_EQ((*first)[8], 0x60);
+  // The application changes the value; the same request again must not
+  // write it a second time, but the reply must come again, byte for byte.
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x2000, 0, 9));
+  auto again = rig.request(mbx(3, 3, sdo(0x2B, 0x2000, 0, 7)));
+  ASSERT_TRUE(again);
+  EXPECT_EQ(*again, *first);
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x2000, 0), 9);
+  // A new counter executes.
+  auto third = rig.request(mbx(3, 4, sdo(0x2B, 0x2000, 0, 7)));
+  ASSERT_TRUE(third);
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x2000, 0), 7);
+  EXPECT_NE((*third)[5], (*first)[5]);  // new reply counter
+  // Counter 0 (IgH) never counts as a repeat.
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x2000, 0, 1));
+  rig.request(mbx(3, 0, sdo(0x2B, 0x2000, 0, 7)));
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x2000, 0, 1));
+  rig.request(mbx(3, 0, sdo(0x2B, 0x2000, 0, 7)));
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x2000, 0), 7);
+}
+
+TEST(Mailbox, RepeatRequestResendsTheLostReply) {
+  test::Rig rig;
+  auto lost = rig.request(mbx(3, 1, sdo(0x40, 0x1018, 1)));
+  ASSERT_TRUE(lost);  // read by the "ESC", but the frame never reached the master
+  rig.esc.master_toggle_repeat();
+  EXPECT_FALSE(rig.esc.repeat_acked());
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.repeat_acked());
+  auto again = rig.fetch();
+  ASSERT_TRUE(again);
+  EXPECT_EQ(*again, *lost);
+  // Toggle back: works the second time too.
+  rig.esc.master_toggle_repeat();
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.repeat_acked());
+  EXPECT_EQ(*rig.fetch(), *lost);
+}
+
+TEST(Mailbox, RepeatWhileANewerReplyWaitsKeepsOrder) {
+  test::Rig rig;
+  auto a = rig.request(mbx(3, 1, sdo(0x40, 0x1018, 1)));
+  ASSERT_TRUE(a);
+  // The next request's reply is put into SM1 before the master asks for a repeat of a.
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 2, sdo(0x40, 0x1018, 2))));
+  rig.mailbox.poll(Nanoseconds{0});
+  ASSERT_TRUE(rig.esc.full(1));
+  rig.esc.master_toggle_repeat();
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.repeat_acked());
+  EXPECT_EQ(rig.esc.deactivations, 1);
+  auto first = rig.fetch();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(*first, *a);
+  auto second = rig.fetch();
+  ASSERT_TRUE(second);
+  EXPECT_EQ((*second)[11], 2);  // subindex 2: the newer reply, after the repeated one
+  EXPECT_EQ((*second)[12], 0x78);
+}
+
+TEST(Mailbox, RepliesQueueWhileSm1IsFullAndAreNeverLost) {
+  test::Rig rig(test::make_device(), 4);
+  // Five emergencies-worth of replies: the master does not read SM1 for a while.
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 1, sdo(0x40, 0x1018, 1))));
+  rig.mailbox.poll(Nanoseconds{0});
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 2, sdo(0x40, 0x1018, 2))));
+  rig.mailbox.poll(Nanoseconds{0});
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 3, sdo(0x40, 0x1018, 3))));
+  rig.mailbox.poll(Nanoseconds{0});
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 4, sdo(0x40, 0x1018, 4))));
+  rig.mailbox.poll(Nanoseconds{0});
+  // Queue (capacity 4, one slot reserved) holds replies 2..4; SM1 holds 1.
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 5, sdo(0x40, 0x1000, 0))));
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.full(0));  // not taken: no room for its reply
+  EXPECT_FALSE(rig.esc.master_write(mbx(3, 6, sdo(0x40, 0x1000, 0))));  // ESC refuses the write
+  for (std::uint8_t sub = 1; sub <= 4; ++sub) {
+    auto r = rig.fetch();
+    ASSERT_TRUE(r);
+    EXPECT_EQ((*r)[11], sub);
+  }
+  auto last = rig.fetch();
+  ASSERT_TRUE(last);
+  EXPECT_EQ((*last)[9] | ((*last)[10] << 8), 0x1000);
+  EXPECT_FALSE(rig.fetch());
+}
+
+}  // namespace
+}  // namespace ecat::coe
