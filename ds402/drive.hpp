@@ -1,0 +1,107 @@
+// A simulated CiA 402 servo drive: the PDS state machine, the modes of
+// operation, homing, touch probe, monitoring and a motor/load plant, stepped
+// once per cycle with the plain object values (ds402/objects.hpp). It owns
+// no object dictionary and never allocates after construction; time advances
+// only by the cycle length passed to step().
+#pragma once
+
+#include <cstdint>
+
+#include "common/clock.hpp"
+#include "ds402/axis.hpp"
+#include "ds402/drive_config.hpp"
+#include "ds402/faults.hpp"
+#include "ds402/homing.hpp"
+#include "ds402/modes.hpp"
+#include "ds402/objects.hpp"
+#include "ds402/plant.hpp"
+#include "ds402/profile.hpp"
+#include "ds402/profile_position.hpp"
+#include "ds402/state_machine.hpp"
+#include "ds402/touch_probe.hpp"
+#include "ds402/units.hpp"
+
+namespace ecat::ds402 {
+
+class Drive {
+ public:
+  Drive(DriveConfig config, const PlantParameters& plant);
+
+  // One drive cycle of length `cycle`: reads `in`, advances the simulation,
+  // fills `out`.
+  void step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) noexcept;
+
+  PdsState state() const noexcept { return sm_.state(); }
+  int last_transition() const noexcept { return sm_.last_transition(); }
+  OperationMode mode() const noexcept { return mode_; }
+  HomingStatus homing_status() const noexcept { return homing_.status(); }
+  bool fault_latched(FaultKind k) const noexcept { return (latched_ >> static_cast<unsigned>(k)) & 1u; }
+  const DriveConfig& config() const noexcept { return config_; }
+  const Plant& plant() const noexcept { return plant_; }
+  const Axis& axis() const noexcept { return axis_; }
+  EmcyQueue& emergencies() noexcept { return emcy_; }
+
+  // Simulation hooks (tests, demos): a load torque against the motor.
+  void set_external_torque(double nm) noexcept { plant_.set_external_torque(nm); }
+  // Raises a fault as if the monitoring had found it.
+  void raise_fault(FaultKind k) noexcept;
+
+  // Demand values of the last cycle in increments, increments/s and N·m.
+  double position_demand() const noexcept { return demand_.position; }
+  double velocity_demand() const noexcept { return demand_.velocity; }
+  double torque_demand() const noexcept { return plant_.torque_command(); }
+
+ private:
+  struct Timer {  // time a condition has held, in seconds
+    double held = 0;
+    bool update(bool condition, double dt, double limit_s) noexcept {
+      held = condition ? held + dt : 0;
+      return condition && held >= limit_s;
+    }
+  };
+
+  void select_mode(const DriveInputs& in) noexcept;
+  void enter_mode() noexcept;
+  void run_mode(const DriveInputs& in, double dt) noexcept;
+  void run_stop(StopKind stop, const DriveInputs& in, double dt) noexcept;
+  void hold() noexcept;
+  void monitor(const DriveInputs& in, double dt) noexcept;
+  void clear_faults() noexcept;
+  std::uint16_t mode_bits(const DriveInputs& in, double dt) noexcept;
+  void fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept;
+
+  double decel_for(StopKind stop, const DriveInputs& in) const noexcept;
+  double to_inc(double user) const noexcept { return units_.to_increments(user); }
+  double to_user(double inc) const noexcept { return units_.to_user(inc); }
+  double torque_nm(double per_mille) const noexcept { return per_mille * plant_.parameters().rated_torque / 1000.0; }
+  double torque_per_mille(double nm) const noexcept { return nm * 1000.0 / plant_.parameters().rated_torque; }
+
+  DriveConfig config_;
+  Plant plant_;
+  Axis axis_;
+  StateMachine sm_;
+  ProfileGenerator gen_;
+  ProfilePosition pp_;
+  Homing homing_;
+  TouchProbe probe_;
+  UnitScaling units_;
+  EmcyQueue emcy_;
+
+  OperationMode mode_ = OperationMode::None;
+  LoopDemand demand_;
+  LoopLimits limits_;
+  double torque_demand_pm_ = 0;  // profile torque ramp, per mille
+  std::uint16_t controlword_ = 0;
+  std::uint16_t previous_controlword_ = 0;
+  bool halted_ = false;
+  bool stopped_ = true;
+  bool internal_limit_ = false;
+  bool warning_ = false;
+  bool following_error_ = false;
+  std::uint32_t latched_ = 0;
+  std::uint16_t error_code_ = 0;
+  std::uint8_t error_register_ = 0;
+  Timer following_timer_, torque_timer_, position_window_, velocity_window_, speed_zero_;
+};
+
+}  // namespace ecat::ds402

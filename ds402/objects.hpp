@@ -1,0 +1,98 @@
+// The plain values the drive exchanges with its object dictionary each cycle
+// (CiA 402-2 §8-§14). DriveInputs holds what the drive reads (RxPDO objects
+// and parameters written by SDO), DriveOutputs what it writes (TxPDO
+// objects). Types and units as the profile defines them: positions in
+// position units, velocities in velocity units (position units per second),
+// accelerations in position units/s², torques in per mille of rated torque.
+// ds402::DriveBinding copies these from/to the coe::ObjectStore.
+#pragma once
+
+#include <cstdint>
+
+namespace ecat::ds402 {
+
+struct DriveInputs {
+  std::uint16_t controlword = 0;          // 6040h
+  std::int8_t modes_of_operation = 0;     // 6060h
+  std::int32_t target_position = 0;       // 607Ah
+  std::int32_t target_velocity = 0;       // 60FFh
+  std::int16_t target_torque = 0;         // 6071h
+  std::int32_t position_offset = 0;       // 60B0h
+  std::int32_t velocity_offset = 0;       // 60B1h
+  std::int16_t torque_offset = 0;         // 60B2h
+
+  std::uint32_t profile_velocity = 100000;          // 6081h
+  std::uint32_t profile_acceleration = 1000000;     // 6083h
+  std::uint32_t profile_deceleration = 1000000;     // 6084h
+  std::uint32_t quick_stop_deceleration = 4000000;  // 6085h
+  std::uint32_t torque_slope = 10000;               // 6087h, per mille per second
+  std::uint32_t max_profile_velocity = 0xFFFFFFFF;  // 607Fh
+  std::uint32_t max_motor_speed = 0;                // 6080h, rpm (0: the plant's maximum)
+
+  std::int8_t homing_method = 0;                // 6098h
+  std::uint32_t homing_speed_switch = 50000;    // 6099h:01
+  std::uint32_t homing_speed_zero = 10000;      // 6099h:02
+  std::uint32_t homing_acceleration = 1000000;  // 609Ah
+  std::int32_t home_offset = 0;                 // 607Ch
+
+  std::int32_t software_limit_min = 0;  // 607Dh:01 (min >= max: no limits)
+  std::int32_t software_limit_max = 0;  // 607Dh:02
+  std::uint16_t max_torque = 3000;               // 6072h, per mille
+  std::uint16_t positive_torque_limit = 3000;    // 60E0h
+  std::uint16_t negative_torque_limit = 3000;    // 60E1h
+
+  std::uint32_t following_error_window = 0xFFFFFFFF;  // 6065h (all ones: off)
+  std::uint16_t following_error_timeout = 0;          // 6066h, ms
+  std::uint32_t position_window = 100;                // 6067h
+  std::uint16_t position_window_time = 0;             // 6068h, ms
+  std::uint16_t velocity_window = 100;                // 606Dh
+  std::uint16_t velocity_window_time = 0;             // 606Eh, ms
+  std::uint16_t velocity_threshold = 100;             // 606Fh
+  std::uint16_t velocity_threshold_time = 0;          // 6070h, ms
+
+  std::int16_t quick_stop_option = 2;         // 605Ah
+  std::int16_t shutdown_option = 0;           // 605Bh
+  std::int16_t disable_operation_option = 1;  // 605Ch
+  std::int16_t halt_option = 1;               // 605Dh
+  std::int16_t fault_reaction_option = 2;     // 605Eh
+
+  std::uint16_t touch_probe_function = 0;  // 60B8h
+
+  // Factor group (CiA 402-2 §6.3). 0 in a feed/encoder field means "one
+  // position unit per encoder increment".
+  std::uint32_t encoder_increments = 0;  // 608Fh:01
+  std::uint32_t motor_revolutions = 1;   // 608Fh:02
+  std::uint32_t gear_motor_revolutions = 1;  // 6091h:01
+  std::uint32_t gear_shaft_revolutions = 1;  // 6091h:02
+  std::uint32_t feed = 0;                    // 6092h:01
+  std::uint32_t feed_shaft_revolutions = 1;  // 6092h:02
+
+  // Not an object: set by the synchronisation layer when the cyclic
+  // set-points stopped arriving in time (SM2/Sync0 watchdog, 1C32h errors).
+  bool sync_lost = false;
+};
+
+struct DriveOutputs {
+  std::uint16_t statusword = 0;             // 6041h
+  std::int8_t modes_of_operation_display = 0;  // 6061h
+  std::int32_t position_demand = 0;         // 6062h
+  std::int32_t position_actual_internal = 0;  // 6063h, increments
+  std::int32_t position_actual = 0;         // 6064h
+  std::int32_t velocity_demand = 0;         // 606Bh
+  std::int32_t velocity_actual = 0;         // 606Ch
+  std::int16_t torque_demand = 0;           // 6074h
+  std::int16_t torque_actual = 0;           // 6077h
+  std::int32_t following_error = 0;         // 60F4h
+  std::int32_t position_demand_internal = 0;  // 60FCh, increments
+  std::uint16_t error_code = 0;             // 603Fh
+  std::uint8_t error_register = 0;          // 1001h
+  std::uint16_t touch_probe_status = 0;     // 60B9h
+  std::int32_t touch_probe_1_positive = 0;  // 60BAh
+  std::int32_t touch_probe_1_negative = 0;  // 60BBh
+  std::int32_t touch_probe_2_positive = 0;  // 60BCh
+  std::int32_t touch_probe_2_negative = 0;  // 60BDh
+  std::uint32_t digital_inputs = 0;         // 60FDh
+  std::uint32_t supported_drive_modes = 0;  // 6502h
+};
+
+}  // namespace ecat::ds402

@@ -1,0 +1,124 @@
+// The simulated servo axis: a rigid rotor plus load with viscous and Coulomb
+// friction, driven by a torque (current) loop modelled as a first-order lag,
+// under a cascaded velocity PI and position P controller (the usual servo
+// structure, CiA 402-2 Figure 3/§12). Everything runs in fixed sub-steps of
+// one drive cycle, so the result depends only on the inputs (deterministic).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+
+#include "common/expected.hpp"
+
+namespace ecat::ds402 {
+
+// Parameters of the motor, the load and the controller. The device file's
+// DriveProfile "plant" name/value pairs set them by the names in kPlantNames
+// (docs/ds402.md lists them). Defaults: a 400 W, 3000 rpm servo with a
+// 17-bit encoder and a load of three times the rotor inertia.
+struct PlantParameters {
+  double rotor_inertia = 3.4e-5;          // kg·m²          "rotor_inertia"
+  double load_inertia = 1.0e-4;           // kg·m²          "load_inertia"
+  double viscous_friction = 1.0e-4;       // N·m/(rad/s)    "viscous_friction"
+  double coulomb_friction = 0.02;         // N·m            "coulomb_friction"
+  double torque_constant = 0.45;          // N·m/A          "torque_constant"
+  double rated_torque = 1.27;             // N·m            "rated_torque"
+  double peak_torque = 3.82;              // N·m            "peak_torque"
+  double rated_speed = 3000;              // rpm            "rated_speed"
+  double max_speed = 5000;                // rpm            "max_speed"
+  std::uint32_t encoder_resolution = 131072;  // inc/rev   "encoder_resolution"
+  double current_time_constant = 2.0e-4;  // s              "current_time_constant"
+  double velocity_bandwidth = 150;        // Hz             "velocity_bandwidth"
+  double position_gain = 100;             // 1/s            "position_gain"
+  double velocity_feed_forward = 0.0;     // 0..1           "velocity_feed_forward"
+  double sub_step = 62.5e-6;              // s, longest integration step "sub_step"
+
+  // Monitoring thresholds.
+  double over_speed = 6000;            // rpm              "over_speed"
+  double over_torque_time = 0.5;       // s at the torque limit  "over_torque_time"
+
+  // The axis: switch and mark positions in encoder increments (motor side).
+  double negative_limit_switch = -2.0e6;  // active at or below  "negative_limit_switch"
+  double positive_limit_switch = 2.0e6;   // active at or above  "positive_limit_switch"
+  double home_switch_low = 300000;        // active in [low, high] "home_switch_low"
+  double home_switch_high = 500000;       //                       "home_switch_high"
+  double index_offset = 1000;             // index pulse at k·resolution + offset "index_offset"
+  double probe1_low = 700000;             // touch probe 1 input active in [low, high] "probe1_low"
+  double probe1_high = 800000;            //                                       "probe1_high"
+  double probe2_low = -800000;            // "probe2_low"
+  double probe2_high = -700000;           // "probe2_high"
+  double initial_position = 0;            // increments at power-on "initial_position"
+
+  double total_inertia() const noexcept { return rotor_inertia + load_inertia; }
+};
+
+// Sets the named parameters; an unknown name or a value out of its sensible
+// range is an error naming it.
+Expected<PlantParameters, std::string> plant_parameters_from(
+    std::span<const std::pair<std::string, double>> values, PlantParameters base = {});
+
+// What the controller follows during one cycle.
+struct LoopDemand {
+  enum class Kind : std::uint8_t { Off, Position, Velocity, Torque };
+  Kind kind = Kind::Off;
+  double position = 0;  // increments, at the end of the cycle (linear in between)
+  double velocity = 0;  // increments/s: demand (Velocity) or profile velocity (Position),
+                        // fed forward scaled by velocity_feed_forward
+  double velocity_offset = 0;  // increments/s added to the velocity command (60B1h)
+  double torque = 0;    // N·m: demand (Torque) or feed-forward
+};
+
+struct LoopLimits {
+  double torque_positive = 0;  // N·m, >= 0
+  double torque_negative = 0;  // N·m, >= 0 (magnitude)
+  double velocity = 0;         // increments/s, >= 0
+};
+
+class Plant {
+ public:
+  explicit Plant(const PlantParameters& p) noexcept;
+
+  // Advances by `dt` seconds in equal sub-steps no longer than sub_step.
+  void step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept;
+
+  // A load torque acting against the motor (N·m), e.g. a stall or collision.
+  void set_external_torque(double nm) noexcept { external_torque_ = nm; }
+  // Redefines the position (homing): shifts every stored position by `delta`.
+  void shift_position(double delta) noexcept;
+
+  double position() const noexcept { return position_; }  // increments
+  double velocity() const noexcept { return velocity_; }  // increments/s
+  double torque() const noexcept { return torque_; }      // N·m produced
+  double torque_command() const noexcept { return torque_command_; }
+  bool torque_limited() const noexcept { return torque_limited_; }
+  const PlantParameters& parameters() const noexcept { return p_; }
+
+  // Increments/s of `rpm`, and back.
+  double rpm_to_increments(double rpm) const noexcept { return rpm * p_.encoder_resolution / 60.0; }
+  double increments_to_rpm(double v) const noexcept { return v * 60.0 / p_.encoder_resolution; }
+
+  // Position at the start of the last step (for edge detection).
+  double previous_position() const noexcept { return previous_position_; }
+
+ private:
+  void sub_step(const LoopDemand& d, const LoopLimits& lim, double position_ref, double h) noexcept;
+
+  PlantParameters p_;
+  double rad_per_inc_;
+  double kv_;  // velocity P gain, N·m per increment/s
+  double ki_;  // velocity I gain, N·m per increment
+  double position_ = 0;
+  double previous_position_ = 0;
+  double velocity_ = 0;
+  double torque_ = 0;
+  double torque_command_ = 0;
+  double integral_ = 0;
+  double external_torque_ = 0;
+  double last_position_ref_ = 0;
+  bool last_was_position_ = false;
+  bool torque_limited_ = false;
+};
+
+}  // namespace ecat::ds402

@@ -1,0 +1,53 @@
+// Factor group (CiA 402-2 §6.3.3, objects 608Fh, 6091h, 6092h): user
+// position units <-> encoder increments. Velocities are position units per
+// second and accelerations position units per s² (the profile's defaults).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "ds402/objects.hpp"
+
+namespace ecat::ds402 {
+
+class UnitScaling {
+ public:
+  UnitScaling() = default;
+  // `encoder_resolution` is the plant's increments per motor revolution, used
+  // when 608Fh:01 is 0.
+  static UnitScaling from(const DriveInputs& in, std::uint32_t encoder_resolution) noexcept {
+    UnitScaling s;
+    if (in.feed == 0 || in.feed_shaft_revolutions == 0) return s;  // 1 unit = 1 increment
+    const double enc = in.encoder_increments ? in.encoder_increments : encoder_resolution;
+    const double motor_revs = in.motor_revolutions ? in.motor_revolutions : 1;
+    const double gear = in.gear_shaft_revolutions
+                            ? static_cast<double>(in.gear_motor_revolutions) / in.gear_shaft_revolutions
+                            : 1.0;
+    const double feed_per_shaft_rev = static_cast<double>(in.feed) / in.feed_shaft_revolutions;
+    s.inc_per_unit_ = enc / motor_revs * gear / feed_per_shaft_rev;
+    return s;
+  }
+
+  double increments_per_unit() const noexcept { return inc_per_unit_; }
+  double to_increments(double user) const noexcept { return user * inc_per_unit_; }
+  double to_user(double increments) const noexcept { return increments / inc_per_unit_; }
+
+  // Rounded and saturated to the 32-bit object types.
+  static std::int32_t to_i32(double v) noexcept {
+    const double r = std::round(v);
+    if (r >= 2147483647.0) return INT32_MAX;
+    if (r <= -2147483648.0) return INT32_MIN;
+    return static_cast<std::int32_t>(r);
+  }
+  static std::int16_t to_i16(double v) noexcept {
+    const double r = std::round(v);
+    if (r >= 32767.0) return INT16_MAX;
+    if (r <= -32768.0) return INT16_MIN;
+    return static_cast<std::int16_t>(r);
+  }
+
+ private:
+  double inc_per_unit_ = 1.0;
+};
+
+}  // namespace ecat::ds402
