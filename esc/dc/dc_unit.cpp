@@ -1,49 +1,181 @@
-// Register storage only; see dc_unit.hpp.
+// DC register block: routing of reads and writes (ESC datasheet Section II
+// §10; esc-registers.md §10). SYNC/LATCH timing is in dc_unit_sync.cpp.
 #include "esc/dc/dc_unit.hpp"
 
 #include <algorithm>
 
 #include "common/le.hpp"
+#include "esc/dc/dc_registers.hpp"
 
 namespace ecat::esc {
-
 namespace {
-constexpr std::uint16_t kSyncPulseLength = 0x0082;  // 0x0982 - 0x0900
+
+using namespace dcreg;
+
+constexpr std::uint16_t kU32 = 4;
+constexpr std::uint16_t kU64 = 8;
+
+bool touches(std::uint16_t first, std::uint16_t end, std::uint16_t reg, std::uint16_t size) noexcept {
+  return first < reg + size && reg < end;
 }
 
-void DcUnit::read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds local_time,
-                  Side side) noexcept {
-  (void)local_time;
-  (void)side;
-  if (offset >= kSize) return;
-  std::size_t n = std::min<std::size_t>(out.size(), kSize - offset);
-  std::copy_n(regs_.begin() + offset, n, out.begin());
-}
+}  // namespace
 
-void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds local_time,
-                   Side side) noexcept {
-  (void)local_time;
-  (void)side;
-  if (offset >= kSize) return;
-  std::size_t n = std::min<std::size_t>(in.size(), kSize - offset);
-  std::copy_n(in.begin(), n, regs_.begin() + offset);
-}
-
-void DcUnit::on_frame_arrival(int port, Nanoseconds t) noexcept {
-  (void)port;
-  (void)t;
-}
-
-std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
-  (void)now;
-  return std::nullopt;
-}
+std::uint64_t DcUnit::offset() const noexcept { return load_le<std::uint64_t>(&regs_[kSystemTimeOffset]); }
+std::uint32_t DcUnit::delay() const noexcept { return load_le<std::uint32_t>(&regs_[kSystemTimeDelay]); }
+bool DcUnit::acknowledge_mode() const noexcept { return load_le<std::uint16_t>(&regs_[kSyncPulseLength]) == 0; }
 
 void DcUnit::reset(std::uint16_t sync_pulse_length) noexcept {
   regs_.fill(0);
+  store_le(&regs_[kSyncPulseLength], sync_pulse_length);
+  store_le(&regs_[kSpeedCounterStart], kSpeedCounterStartReset);
+  regs_[kSystemTimeDiffFilterDepth] = kSystemTimeDiffFilterDepthReset;
+  regs_[kSpeedCounterFilterDepth] = kSpeedCounterFilterDepthReset;
+  loop_.restart(kSpeedCounterStartReset);
+  loop_.set_filter_depth(kSystemTimeDiffFilterDepthReset);
+  clock_.set_rate_correction(last_t_, 0.0);
+  sync_.reset();
+  for (auto& l : latches_) l.reset();
+  receive_latch_armed_ = false;
+  sync_level_ = {};
+  pulse_end_ = {};
   al_events_ = 0;
   ecat_events_ = 0;
-  store_le(regs_.data() + kSyncPulseLength, sync_pulse_length);
+}
+
+// Current values of the registers that are not plain storage.
+void DcUnit::render(std::span<std::uint8_t, kSize> view, Nanoseconds t, Side side) const noexcept {
+  std::copy(regs_.begin(), regs_.end(), view.begin());
+  // 0x0910: ECAT reads see the time the frame passed the reference clock.
+  const std::uint64_t system = system_time(t) - (side == Side::Ecat ? delay() : 0u);
+  store_le(&view[kSystemTime], system);
+  store_le(&view[kSystemTimeDifference], loop_.difference_register());
+  store_le(&view[kSpeedCounterDiff], loop_.speed_counter_diff_register());
+  view[kActivationStatus] = sync_.activation_status();
+  view[kSync0Status] = sync_level_[0] ? 1 : 0;
+  view[kSync1Status] = sync_level_[1] ? 1 : 0;
+  if (sync_.active()) store_le(&view[kStartTimeCyclicOperation], sync_.next_sync0());
+  store_le(&view[kNextSync1Pulse], sync_.next_sync1());
+  view[kLatch0Status] = latches_[0].status();
+  view[kLatch1Status] = latches_[1].status();
+  store_le(&view[kLatch0TimePositive], latches_[0].positive_time());
+  store_le(&view[kLatch0TimeNegative], latches_[0].negative_time());
+  store_le(&view[kLatch1TimePositive], latches_[1].positive_time());
+  store_le(&view[kLatch1TimeNegative], latches_[1].negative_time());
+}
+
+void DcUnit::read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds t, Side side) noexcept {
+  last_t_ = std::max(last_t_, t);
+  if (offset >= kSize) return;
+  const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(out.size(), kSize - offset));
+  std::array<std::uint8_t, kSize> view{};
+  render(view, t, side);
+  std::copy_n(view.begin() + offset, n, out.begin());
+  after_read(offset, static_cast<std::uint16_t>(offset + n), side, t);
+}
+
+// Read side effects: SYNC acknowledge (PDI reads 0x098E/F) and latch events
+// (the owner reads a latch time register).
+void DcUnit::after_read(std::uint16_t first, std::uint16_t end, Side side, Nanoseconds t) noexcept {
+  if (side == Side::Pdi) {
+    for (unsigned s = 0; s < kSyncSignals; ++s) {
+      if (!touches(first, end, static_cast<std::uint16_t>(kSync0Status + s), 1)) continue;
+      al_events_ &= ~(s == 0 ? kAlEventSync0 : kAlEventSync1);
+      if (acknowledge_mode() && sync_level_[s]) set_sync_level(s, false, t);
+    }
+  }
+  constexpr std::array<std::uint8_t, kLatchInputs> kOwnerPdi{kLatch0OwnerPdi, kLatch1OwnerPdi};
+  constexpr std::array<std::uint16_t, kLatchInputs> kPositive{kLatch0TimePositive, kLatch1TimePositive};
+  constexpr std::array<std::uint16_t, kLatchInputs> kNegative{kLatch0TimeNegative, kLatch1TimeNegative};
+  for (unsigned l = 0; l < kLatchInputs; ++l) {
+    const bool owner_pdi = (regs_[kCyclicUnitControl] & kOwnerPdi[l]) != 0;
+    if (owner_pdi != (side == Side::Pdi)) continue;
+    if (touches(first, end, kPositive[l], kU64)) latches_[l].positive_read();
+    if (touches(first, end, kNegative[l], kU64)) latches_[l].negative_read();
+  }
+  update_latch_events();
+}
+
+bool DcUnit::writable(std::uint16_t offset, Side side) const noexcept {
+  const bool ecat = side == Side::Ecat;
+  const bool sync_owner = ((regs_[kCyclicUnitControl] & kSyncOwnerPdi) != 0) == !ecat;
+  if (offset >= kSystemTimeOffset && offset < kSystemTimeDifference) return ecat;  // offset, delay
+  if (offset == kSpeedCounterStart || offset == kSpeedCounterStart + 1) return ecat;
+  if (offset == kSystemTimeDiffFilterDepth || offset == kSpeedCounterFilterDepth) return ecat;
+  if (offset == kCyclicUnitControl) return ecat;
+  if (offset == kActivation) return sync_owner;
+  if (offset >= kStartTimeCyclicOperation && offset < kStartTimeCyclicOperation + kU64) return sync_owner;
+  if (offset >= kSync0CycleTime && offset < kSync1CycleTime + kU32) return sync_owner;
+  if (offset == kLatch0Control) return ((regs_[kCyclicUnitControl] & kLatch0OwnerPdi) != 0) == !ecat;
+  if (offset == kLatch1Control) return ((regs_[kCyclicUnitControl] & kLatch1OwnerPdi) != 0) == !ecat;
+  return false;
+}
+
+void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds t, Side side) noexcept {
+  last_t_ = std::max(last_t_, t);
+  if (offset >= kSize) return;
+  const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(in.size(), kSize - offset));
+  const auto end = static_cast<std::uint16_t>(offset + n);
+  if (side == Side::Ecat && touches(offset, end, kReceiveTimePort0, kU32)) latch_receive_times(t);
+  if (side == Side::Ecat && offset <= kSystemTime && end > kSystemTime) {
+    compare_system_time(in.subspan(kSystemTime - offset, std::min<std::size_t>(kU64, end - kSystemTime)), t);
+  }
+  for (std::uint16_t i = 0; i < n; ++i) {
+    const auto o = static_cast<std::uint16_t>(offset + i);
+    if (writable(o, side)) regs_[o] = in[i];
+  }
+  after_write(offset, end, t);
+}
+
+void DcUnit::after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept {
+  if (touches(first, end, kSpeedCounterStart, 2)) {
+    loop_.restart(load_le<std::uint16_t>(&regs_[kSpeedCounterStart]));
+    clock_.set_rate_correction(t, 0.0);
+  }
+  if (touches(first, end, kSystemTimeDiffFilterDepth, 1)) loop_.set_filter_depth(regs_[kSystemTimeDiffFilterDepth]);
+  if (touches(first, end, kLatch0Control, 1)) latches_[0].set_control(regs_[kLatch0Control]);
+  if (touches(first, end, kLatch1Control, 1)) latches_[1].set_control(regs_[kLatch1Control]);
+  if (touches(first, end, kStartTimeCyclicOperation, kU64)) start_time_written(first, end, t);
+  if (touches(first, end, kActivation, 1)) activation_written(t);
+}
+
+// Section II 0x0900: an ECAT write latches the local time of this frame at
+// every port; port 0 and the processing unit now, the others as the frame
+// comes back through them (on_frame_arrival).
+void DcUnit::latch_receive_times(Nanoseconds t) noexcept {
+  const std::uint64_t local = clock_.at(t);
+  store_le(&regs_[kReceiveTimePort0], static_cast<std::uint32_t>(local));
+  store_le(&regs_[kReceiveTimeProcessingUnit], local);
+  receive_latch_armed_ = true;
+}
+
+void DcUnit::on_frame_arrival(int port, Nanoseconds t) noexcept {
+  last_t_ = std::max(last_t_, t);
+  if (port <= 0) {
+    receive_latch_armed_ = false;  // a new frame
+    return;
+  }
+  if (!receive_latch_armed_ || port >= static_cast<int>(kPorts)) return;
+  const auto reg = static_cast<std::uint16_t>(kReceiveTimePort0 + port * kReceiveTimePortStride);
+  store_le(&regs_[reg], static_cast<std::uint32_t>(clock_.at(t)));
+}
+
+// Section II 0x0910 write: compare the written value with the copy latched
+// at SOF (minus the delay: what the reference showed when the frame passed
+// it). A 4-byte write compares the low 32 bits.
+void DcUnit::compare_system_time(std::span<const std::uint8_t> written, Nanoseconds t) noexcept {
+  const std::uint64_t copy = system_time(t) - delay();
+  std::array<std::uint8_t, kU64> received{};
+  store_le(received.data(), copy);
+  std::copy(written.begin(), written.end(), received.begin());
+  const std::uint64_t value = load_le<std::uint64_t>(received.data());
+  std::int64_t difference = 0;
+  if (written.size() > kU32) {
+    difference = static_cast<std::int64_t>(copy - value);
+  } else {
+    difference = static_cast<std::int32_t>(static_cast<std::uint32_t>(copy) - static_cast<std::uint32_t>(value));
+  }
+  loop_.compare(difference, t, clock_.at(t), clock_);
 }
 
 }  // namespace ecat::esc

@@ -1,8 +1,14 @@
-// Distributed-clocks unit of one ESC: registers 0x0900-0x09FF (ESC datasheet
-// Section I §9, Section II §10; shared/spec/esc-registers.md §10). The Esc
-// routes every access in that block here with the time of the access.
-// This first version only stores the registers; the DC engineer fills in
-// receive-time latching, system time, the time loop and SYNC/LATCH.
+// Distributed-clocks unit of one ESC with 64-bit DC: registers 0x0900-0x09FF
+// (ESC datasheet Section I §9, Section II §10; shared/spec/esc-registers.md
+// §10). The Esc routes every access in that block here, with the simulated
+// (true) time of the access: for ECAT accesses the time the frame started
+// passing this ESC (SOF at port 0), for PDI accesses the clock's now.
+//   - local clock with its own ppm error (LocalClock), system time = local + 0x0920
+//   - receive-time latches on an ECAT write to 0x0900 (ports 0..3, 0x0918)
+//   - 0x0910 ECAT read: system time at SOF minus 0x0928 (time the frame passed
+//     the reference clock); ECAT write: one comparison for the time loop
+//   - SYNC0/SYNC1 generation (SyncUnit) and two LATCH inputs (LatchUnit)
+// Behaviour choices are in docs/dc.md.
 #pragma once
 
 #include <array>
@@ -12,22 +18,38 @@
 
 #include "common/clock.hpp"
 #include "esc/access_side.hpp"
+#include "esc/dc/latch_unit.hpp"
+#include "esc/dc/local_clock.hpp"
+#include "esc/dc/sync_unit.hpp"
+#include "esc/dc/time_loop.hpp"
 
 namespace ecat::esc {
 
-class DcUnit {
+// Told of SYNC and LATCH edges as they happen (application trigger, VCD trace).
+class DcObserver {
+ public:
+  virtual ~DcObserver() = default;
+  // SYNC0 (signal 0) or SYNC1 (signal 1) output changes to `level` at true time t.
+  virtual void on_sync(unsigned signal, bool level, Nanoseconds t) noexcept = 0;
+};
+
+class DcUnit : private SyncUnit::Sink {
  public:
   static constexpr std::uint16_t kSize = 0x0100;  // 0x0900..0x09FF
+  static constexpr unsigned kPorts = 4;
+  static constexpr unsigned kSyncSignals = 2;
+  static constexpr unsigned kLatchInputs = 2;
+  static constexpr std::uint64_t kPulseLengthUnitNs = 10;  // 0x0982 unit
 
   // `offset` is relative to 0x0900; offset + size <= kSize (the Esc clips).
-  void read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds local_time,
+  void read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds t,
             Side side = Side::Ecat) noexcept;
-  void write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds local_time,
+  void write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds t,
              Side side = Side::Ecat) noexcept;
   // A frame reached `port` at time t (before the ESC processes it for port 0,
   // on its way back for the other ports).
   void on_frame_arrival(int port, Nanoseconds t) noexcept;
-  // Advances SYNC/LATCH generation to `now`; returns when it next needs to run.
+  // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
   // Event bits the unit currently requests: AL event request 0x0220 bits
@@ -37,12 +59,54 @@ class DcUnit {
   std::uint16_t ecat_event_request() const noexcept { return ecat_events_; }
 
   // Power-on/ESC reset; `sync_pulse_length` is SII word 2 (-> 0x0982).
+  // The oscillator (set_clock) keeps running.
   void reset(std::uint16_t sync_pulse_length) noexcept;
 
+  // --- Simulation and application side (additive to the Esc interface) ---
+  // Oscillator error and local time at true time 0 (set-up).
+  void set_clock(double ppm, std::uint64_t start) noexcept { clock_.reset(ppm, start); }
+  const LocalClock& clock() const noexcept { return clock_; }
+  std::uint64_t local_time(Nanoseconds t) const noexcept { return clock_.at(t); }
+  std::uint64_t system_time(Nanoseconds t) const noexcept { return clock_.at(t) + offset(); }
+  // True time at which this ESC's system time reaches `system`.
+  Nanoseconds when_system(std::uint64_t system) const noexcept { return clock_.when(system - offset()); }
+  // LATCH0/1 pin goes to `level` at true time t.
+  void set_latch_input(unsigned unit, bool level, Nanoseconds t) noexcept;
+  // Current SYNC0/SYNC1 output level (as of the last poll/read).
+  bool sync_output(unsigned signal) const noexcept { return sync_level_[signal]; }
+  void set_observer(DcObserver* observer) noexcept { observer_ = observer; }
+  const TimeLoop& time_loop() const noexcept { return loop_; }
+
  private:
-  std::array<std::uint8_t, kSize> regs_{};
+  void pulse(const SyncUnit::Pulse& p) noexcept override;
+  void render(std::span<std::uint8_t, kSize> view, Nanoseconds t, Side side) const noexcept;
+  void after_read(std::uint16_t first, std::uint16_t end, Side side, Nanoseconds t) noexcept;
+  bool writable(std::uint16_t offset, Side side) const noexcept;
+  void after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept;
+  void latch_receive_times(Nanoseconds t) noexcept;
+  void compare_system_time(std::span<const std::uint8_t> written, Nanoseconds t) noexcept;
+  void activation_written(Nanoseconds t) noexcept;
+  void start_time_written(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept;
+  void set_sync_level(unsigned signal, bool level, Nanoseconds t) noexcept;
+  static bool touches_high(std::uint16_t first, std::uint16_t end) noexcept;
+  void end_pulses(std::uint64_t system_now) noexcept;
+  void update_latch_events() noexcept;
+  std::uint64_t offset() const noexcept;
+  std::uint32_t delay() const noexcept;
+  bool acknowledge_mode() const noexcept;
+
+  std::array<std::uint8_t, kSize> regs_{};  // stored (written/latched) values
+  LocalClock clock_;
+  TimeLoop loop_;
+  SyncUnit sync_;
+  std::array<LatchUnit, kLatchInputs> latches_{};
+  bool receive_latch_armed_ = false;
+  std::array<bool, kSyncSignals> sync_level_{};
+  std::array<std::uint64_t, kSyncSignals> pulse_end_{};  // system time, pulse mode
   std::uint32_t al_events_ = 0;
   std::uint16_t ecat_events_ = 0;
+  DcObserver* observer_ = nullptr;
+  Nanoseconds last_t_{0};  // latest time the unit has seen
 };
 
 }  // namespace ecat::esc

@@ -1,0 +1,46 @@
+// The free-running local clock of one ESC (ESC datasheet Section I §9.1:
+// "local time", 1 ns units, 64 bit). A simulated slave's oscillator has its
+// own frequency error (ppm) and start value, so a chain of simulated slaves
+// really drifts apart; the DC time loop slews it through rate_correction().
+// Time in: the injected (true) time; time out: this ESC's local time.
+#pragma once
+
+#include <cstdint>
+
+#include "common/clock.hpp"
+
+namespace ecat::esc {
+
+class LocalClock {
+ public:
+  // `ppm`: oscillator error, e.g. +100 runs 100 µs/s fast. `start`: local time
+  // at true time 0 (an ESC's clock starts at power-on, not at system time).
+  explicit LocalClock(double ppm = 0.0, std::uint64_t start = 0) noexcept;
+
+  // Local time at true time t (rounded down to whole ns). Piecewise linear,
+  // strictly increasing in t.
+  std::uint64_t at(Nanoseconds t) const noexcept;
+  // Earliest true time at which the local time reaches `local` (rounded up).
+  Nanoseconds when(std::uint64_t local) const noexcept;
+
+  // Sets the correction applied from true time t on (dimensionless, e.g.
+  // -1e-4 slows the clock by 100 ppm). The clock stays continuous at t.
+  void set_rate_correction(Nanoseconds t, double correction) noexcept;
+  double rate_correction() const noexcept { return correction_; }
+  double ppm() const noexcept { return ppm_; }
+  // Effective rate (local ns per true ns).
+  double rate() const noexcept;
+
+  // Re-initialises as at power-on.
+  void reset(double ppm, std::uint64_t start) noexcept;
+
+ private:
+  double ppm_ = 0.0;
+  double correction_ = 0.0;
+  // Anchor: local time (integer + fraction) at true time anchor_t_.
+  std::int64_t anchor_t_ = 0;
+  std::uint64_t anchor_local_ = 0;
+  double anchor_frac_ = 0.0;
+};
+
+}  // namespace ecat::esc

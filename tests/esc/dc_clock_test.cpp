@@ -1,0 +1,117 @@
+// Local clock model and the basic DC registers: reset values, system time
+// and offset, delay on ECAT reads, receive-time latches, 0x092C encoding.
+#include <gtest/gtest.h>
+
+#include "dc_fixture.hpp"
+#include "esc/dc/local_clock.hpp"
+
+namespace ecat::esc::test {
+namespace {
+
+using namespace dcreg;
+
+TEST(LocalClock, RunsAtItsOwnRate) {
+  LocalClock fast(100.0, 5000);
+  EXPECT_EQ(fast.at(Nanoseconds{0}), 5000u);
+  EXPECT_EQ(fast.at(ms(1000)), 5000u + 1'000'100'000u);  // +100 µs per second
+  LocalClock slow(-100.0, 0);
+  EXPECT_EQ(slow.at(ms(1000)), 999'900'000u);
+}
+
+TEST(LocalClock, WhenInvertsAt) {
+  LocalClock c(-73.0, 123456789);
+  for (std::uint64_t local : {123456789ull, 123456790ull, 200000000ull, 987654321012ull}) {
+    const Nanoseconds t = c.when(local);
+    EXPECT_GE(c.at(t), local);
+    EXPECT_LT(c.at(t - Nanoseconds{1}), local);
+  }
+}
+
+TEST(LocalClock, RateCorrectionKeepsTimeContinuous) {
+  LocalClock c(100.0, 0);
+  const std::uint64_t before = c.at(ms(10));
+  c.set_rate_correction(ms(10), -100e-6);
+  EXPECT_EQ(c.at(ms(10)), before);
+  EXPECT_NEAR(static_cast<double>(c.at(ms(1010)) - before), 1e9, 1.0);  // now exactly 1 ns/ns
+}
+
+class DcUnitTest : public ::testing::Test {
+ protected:
+  DcUnitTest() {
+    dc.set_clock(0.0, 1000);
+    dc.reset(0x0000);
+  }
+  DcUnit dc;
+};
+
+TEST_F(DcUnitTest, ResetValues) {
+  DcUnit other;
+  other.reset(0x03E8);
+  EXPECT_EQ(dc_read(other, kSpeedCounterStart, 2, Nanoseconds{0}), 0x1000u);
+  EXPECT_EQ(dc_read(other, kSystemTimeDiffFilterDepth, 1, Nanoseconds{0}), 4u);
+  EXPECT_EQ(dc_read(other, kSpeedCounterFilterDepth, 1, Nanoseconds{0}), 12u);
+  EXPECT_EQ(dc_read(other, kSyncPulseLength, 2, Nanoseconds{0}), 0x03E8u);
+  EXPECT_EQ(dc_read(other, kSystemTimeDifference, 4, Nanoseconds{0}), 0u);
+}
+
+TEST_F(DcUnitTest, SystemTimeIsLocalPlusOffsetAndEcatReadsSubtractTheDelay) {
+  dc_write(dc, kSystemTimeOffset, 0x0000'0100'0000'0000ull, 8, us(1));
+  dc_write(dc, kSystemTimeDelay, 700, 4, us(1));
+  EXPECT_EQ(dc_read(dc, kSystemTime, 8, us(10), Side::Pdi), 0x0000'0100'0000'0000ull + 1000 + 10'000);
+  EXPECT_EQ(dc_read(dc, kSystemTime, 8, us(10)), 0x0000'0100'0000'0000ull + 1000 + 10'000 - 700);
+  EXPECT_EQ(dc_read(dc, kSystemTime, 4, us(10)), (1000u + 10'000u - 700u));  // low word
+  EXPECT_EQ(dc_read(dc, kSystemTimeOffset, 8, us(10)), 0x0000'0100'0000'0000ull);
+  EXPECT_EQ(dc_read(dc, kSystemTimeDelay, 4, us(10)), 700u);
+}
+
+TEST_F(DcUnitTest, PdiCannotWriteOffsetOrControl) {
+  dc_write(dc, kSystemTimeOffset, 55, 8, us(1), Side::Pdi);
+  dc_write(dc, kCyclicUnitControl, 1, 1, us(1), Side::Pdi);
+  EXPECT_EQ(dc_read(dc, kSystemTimeOffset, 8, us(1)), 0u);
+  EXPECT_EQ(dc_read(dc, kCyclicUnitControl, 1, us(1)), 0u);
+}
+
+TEST_F(DcUnitTest, WriteTo0x0900LatchesPortTimesOfThatFrame) {
+  dc.on_frame_arrival(0, us(100));
+  dc_write(dc, kReceiveTimePort0, 0, 4, us(100));
+  dc.on_frame_arrival(1, us(100) + Nanoseconds{1234});
+  EXPECT_EQ(dc_read(dc, kReceiveTimePort0, 4, us(200)), 101'000u);
+  EXPECT_EQ(dc_read(dc, kReceiveTimePort0 + 4, 4, us(200)), 101'000u + 1234u);
+  EXPECT_EQ(dc_read(dc, kReceiveTimeProcessingUnit, 8, us(200)), 101'000u);
+  // A later frame without the 0x0900 write leaves the latches alone.
+  dc.on_frame_arrival(0, us(300));
+  dc.on_frame_arrival(1, us(301));
+  EXPECT_EQ(dc_read(dc, kReceiveTimePort0 + 4, 4, us(400)), 101'000u + 1234u);
+}
+
+TEST_F(DcUnitTest, ReadOfReceiveTimesDoesNotLatch) {
+  dc.on_frame_arrival(0, us(100));
+  (void)dc_read(dc, kReceiveTimePort0, 4, us(100));
+  EXPECT_EQ(dc_read(dc, kReceiveTimeProcessingUnit, 8, us(100)), 0u);
+}
+
+TEST_F(DcUnitTest, SystemTimeDifferenceIsSignAndMagnitude) {
+  // Local copy at 10 µs = 11'000 (no offset); the master says 11'500: local behind.
+  dc_write(dc, kSystemTime, 11'500, 8, us(10));
+  EXPECT_EQ(dc_read(dc, kSystemTimeDifference, 4, us(10)), 0x8000'0000u | 500u);
+  dc_write(dc, kSpeedCounterStart, 0x1000, 2, us(11));  // restarts the loop
+  EXPECT_EQ(dc_read(dc, kSystemTimeDifference, 4, us(11)), 0u);
+  // Local ahead by 300 (32-bit write compares the low word).
+  dc_write(dc, kSystemTime, 12'000 - 300, 4, us(11));
+  EXPECT_EQ(dc_read(dc, kSystemTimeDifference, 4, us(11)), 300u);
+}
+
+TEST_F(DcUnitTest, LoopSlowsAClockThatIsAhead) {
+  dc_write(dc, kSystemTime, 11'000 - 2000, 8, us(10));  // local 2 µs ahead
+  EXPECT_LT(dc.clock().rate_correction(), 0.0);
+  // Stays 2 µs ahead for 10 ms: the frequency estimate (0x0932) goes negative.
+  for (int k = 1; k <= 10; ++k) {
+    const Nanoseconds t = us(10) + ms(k);
+    dc_write(dc, kSystemTime, dc.system_time(t) - 2000, 8, t);
+  }
+  const auto speed = static_cast<std::int16_t>(dc_read(dc, kSpeedCounterDiff, 2, ms(11)));
+  EXPECT_LT(speed, -10);
+}
+
+}  // namespace
+}  // namespace ecat::esc::test
