@@ -1,44 +1,292 @@
-// Esc construction, reset and the PDI entry points.
+// Esc construction, reset/EEPROM load, PDI entry points, timers, ports and
+// event registers (Section I §3, §10, §11; Section II 0x0000-0x0220).
 #include "esc/esc.hpp"
 
 #include <algorithm>
 #include <cstring>
 
+#include "esc/registers.hpp"
+
 namespace ecat::esc {
+
+namespace {
+constexpr std::uint16_t kKiB = 1024;
+constexpr std::size_t kSiiWordPdiControl = 0;
+constexpr std::size_t kSiiWordPdiConfig = 1;
+constexpr std::size_t kSiiWordSyncPulse = 2;
+constexpr std::size_t kSiiWordExtPdiConfig = 3;
+constexpr std::size_t kSiiWordAlias = 4;
+constexpr std::size_t kSiiWordChecksum = 7;
+
+std::uint16_t sii_word(const std::vector<std::uint8_t>& sii, std::size_t w) {
+  return load_le<std::uint16_t>(sii.data() + 2 * w);
+}
+}  // namespace
 
 Esc::Esc(EscConfig config, const Clock& clock)
     : config_(std::move(config)), clock_(clock), mem_(new std::uint8_t[kAddressSpace]()) {
+  config_.fmmu_count = std::min(config_.fmmu_count, kMaxFmmus);
+  config_.sync_manager_count = std::min(config_.sync_manager_count, kMaxSyncManagers);
+  config_.port_count = std::min(config_.port_count, kMaxPorts);
+  config_.process_ram_size = std::min(config_.process_ram_size, kMaxProcessRam);
+  for (unsigned n = 0; n < kMaxSyncManagers; ++n) {
+    sms_[n].bind(mem_.get() + reg::sync_manager(n), mem_.get(), ram_end());
+  }
+  sii_.bind(mem_.get() + reg::kEepromConfiguration, config_);
+  now_ = clock_.now();
   reset();
 }
 
 Esc::~Esc() = default;
 
-void Esc::reset() noexcept { std::memset(mem_.get(), 0, kAddressSpace); }
+std::uint32_t Esc::ram_end() const noexcept { return reg::kProcessRam + config_.process_ram_size; }
+
+std::uint32_t Esc::dl_control() const noexcept { return load_le<std::uint32_t>(mem_.get() + reg::kDlControl); }
+
+std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept {
+  if (address >= reg::kDcBase && address < reg::kDcEnd) {
+    std::uint8_t b[2]{};
+    const_cast<DcUnit&>(dc_).read(static_cast<std::uint16_t>(address - reg::kDcBase), b, now_, Side::Pdi);
+    return load_le<std::uint16_t>(b);
+  }
+  return load_le<std::uint16_t>(mem_.get() + address);
+}
+
+// Power-on / ESC reset: every register to its reset value (Section II), RAM
+// cleared, then the EEPROM load of the configuration area.
+void Esc::reset() noexcept {
+  std::memset(mem_.get(), 0, kAddressSpace);
+  std::uint8_t* m = mem_.get();
+  m[reg::kType] = config_.type;
+  m[reg::kRevision] = config_.revision;
+  store_le(m + reg::kBuild, config_.build);
+  m[reg::kFmmusSupported] = config_.fmmu_count;
+  m[reg::kSyncManagersSupported] = config_.sync_manager_count;
+  m[reg::kRamSize] = static_cast<std::uint8_t>(config_.process_ram_size / kKiB);
+  std::uint8_t ports = 0;
+  for (unsigned p = 0; p < config_.port_count; ++p) {
+    ports = static_cast<std::uint8_t>(ports | (static_cast<unsigned>(config_.port_type) << (2 * p)));
+  }
+  m[reg::kPortDescriptor] = ports;
+  std::uint16_t features = 0;
+  if (config_.dc) features |= bits::kFeatureDc;
+  if (config_.dc && config_.dc_64bit) features |= bits::kFeatureDc64;
+  if (config_.dc && config_.enhanced_dc_sync) features |= bits::kFeatureEnhancedDcSync;
+  if (!config_.lrw) features |= bits::kFeatureNoLrw;
+  if (!config_.read_write_commands) features |= bits::kFeatureNoReadWrite;
+  store_le(m + reg::kFeatures, features);
+  store_le(m + reg::kDlControl, bits::kDlControlReset);
+  store_le(m + reg::kAlControl, bits::kAlControlReset);
+  store_le(m + reg::kAlStatus, bits::kAlStatusReset);
+  store_le(m + reg::kWatchdogDivider, kWatchdogDividerReset);
+  store_le(m + reg::kWatchdogTimePdi, kWatchdogTimeReset);
+  store_le(m + reg::kWatchdogTimeProcessData, kWatchdogTimeReset);
+  m[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
+  for (auto& sm : sms_) sm.reset_state();
+  for (auto& f : fmmus_) f = Fmmu{};
+  watchdogs_.reset();
+  register_write_enabled_ = false;
+  esc_write_enabled_ = false;
+  reset_step_ = {};
+  reset_requested_ = false;
+  al_control_pending_ = false;
+  load_eeprom(true);
+  update_dl_status();
+}
+
+// EEPROM load of the configuration area (Section I §11.1; sii-eeprom.md §1-2).
+// The alias (word 4) is taken only at power-on, and a reload keeps 0x0141
+// bits 1 and 4-7.
+void Esc::load_eeprom(bool power_on) noexcept {
+  const auto& sii = config_.sii;
+  bool ok = sii.size() >= 2 * (kSiiWordChecksum + 1);
+  if (ok) {
+    const std::uint16_t stored = sii_word(sii, kSiiWordChecksum);
+    ok = stored == kSiiChecksumDisabled ||
+         (stored & 0xFF) == sii_crc(std::span(sii.data(), kSiiConfigAreaBytes));
+  }
+  std::uint8_t* m = mem_.get();
+  if (power_on) {
+    sii_.reset(ok);
+  } else {
+    sii_.set_checksum_ok(ok);
+  }
+  if (!ok) {
+    if (power_on) dc_.reset(0);
+    return;
+  }
+  const std::uint16_t w0 = sii_word(sii, kSiiWordPdiControl);
+  m[reg::kPdiControl] = static_cast<std::uint8_t>(w0);
+  const auto esc_config = static_cast<std::uint8_t>(w0 >> 8);
+  m[reg::kEscConfiguration] =
+      power_on ? esc_config
+               : static_cast<std::uint8_t>((m[reg::kEscConfiguration] & bits::kEscConfigKeptOnReload) |
+                                           (esc_config & ~bits::kEscConfigKeptOnReload));
+  store_le(m + reg::kPdiConfiguration, sii_word(sii, kSiiWordPdiConfig));
+  store_le(m + reg::kExtendedPdiConfiguration, sii_word(sii, kSiiWordExtPdiConfig));
+  if (power_on) {
+    store_le(m + reg::kConfiguredStationAlias, sii_word(sii, kSiiWordAlias));
+    dc_.reset(sii_word(sii, kSiiWordSyncPulse));
+  }
+}
+
+// --- PDI side ---------------------------------------------------------------------
 
 void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
-  std::size_t n = std::min<std::size_t>(out.size(), kAddressSpace - address);
-  std::memcpy(out.data(), mem_.get() + address, n);
+  const Nanoseconds t = clock_.now();
+  run_timers(t);
+  const std::size_t n = std::min<std::size_t>(out.size(), kAddressSpace - address);
+  std::fill(out.begin() + static_cast<std::ptrdiff_t>(n), out.end(), std::uint8_t{0});
+  mem_read(address, out.first(n), Side::Pdi);
+  pdi_watchdog_trigger(t);
+  update_dl_status();
 }
 
 void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
-  std::size_t n = std::min<std::size_t>(in.size(), kAddressSpace - address);
-  std::memcpy(mem_.get() + address, in.data(), n);
+  const Nanoseconds t = clock_.now();
+  run_timers(t);
+  const std::size_t n = std::min<std::size_t>(in.size(), kAddressSpace - address);
+  mem_write(address, in.first(n), Side::Pdi);
+  pdi_watchdog_trigger(t);
+  if (reset_requested_) reset();
+  update_dl_status();
 }
 
-void Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
-  (void)frame;
-  now_ = now;
+// Any PDI access restarts the PDI watchdog and shows it in DL status bit 1.
+void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
+  watchdogs_.trigger_pdi(t, register_u16(reg::kWatchdogDivider), register_u16(reg::kWatchdogTimePdi));
+  std::uint8_t* p = mem_.get() + reg::kDlStatus;
+  store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | bits::kDlPdiWatchdogOk));
 }
+
+// --- Time ---------------------------------------------------------------------------
 
 std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
-  now_ = now;
-  return std::nullopt;
+  run_timers(now);
+  std::optional<Nanoseconds> next = watchdogs_.next_deadline();
+  for (auto t : {sii_.next_deadline(), dc_.poll(now)}) {
+    if (t && (!next || *t < *next)) next = t;
+  }
+  return next;
 }
 
-void Esc::set_link(unsigned port, bool l) noexcept { link_[port] = l; }
-bool Esc::link(unsigned port) const noexcept { return link_[port]; }
-bool Esc::port_open(unsigned port) const noexcept { return link_[port]; }
-std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept { return load_le<std::uint16_t>(mem_.get() + address); }
-bool Esc::irq() const noexcept { return false; }
+void Esc::run_timers(Nanoseconds now) noexcept {
+  if (now > now_) now_ = now;
+  sii_action(sii_.poll(now));
+  const Watchdogs::Expired e = watchdogs_.check(now);
+  std::uint8_t* m = mem_.get();
+  if (e.process_data) {
+    // Section II 0x0440: status 0, counter +1 (saturating), AL event bit 6;
+    // digital outputs 0x0F00-0x0F03 go to 0. The AL state is left to the
+    // application (INF-WD; the ESM reacts with SafeOp + 0x001B).
+    m[reg::kWatchdogStatusProcessData] = 0;
+    if (m[reg::kWatchdogCounterProcessData] < bits::kCounterMax) ++m[reg::kWatchdogCounterProcessData];
+    std::memset(m + reg::kDigitalIoOutput, 0, bits::kDigitalOutputEnd - reg::kDigitalIoOutput);
+    set_al_event(bits::kAlEventWatchdog);
+  }
+  if (e.pdi) {
+    if (m[reg::kWatchdogCounterPdi] < bits::kCounterMax) ++m[reg::kWatchdogCounterPdi];
+    store_le(m + reg::kDlStatus,
+             static_cast<std::uint16_t>(register_u16(reg::kDlStatus) & ~bits::kDlPdiWatchdogOk));
+    set_ecat_event(bits::kEcatEventDlStatus);
+  }
+}
+
+void Esc::sii_action(SiiInterface::Action a) noexcept {
+  if (a == SiiInterface::Action::Reload) load_eeprom(false);
+}
+
+// --- Ports and DL status ------------------------------------------------------------
+
+void Esc::set_link(unsigned port, bool l) noexcept {
+  if (port >= kMaxPorts) return;
+  link_[port] = l && port < config_.port_count;
+  update_dl_status();
+}
+
+bool Esc::link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
+
+// Loop control per port (0x0100 bits 8+2n, Section I §3.5): Auto and
+// Auto-close follow the link; open/closed are forced.
+bool Esc::port_open(unsigned port) const noexcept {
+  if (port >= config_.port_count) return false;
+  const std::uint32_t loop = (dl_control() >> (bits::kDlLoopShift + 2 * port)) & bits::kDlLoopMask;
+  if (loop == bits::kLoopOpen) return true;
+  if (loop == bits::kLoopClosed) return false;
+  return link_[port];
+}
+
+void Esc::update_dl_status() noexcept {
+  std::uint8_t* m = mem_.get();
+  const std::uint16_t old = load_le<std::uint16_t>(m + reg::kDlStatus);
+  std::uint16_t s = old & bits::kDlPdiWatchdogOk;
+  if ((load_le<std::uint16_t>(m + reg::kEepromControlStatus) & sii_bits::kNotLoaded) == 0) {
+    s |= bits::kDlPdiOperational;
+  }
+  if (m[reg::kEscConfiguration] & bits::kEscConfigEnhancedLink) s |= bits::kDlEnhancedLinkDetection;
+  for (unsigned p = 0; p < kMaxPorts; ++p) {
+    if (link_[p]) s |= static_cast<std::uint16_t>(1u << (bits::kDlPhysicalLinkShift + p));
+    if (!port_open(p)) s |= static_cast<std::uint16_t>(1u << (bits::kDlLoopClosedShift + 2 * p));
+    if (link_[p]) s |= static_cast<std::uint16_t>(1u << (bits::kDlCommunicationShift + 2 * p));
+  }
+  store_le(m + reg::kDlStatus, s);
+  if (s != old) set_ecat_event(bits::kEcatEventDlStatus);
+}
+
+void Esc::count_rx_error(unsigned port, bool forwarded) noexcept {
+  if (port >= kMaxPorts) return;
+  std::uint8_t* m = mem_.get();
+  std::uint8_t& c = forwarded ? m[reg::kForwardedRxErrorCounter + port] : m[reg::kRxErrorCounter + 2 * port];
+  if (c < bits::kCounterMax) ++c;
+}
+
+// --- Events -------------------------------------------------------------------------
+
+std::uint32_t Esc::al_event() const noexcept {
+  return load_le<std::uint32_t>(mem_.get() + reg::kAlEventRequest) | dc_.al_event_request();
+}
+std::uint16_t Esc::ecat_event() const noexcept {
+  return static_cast<std::uint16_t>(load_le<std::uint16_t>(mem_.get() + reg::kEcatEventRequest) |
+                                    dc_.ecat_event_request());
+}
+void Esc::set_al_event(std::uint32_t b) noexcept {
+  std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
+  store_le(p, load_le<std::uint32_t>(p) | b);
+}
+void Esc::clear_al_event(std::uint32_t b) noexcept {
+  std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
+  store_le(p, load_le<std::uint32_t>(p) & ~b);
+}
+void Esc::set_ecat_event(std::uint16_t b) noexcept {
+  std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
+  store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | b));
+}
+void Esc::clear_ecat_event(std::uint16_t b) noexcept {
+  std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
+  store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) & ~b));
+}
+
+// SyncManager interrupts: AL event bit 8+n, ECAT event bit 4+n (n < 8).
+void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
+  const std::uint32_t al = 1u << (bits::kAlEventSmShift + n);
+  const auto ecat = static_cast<std::uint16_t>(n < bits::kEcatEventSmCount ? 1u << (bits::kEcatEventSmShift + n) : 0);
+  if (sig.clear_al) clear_al_event(al);
+  if (sig.clear_ecat) clear_ecat_event(ecat);
+  if (sig.raise_al) set_al_event(al);
+  if (sig.raise_ecat) set_ecat_event(ecat);
+  if (sig.watchdog_trigger) {
+    watchdogs_.trigger_process_data(now_, register_u16(reg::kWatchdogDivider),
+                                    register_u16(reg::kWatchdogTimeProcessData));
+    mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
+  }
+}
+
+std::uint16_t Esc::irq_field() const noexcept {
+  return static_cast<std::uint16_t>(ecat_event() & register_u16(reg::kEcatEventMask));
+}
+
+bool Esc::irq() const noexcept {
+  return (al_event() & load_le<std::uint32_t>(mem_.get() + reg::kAlEventMask)) != 0;
+}
 
 }  // namespace ecat::esc

@@ -24,6 +24,7 @@
 #include "esc/esc_config.hpp"
 #include "esc/fmmu.hpp"
 #include "esc/pdi.hpp"
+#include "esc/register_bits.hpp"
 #include "esc/sii_interface.hpp"
 #include "esc/sync_manager.hpp"
 #include "esc/watchdog.hpp"
@@ -45,9 +46,15 @@ class Esc final : public Pdi {
   void write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept override;
 
   // --- EtherCAT side ---
-  // Processes every datagram of a validated frame as it passes this ESC
-  // (arriving on `port`), at time `now`: addressing, data, WKC, ADP, IRQ.
-  void process(const FrameView& frame, Nanoseconds now) noexcept;
+  // Processes every datagram of a validated frame as it passes this ESC at
+  // time `now`: addressing, data, WKC, ADP, IRQ. Returns false if the ESC
+  // destroyed the frame (circulating-frame prevention, Section I §3.5.1:
+  // a frame passing a closed port 0 a second time).
+  bool process(const FrameView& frame, Nanoseconds now) noexcept;
+  // A frame that arrived broken: counts it in the RX error counters
+  // (0x0300 invalid frame on `port`, or 0x0308 when an upstream ESC already
+  // marked it) and otherwise leaves the ESC unchanged.
+  void count_rx_error(unsigned port, bool forwarded) noexcept;
   // Runs the time-driven parts (watchdogs, SII busy, DC) up to `now`;
   // returns the next time it needs to run, if any.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
@@ -79,36 +86,42 @@ class Esc final : public Pdi {
  private:
   friend class EscTestAccess;
 
-  // Register-file access from either side (esc/register_access.cpp).
-  void reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept;
-  void reg_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept;
-  bool reg_write_byte(std::uint16_t address, std::uint8_t value, Side side) noexcept;
+  // Register space 0x0000-0x0FFF from either side (esc/register_access.cpp).
+  // Return true if the access counts for the WKC.
+  bool reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept;
+  bool reg_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept;
   std::uint8_t reg_read_byte(std::uint16_t address, Side side) noexcept;
+  bool reg_write_byte(std::uint16_t address, std::uint8_t value, Side side) noexcept;
+  void after_register_write(std::uint16_t address, std::uint8_t old_value, Side side) noexcept;
 
-  // Memory access through sync managers (ECAT and PDI). Return true if at
-  // least one byte was accessible (WKC rule, ETG.1000.4 §5.4.3).
+  // Whole address space through the sync managers (esc/memory_access.cpp).
+  // Return true if at least one byte was accessible (WKC rule, ETG.1000.4 §5.4.3).
   bool mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept;
   bool mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept;
-  // One contiguous physical access from the EtherCAT side.
-  bool ecat_read(std::uint16_t address, std::span<std::uint8_t> out) noexcept;
-  bool ecat_write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept;
+  // Raw copy without side effects (bit-wise FMMU writes start from it).
+  void peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept;
 
   // Datagram engine (esc/datagram_engine.cpp).
   void process_datagram(DatagramView d) noexcept;
   std::uint16_t process_logical(DatagramView d) noexcept;
+  bool addressed_configured(std::uint16_t adp) const noexcept;
 
-  // Events.
+  // Events (esc/esc.cpp).
+  std::uint32_t al_event() const noexcept;
+  std::uint16_t ecat_event() const noexcept;
   void set_al_event(std::uint32_t bits) noexcept;
   void clear_al_event(std::uint32_t bits) noexcept;
   void set_ecat_event(std::uint16_t bits) noexcept;
   void clear_ecat_event(std::uint16_t bits) noexcept;
+  void apply(unsigned sm, const SmSignals& sig) noexcept;
   std::uint16_t irq_field() const noexcept;
   void update_dl_status() noexcept;
   void load_eeprom(bool power_on) noexcept;
-  void sm_changed(unsigned n) noexcept;
-  void check_watchdogs(Nanoseconds now) noexcept;
-  bool in_ram(std::uint32_t address) const noexcept;
-  bool write_allowed(std::uint16_t address) const noexcept;
+  void run_timers(Nanoseconds now) noexcept;
+  void pdi_watchdog_trigger(Nanoseconds t) noexcept;
+  void sii_action(SiiInterface::Action a) noexcept;
+  std::uint32_t dl_control() const noexcept;
+  std::uint32_t ram_end() const noexcept;
 
   EscConfig config_;
   const Clock& clock_;
@@ -125,6 +138,7 @@ class Esc final : public Pdi {
   bool esc_write_enabled_ = false;
   // ESC reset sequence progress for 0x0040 (ECAT) and 0x0041 (PDI).
   std::array<std::uint8_t, 2> reset_step_{};
+  bool reset_requested_ = false;
   // AL control written by ECAT and not yet read by the PDI (Section II 0x0120).
   bool al_control_pending_ = false;
 };

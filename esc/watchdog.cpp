@@ -1,1 +1,52 @@
+// Watchdog timing (Section II 0x0400-0x0443): base unit = (divider + 2) x 40 ns.
 #include "esc/watchdog.hpp"
+
+#include <algorithm>
+
+namespace ecat::esc {
+
+Nanoseconds Watchdogs::timeout(std::uint16_t divider, std::uint16_t time) noexcept {
+  const std::int64_t unit = (static_cast<std::int64_t>(divider) + kWatchdogDividerOffset) * kEscClockPeriodNs;
+  return Nanoseconds{unit * time};
+}
+
+void Watchdogs::reset() noexcept {
+  pd_deadline_.reset();
+  pdi_deadline_.reset();
+}
+
+void Watchdogs::trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
+  if (time == 0) {
+    pd_deadline_.reset();  // 0 = disabled
+  } else {
+    pd_deadline_ = now + timeout(divider, time);
+  }
+}
+
+void Watchdogs::trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
+  if (time == 0) {
+    pdi_deadline_.reset();
+  } else {
+    pdi_deadline_ = now + timeout(divider, time);
+  }
+}
+
+Watchdogs::Expired Watchdogs::check(Nanoseconds now) noexcept {
+  Expired e;
+  if (pd_deadline_ && now >= *pd_deadline_) {
+    e.process_data = true;
+    pd_deadline_.reset();  // expires once; the next trigger re-arms it
+  }
+  if (pdi_deadline_ && now >= *pdi_deadline_) {
+    e.pdi = true;
+    pdi_deadline_.reset();
+  }
+  return e;
+}
+
+std::optional<Nanoseconds> Watchdogs::next_deadline() const noexcept {
+  if (pd_deadline_ && pdi_deadline_) return std::min(*pd_deadline_, *pdi_deadline_);
+  return pd_deadline_ ? pd_deadline_ : pdi_deadline_;
+}
+
+}  // namespace ecat::esc

@@ -1,0 +1,98 @@
+// The ESC address space as either side sees it: registers below 0x1000,
+// process RAM above, and sync-manager buffers guarding parts of the RAM
+// (Section I §8; ETG.1000.4 §5.4.3 "accessible memory" for the WKC).
+// RAM not covered by an enabled SM is freely accessible from both sides.
+#include <algorithm>
+#include <cstring>
+
+#include "esc/esc.hpp"
+#include "esc/registers.hpp"
+
+namespace ecat::esc {
+
+namespace {
+
+// The SM guarding `pos`, or the start of the next guarded area (`limit` if none).
+struct Guard {
+  int sm = -1;
+  std::uint32_t end = 0;
+};
+
+template <typename Sms>
+Guard find_guard(const Sms& sms, unsigned count, std::uint32_t pos, std::uint32_t limit) noexcept {
+  Guard g{-1, limit};
+  for (unsigned n = 0; n < count; ++n) {
+    const SyncManager& sm = sms[n];
+    if (!sm.enabled()) continue;
+    if (sm.covers(pos)) return Guard{static_cast<int>(n), std::min(limit, sm.end())};
+    if (sm.start() > pos) g.end = std::min<std::uint32_t>(g.end, sm.start());
+  }
+  return g;
+}
+
+}  // namespace
+
+bool Esc::mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
+  const std::uint32_t end = std::min<std::uint32_t>(address + static_cast<std::uint32_t>(out.size()), kAddressSpace);
+  std::uint32_t pos = address;
+  bool any = false;
+  if (pos < reg::kProcessRam) {
+    const std::uint32_t seg = std::min<std::uint32_t>(end, reg::kProcessRam);
+    any = reg_read(address, out.first(seg - pos), side);
+    pos = seg;
+  }
+  const std::uint32_t limit = std::min(end, ram_end());
+  while (pos < limit) {
+    const Guard g = find_guard(sms_, config_.sync_manager_count, pos, limit);
+    auto part = out.subspan(pos - address, g.end - pos);
+    if (g.sm < 0) {
+      std::memcpy(part.data(), mem_.get() + pos, part.size());
+      any = true;
+    } else {
+      SmSignals sig;
+      any = sms_[g.sm].read(side, static_cast<std::uint16_t>(pos), part, sig) || any;
+      apply(static_cast<unsigned>(g.sm), sig);
+    }
+    pos = g.end;
+  }
+  return any;  // bytes past the RAM are not accessible: data untouched, not counted
+}
+
+bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept {
+  const std::uint32_t end = std::min<std::uint32_t>(address + static_cast<std::uint32_t>(in.size()), kAddressSpace);
+  std::uint32_t pos = address;
+  bool any = false;
+  if (pos < reg::kProcessRam) {
+    const std::uint32_t seg = std::min<std::uint32_t>(end, reg::kProcessRam);
+    any = reg_write(address, in.first(seg - pos), side);
+    pos = seg;
+  }
+  // ESC write protection (0x0031) covers the RAM too (Section I §13).
+  if (side == Side::Ecat && (mem_[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_) {
+    return any;
+  }
+  const std::uint32_t limit = std::min(end, ram_end());
+  while (pos < limit) {
+    const Guard g = find_guard(sms_, config_.sync_manager_count, pos, limit);
+    auto part = in.subspan(pos - address, g.end - pos);
+    if (g.sm < 0) {
+      std::memcpy(mem_.get() + pos, part.data(), part.size());
+      any = true;
+    } else {
+      SmSignals sig;
+      any = sms_[g.sm].write(side, static_cast<std::uint16_t>(pos), part, sig) || any;
+      apply(static_cast<unsigned>(g.sm), sig);
+    }
+    pos = g.end;
+  }
+  return any;
+}
+
+void Esc::peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept {
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::uint32_t a = address + static_cast<std::uint32_t>(i);
+    out[i] = a < kAddressSpace ? mem_[a] : 0;
+  }
+}
+
+}  // namespace ecat::esc

@@ -1,0 +1,300 @@
+// Register space 0x0000-0x0FFF: which bits each side may write and the side
+// effects of reads and writes (Beckhoff ESC datasheet Section II, per-register
+// "ECAT"/"PDI" access columns; shared/spec/esc-registers.md §3-§4, §11).
+#include <algorithm>
+
+#include "esc/esc.hpp"
+#include "esc/registers.hpp"
+
+namespace ecat::esc {
+
+namespace {
+
+struct WriteMask {
+  std::uint8_t ecat = 0;
+  std::uint8_t pdi = 0;
+};
+
+constexpr std::uint16_t kMiiControl = 0x0510;
+constexpr std::uint16_t kMiiPhyAddress = 0x0512;
+constexpr std::uint16_t kMiiEcatAccess = 0x0516;
+constexpr std::uint16_t kMiiPdiAccess = 0x0517;
+constexpr std::uint16_t kMiiEnd = 0x0518;
+constexpr std::uint8_t kLedOverrideWritable = 0x1F;
+constexpr std::uint8_t kSmControlWritable = 0x7F;
+constexpr std::uint8_t kFmmuTypeWritable = 0x03;
+
+// Bits of register byte `a` each side may write (Section II). Registers
+// with side effects beyond storing are handled in after_register_write.
+WriteMask write_mask(std::uint16_t a, const EscConfig& cfg) noexcept {
+  using namespace reg;
+  constexpr WriteMask kEcat{0xFF, 0x00};
+  constexpr WriteMask kPdi{0x00, 0xFF};
+  constexpr WriteMask kBoth{0xFF, 0xFF};
+  if (a >= kFmmuBase && a < kSyncManagerBase) {
+    const unsigned n = (a - kFmmuBase) / kFmmuStride;
+    const unsigned off = (a - kFmmuBase) % kFmmuStride;
+    if (n >= cfg.fmmu_count) return {};
+    switch (off) {
+      case fmmu_reg::kLogicalStartBit:
+      case fmmu_reg::kLogicalStopBit:
+      case fmmu_reg::kPhysicalStartBit: return {fmmu_reg::kBitMask, 0};
+      case fmmu_reg::kType: return {kFmmuTypeWritable, 0};
+      case fmmu_reg::kActivate: return {fmmu_reg::kActivateEnable, 0};
+      default: return off < fmmu_reg::kActivate ? kEcat : WriteMask{};
+    }
+  }
+  if (a >= kSyncManagerBase && a < kDcBase) {
+    const unsigned n = (a - kSyncManagerBase) / kSyncManagerStride;
+    const unsigned off = (a - kSyncManagerBase) % kSyncManagerStride;
+    if (n >= cfg.sync_manager_count) return {};
+    switch (off) {
+      case sm::kControl: return {kSmControlWritable, 0};
+      case sm::kStatus: return {};
+      case sm::kActivate: return {sm_bits::kActivateWritable, 0};
+      case sm::kPdiControl: return {0, sm_bits::kPdiControlWritable};
+      default: return kEcat;
+    }
+  }
+  switch (a) {
+    case kConfiguredStationAddress:
+    case kConfiguredStationAddress + 1: return kEcat;
+    case kConfiguredStationAlias:
+    case kConfiguredStationAlias + 1: return kPdi;
+    case kRegisterWriteEnable:
+    case kRegisterWriteProtection:
+    case kEscWriteEnable:
+    case kEscWriteProtection: return {bits::kWriteEnable, 0};
+    case kEscResetEcat: return kEcat;
+    case kEscResetPdi: return kPdi;
+    case kDlControl: return {0x03, 0};
+    case kDlControl + 1: return kEcat;
+    case kDlControl + 2: return {0x0F, 0};
+    case kDlControl + 3: return {0x01, 0};
+    case kPhysicalRwOffset:
+    case kPhysicalRwOffset + 1: return kEcat;
+    case kAlControl: return {bits::kAlControlWritable, 0};
+    case kAlStatus: return {0, bits::kAlStatusWritable};
+    case kAlStatusCode:
+    case kAlStatusCode + 1: return kPdi;
+    case kRunLedOverride:
+    case kErrLedOverride: return {kLedOverrideWritable, 0};
+    case kEcatEventMask:
+    case kEcatEventMask + 1: return kEcat;
+    case kAlEventMask:
+    case kAlEventMask + 1:
+    case kAlEventMask + 2:
+    case kAlEventMask + 3: return kPdi;
+    case kWatchdogDivider:
+    case kWatchdogDivider + 1:
+    case kWatchdogTimePdi:
+    case kWatchdogTimePdi + 1:
+    case kWatchdogTimeProcessData:
+    case kWatchdogTimeProcessData + 1: return kEcat;
+    case kMiiPhyAddress:
+    case kMiiPhyAddress + 1:
+    case kMiiPhyAddress + 2:
+    case kMiiPhyAddress + 3: return kBoth;
+    case kMiiEcatAccess: return {0x01, 0};
+    case kMiiPdiAccess: return {0, 0x01};
+    default: break;
+  }
+  if (a >= kDigitalIoOutput && a < bits::kDigitalOutputEnd) return kEcat;
+  if (a >= bits::kUserRam && a < kProcessRam) return kBoth;
+  return {};
+}
+
+bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { return a >= first && a < end; }
+
+}  // namespace
+
+// --- Reads --------------------------------------------------------------------------
+
+bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
+  std::size_t i = 0;
+  bool counted = false;
+  while (i < out.size()) {
+    const auto a = static_cast<std::uint16_t>(address + i);
+    if (in(a, reg::kDcBase, reg::kDcEnd)) {
+      const std::size_t n = std::min<std::size_t>(out.size() - i, reg::kDcEnd - a);
+      if (config_.dc) {
+        dc_.read(static_cast<std::uint16_t>(a - reg::kDcBase), out.subspan(i, n), now_, side);
+        counted = true;
+      }
+      i += n;
+      continue;
+    }
+    out[i++] = reg_read_byte(a, side);
+    counted = true;
+  }
+  return counted;
+}
+
+std::uint8_t Esc::reg_read_byte(std::uint16_t a, Side side) noexcept {
+  std::uint8_t* m = mem_.get();
+  if (in(a, reg::kEcatEventRequest, reg::kEcatEventRequest + 2)) {
+    return static_cast<std::uint8_t>(ecat_event() >> (8 * (a - reg::kEcatEventRequest)));
+  }
+  if (in(a, reg::kAlEventRequest, reg::kAlEventRequest + 4)) {
+    return static_cast<std::uint8_t>(al_event() >> (8 * (a - reg::kAlEventRequest)));
+  }
+  const std::uint8_t v = m[a];
+  if (side == Side::Pdi) {
+    // PDI reads that acknowledge (Section II 0x0120, 0x0440, 0x0806, 0x0805).
+    if (a == reg::kAlControl || a == reg::kAlControl + 1) {
+      al_control_pending_ = false;
+      clear_al_event(bits::kAlEventAlControl);
+    } else if (a == reg::kWatchdogStatusProcessData) {
+      clear_al_event(bits::kAlEventWatchdog);
+    } else if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+      const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
+      const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
+      if (off == reg::sm::kActivate) clear_al_event(bits::kAlEventSmActivation);
+      if (off == reg::sm::kStatus) clear_al_event(1u << (bits::kAlEventSmShift + n));
+    }
+  } else {
+    // ECAT reads that acknowledge: AL status (0x0210.3), DL status (0x0210.2), SM status.
+    if (a == reg::kAlStatus) {
+      clear_ecat_event(bits::kEcatEventAlStatus);
+    } else if (a == reg::kDlStatus) {
+      clear_ecat_event(bits::kEcatEventDlStatus);
+    } else if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+      const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
+      const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
+      if (off == reg::sm::kStatus && n < bits::kEcatEventSmCount) {
+        clear_ecat_event(static_cast<std::uint16_t>(1u << (bits::kEcatEventSmShift + n)));
+      }
+    }
+  }
+  return v;
+}
+
+// --- Writes -------------------------------------------------------------------------
+
+bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_bytes, Side side) noexcept {
+  std::size_t i = 0;
+  bool counted = false;
+  while (i < in_bytes.size()) {
+    const auto a = static_cast<std::uint16_t>(address + i);
+    if (in(a, reg::kDcBase, reg::kDcEnd)) {
+      const std::size_t n = std::min<std::size_t>(in_bytes.size() - i, reg::kDcEnd - a);
+      if (config_.dc) {
+        dc_.write(static_cast<std::uint16_t>(a - reg::kDcBase), in_bytes.subspan(i, n), now_, side);
+        counted = true;
+      }
+      i += n;
+      continue;
+    }
+    if (in(a, reg::kEepromConfiguration, reg::kEepromConfiguration + sii_reg::kSize)) {
+      const std::size_t n =
+          std::min<std::size_t>(in_bytes.size() - i, reg::kEepromConfiguration + sii_reg::kSize - a);
+      const auto action = sii_.write(a - reg::kEepromConfiguration, in_bytes.subspan(i, n), side, now_);
+      sii_action(action);
+      update_dl_status();
+      counted = true;
+      i += n;
+      continue;
+    }
+    counted = reg_write_byte(a, in_bytes[i], side) || counted;
+    ++i;
+  }
+  return counted;
+}
+
+bool Esc::reg_write_byte(std::uint16_t a, std::uint8_t value, Side side) noexcept {
+  std::uint8_t* m = mem_.get();
+  if (side == Side::Ecat && a != reg::kRegisterWriteEnable && a != reg::kEscWriteEnable) {
+    // Write protection (Section I §13): discarded unless released earlier in this frame.
+    if ((m[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_) return false;
+    if (a < bits::kWriteProtectedEnd && (m[reg::kRegisterWriteProtection] & bits::kWriteProtect) &&
+        !register_write_enabled_) {
+      return false;
+    }
+  }
+  // AL control acts like a mailbox without device emulation: one ECAT write,
+  // then no further write until the PDI has read it (Section II 0x0120).
+  if (side == Side::Ecat && (a == reg::kAlControl || a == reg::kAlControl + 1) && al_control_pending_ &&
+      !(m[reg::kEscConfiguration] & bits::kEscConfigDeviceEmulation)) {
+    return false;
+  }
+  // SM configuration bytes are writable only while the SM is disabled (Section II 0x0800).
+  if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+    const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
+    const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
+    const std::uint8_t activate = m[reg::sync_manager(n) + reg::sm::kActivate];
+    if (off <= reg::sm::kControl && (activate & sm_bits::kActivateEnable)) return true;
+  }
+  const WriteMask wm = write_mask(a, config_);
+  const std::uint8_t mask = side == Side::Ecat ? wm.ecat : wm.pdi;
+  const std::uint8_t old = m[a];
+  m[a] = static_cast<std::uint8_t>((old & ~mask) | (value & mask));
+  after_register_write(a, old, side);
+  return true;
+}
+
+// Side effects of a register write (Section II; esc-registers.md §11).
+void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noexcept {
+  std::uint8_t* m = mem_.get();
+  const bool ecat = side == Side::Ecat;
+  if (ecat && a == reg::kRegisterWriteEnable) {
+    register_write_enabled_ = (m[a] & bits::kWriteEnable) != 0;
+  } else if (ecat && a == reg::kEscWriteEnable) {
+    esc_write_enabled_ = (m[a] & bits::kWriteEnable) != 0;
+  } else if (a == reg::kEscResetEcat || a == reg::kEscResetPdi) {
+    // 'R', 'E', 'S' in consecutive writes reset the ESC; any other value restarts.
+    const unsigned idx = a - reg::kEscResetEcat;
+    std::uint8_t& step = reset_step_[idx];
+    step = m[a] == bits::kResetSequence[step] ? static_cast<std::uint8_t>(step + 1)
+                                              : static_cast<std::uint8_t>(m[a] == bits::kResetSequence[0]);
+    if (step == std::size(bits::kResetSequence)) {
+      step = 0;
+      reset_requested_ = true;
+    }
+    m[a] = step;  // reads show the progress of the sequence
+  } else if (in(a, reg::kDlControl, reg::kDlControl + 4)) {
+    update_dl_status();
+  } else if (ecat && a == reg::kAlControl) {
+    al_control_pending_ = true;
+    set_al_event(bits::kAlEventAlControl);
+    if (m[reg::kEscConfiguration] & bits::kEscConfigDeviceEmulation) {
+      const std::uint8_t status_old = m[reg::kAlStatus];
+      m[reg::kAlStatus] = static_cast<std::uint8_t>(m[a] & bits::kAlStateMask);
+      if (status_old != m[reg::kAlStatus]) set_ecat_event(bits::kEcatEventAlStatus);
+    }
+  } else if (!ecat && a == reg::kAlStatus) {
+    if (old != m[a]) set_ecat_event(bits::kEcatEventAlStatus);
+  } else if (ecat && in(a, reg::kRxErrorCounter, bits::kRxErrorCountersEnd)) {
+    std::fill(m + reg::kRxErrorCounter, m + bits::kRxErrorCountersEnd, std::uint8_t{0});
+  } else if (ecat && (a == reg::kProcessingUnitErrorCounter || a == reg::kPdiErrorCounter)) {
+    m[a] = 0;
+  } else if (ecat && in(a, reg::kLostLinkCounter, bits::kLostLinkCountersEnd)) {
+    std::fill(m + reg::kLostLinkCounter, m + bits::kLostLinkCountersEnd, std::uint8_t{0});
+  } else if (ecat && (a == reg::kWatchdogCounterProcessData || a == reg::kWatchdogCounterPdi)) {
+    m[reg::kWatchdogCounterProcessData] = 0;
+    m[reg::kWatchdogCounterPdi] = 0;
+  } else if (in(a, reg::kFmmuBase, reg::kSyncManagerBase)) {
+    const unsigned n = (a - reg::kFmmuBase) / reg::kFmmuStride;
+    fmmus_[n] = Fmmu::decode(m + reg::fmmu(n));
+  } else if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+    const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
+    const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
+    if (n < config_.sync_manager_count) {
+      // ECAT writes to the activation byte raise AL event bit 4 (Section II 0x0806).
+      if (ecat && off == reg::sm::kActivate) set_al_event(bits::kAlEventSmActivation);
+      if (m[a] != old) {
+        sms_[n].on_register_written(off, old);
+        if (!sms_[n].enabled() || sms_[n].pdi_deactivated()) {
+          // A disabled/deactivated SM has no pending interrupts (Section I §8.3).
+          SmSignals clear;
+          clear.clear_al = clear.clear_ecat = true;
+          apply(n, clear);
+        }
+      }
+    }
+  } else if (in(a, kMiiControl, kMiiEnd)) {
+    // No PHY behind the MII management interface: commands are ignored,
+    // busy never sets (docs/esc.md).
+  }
+}
+
+}  // namespace ecat::esc

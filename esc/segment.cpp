@@ -1,0 +1,63 @@
+// Frame transport through a line of ESCs (Section I §3.4 frame processing order).
+#include "esc/segment.hpp"
+
+namespace ecat::esc {
+
+void Segment::add(Esc& esc) {
+  esc.set_link(kUpstreamPort, true);  // master or the previous slave
+  if (!escs_.empty()) escs_.back()->set_link(kDownstreamPort, true);
+  escs_.push_back(&esc);
+}
+
+bool Segment::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+  auto view = parse_frame(frame);
+  if (!view) {
+    last_error_ = view.error();
+    ++dropped_;
+    if (view.error() != FrameError::NotEtherCat) {
+      // The first ESC sees a broken frame on port 0; the ones behind it get
+      // it already marked and count a forwarded error (Section II 0x0300/0x0308).
+      for (std::size_t i = 0; i < escs_.size(); ++i) escs_[i]->count_rx_error(kUpstreamPort, i != 0);
+    }
+    return false;
+  }
+  std::size_t reached = 0;
+  bool lost = false;
+  for (Esc* esc : escs_) {
+    const Nanoseconds t = now + hop_delay_ * static_cast<std::int64_t>(reached);
+    ++reached;
+    if (!esc->process(*view, t)) {
+      lost = true;
+      break;
+    }
+    if (!esc->port_open(kDownstreamPort)) break;  // closed: the frame turns back here
+    if (!esc->link(kDownstreamPort)) {
+      lost = true;  // forced open with nothing connected: the frame is gone
+      break;
+    }
+  }
+  // On the way back the frame passes each earlier slave's port 1.
+  for (std::size_t i = 0; !lost && reached > 1 && i + 1 < reached; ++i) {
+    const auto hops = static_cast<std::int64_t>(2 * (reached - 1) - i);
+    escs_[i]->dc().on_frame_arrival(static_cast<int>(kDownstreamPort), now + hop_delay_ * hops);
+  }
+  if (lost || escs_.empty()) {
+    ++dropped_;
+    return false;
+  }
+  // Every frame that passed a processing unit leaves with SOURCE_MAC[1] set (Section I §3.2).
+  frame[kMacSize] = static_cast<std::uint8_t>(frame[kMacSize] | kSourceMacProcessedBit);
+  ++processed_;
+  return true;
+}
+
+std::optional<Nanoseconds> Segment::poll(Nanoseconds now) noexcept {
+  std::optional<Nanoseconds> next;
+  for (Esc* esc : escs_) {
+    auto t = esc->poll(now);
+    if (t && (!next || *t < *next)) next = t;
+  }
+  return next;
+}
+
+}  // namespace ecat::esc
