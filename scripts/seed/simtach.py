@@ -79,6 +79,34 @@ def build(seed_dir: str, repo: str) -> dict:
     # CiA 402 definition stays.
     del objs[0x605D]
 
+    # Descriptions that pointed at the digest: the facts themselves.
+    for e in objs[0x2004].entries + objs[0x2005].entries:
+        e.desc = e.desc.replace("FunIN code 0-31 (see digest)", "FunIN code 0-31 (see 2004h)")
+    objs[0x2004].desc = (
+        "FunIN codes: 0 normal input, 1 servo enable, 2 alarm clear, 3 pulse inhibit, 4 clear "
+        "position deviation, 5 positive limit, 6 negative limit, 7 gain switch, 8 gear-ratio "
+        "switch, 9 zero-speed clamp, 10 control mode select 1, 11 emergency stop, 12 position "
+        "command inhibit, 13 step position trigger, 14-17 multi-segment switch 1-4, 18 torque "
+        "direction, 19 speed direction, 20 position direction, 21 multi-segment position enable, "
+        "22 back-to-home input, 23 home switch, 24-28 USER1-5, 29 control mode select 2, "
+        "30 probe 1, 31 probe 2.")
+    objs[0x2005].desc = (
+        "FunOUT codes: 0 holding brake, 1 alarm, 2 position reached, 3 speed reached, 4 servo "
+        "ready, 5 internal position command shutdown, 6 homing complete, 7-12 USER1-6, 13 torque "
+        "reached, 14 out of tolerance, 15-30 reserved, 31 universal output (60FEh).")
+    objs[0x6040].sub(0).desc = (
+        "bit 0 switch on, 1 enable voltage, 2 quick stop (0 = active), 3 enable operation, "
+        "4-6 mode specific, 7 fault reset (rising edge; while 1 other commands are ignored), "
+        "8 halt, 9 mode specific (undefined), 10 reserved, 11-15 manufacturer (unused).")
+    objs[0x6041].sub(0).desc = (
+        "bit 0 ready to switch on, 1 switched on, 2 operation enabled, 3 fault, 4 voltage "
+        "enabled, 5 quick stop, 6 switch on disabled, 7 warning, 9 remote, 10 target reached, "
+        "11 internal limit active, 12-13 mode specific, 15 home found (manufacturer). Values "
+        "(Ch6.2): 0250h switch on disabled, 0231h ready, 0233h switched on, 0237h operation "
+        "enabled, 0217h quick stop, 021Fh fault reaction, 0218h fault.")
+    e = objs[0x6098].sub(0)
+    e.desc = e.desc.replace(" (see digest)", "")
+
     names = names_of(objs)
     rx_names = {0x1600: "RxPDO 1 (CSP)", 0x1601: "RxPDO 2 (PP)", 0x1602: "RxPDO 3 (PV)"}
     tx_names = {0x1A00: "TxPDO 1 (CSP)", 0x1A01: "TxPDO 2", 0x1A02: "TxPDO 3"}

@@ -95,6 +95,11 @@ def build(seed_dir: str, repo: str) -> dict:
         e = objs[0x2310].sub(s)
         e.length, e.default, e.min, e.max = 16, "", "", ""
 
+    objs[0x60B8].sub(0).desc = (
+        "PnB64. bit 0 enable TP1, 1 continuous (0 = first event), 2 trigger: 0 Probe1 input, "
+        "1 encoder phase C, 4 enable sampling TP1, 8 enable TP2, 9 continuous, 10 trigger "
+        "(0 Probe2), 12 enable sampling TP2; others reserved (no negative-edge bits).")
+
     names = names_of(objs)
     rx = [pdo_from_mapping(objs[0x1600], "1st receive PDO mapping", names, sm=2)]
     tx = [pdo_from_mapping(objs[0x1A00], "1st transmit PDO mapping", names, sm=3)]
