@@ -303,8 +303,8 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
   const double pos_user = to_user(plant_.position());
   const double vel_user = to_user(plant_.velocity());
   const bool gen_stopped = gen_.velocity() == 0.0;
-  auto position_reached = [&](double target_user) {
-    return position_window_.update(std::abs(target_user - pos_user) <= in.position_window, dt,
+  auto position_reached = [&](double target_user, bool eligible = true) {
+    return position_window_.update(eligible && std::abs(target_user - pos_user) <= in.position_window, dt,
                                    in.position_window_time / kMsPerS);
   };
   auto velocity_reached = [&](double target_user) {
@@ -317,12 +317,18 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
     case OperationMode::ProfilePosition:
       if (pp_.acknowledge()) b |= sw::kSetPointAcknowledge;
       if (following_error_) b |= sw::kFollowingError;
-      if (halted_ ? gen_stopped : (pp_.idle() && position_reached(to_user(pp_.last_target())))) b |= sw::kTargetReached;
+      {
+        const bool reached = position_reached(to_user(pp_.last_target()), pp_.idle());
+        if (halted_ ? gen_stopped : reached) b |= sw::kTargetReached;
+      }
       break;
     case OperationMode::ProfileVelocity:
       if (speed_zero_.update(std::abs(vel_user) <= in.velocity_threshold, dt, in.velocity_threshold_time / kMsPerS))
         b |= sw::kSpeedZero;
-      if (halted_ ? gen_stopped : velocity_reached(in.target_velocity)) b |= sw::kTargetReached;
+      {
+        const bool reached = velocity_reached(in.target_velocity);
+        if (halted_ ? gen_stopped : reached) b |= sw::kTargetReached;
+      }
       break;
     case OperationMode::ProfileTorque: {
       const double target = halted_ ? 0.0 : in.target_torque;
