@@ -190,9 +190,10 @@ def build(seed_dir: str, repo: str) -> dict:
                   "homing": ("-6 -5 -4 -3 -2 -1 1 2 3 4 5 6 7 8 9 10 11 12 13 14 17 18 19 20 21 "
                              "22 23 24 25 26 27 28 29 30 33 34 35 37"),
                   "plant": [
-                      ("encoderResolution", 10000, "inc/rev"),
-                      ("maxSpeed", 6000, "rpm"),
-                      ("ratedCurrent", 3.0, "A"),
-                      ("ratedTorque", 3.0, "Nm"),
+                      ("encoder_resolution", 10000, "inc/rev (608Fh:01)"),
+                      ("max_speed", 6000, "rpm (6080h)"),
+                      ("over_speed", 7200, "rpm (Pr5.13 = 0: 1.2 x maximum)"),
+                      ("rated_torque", 3.0, "N m (6076h)"),
+                      ("peak_torque", 9.0, "N m (6072h = 300 %)"),
                   ]},
     }

@@ -207,10 +207,10 @@ def build(seed_dir: str, repo: str) -> dict:
                   "homing": "-4 -3 1 2 3 4 5 6 7 8 9 10 11 12 13 14 17 18 19 20 21 22 23 24 25 "
                             "26 27 28 29 30 33 34 35 37",
                   "plant": [
-                      ("encoderResolution", 10000, "inc/rev"),
-                      ("maxSpeed", 3000, "rpm"),
-                      ("ratedCurrent", 1.0, "A"),
-                      ("torqueConstant", 0.075, "Nm/A"),
-                      ("polePairs", 1, ""),
+                      ("encoder_resolution", 10000, "inc/rev (608Fh:01)"),
+                      ("max_speed", 3000, "rpm (6080h)"),
+                      ("rated_torque", 0.1, "N m (6076h)"),
+                      ("peak_torque", 0.2, "N m (6072h = 200 %)"),
+                      ("torque_constant", 0.075, "N m/A (2004h)"),
                   ]},
     }

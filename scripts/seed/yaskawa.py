@@ -145,8 +145,8 @@ def build(seed_dir: str, repo: str) -> dict:
         "drive": {"modes": "PP PV PT HM IP CSP CSV CST",
                   "homing": "1 2 7 8 9 10 11 12 13 14 24 28 33 34 35",
                   "plant": [
-                      ("encoderResolution", 1048576, "inc/rev"),
-                      ("ratedTorque", 5.39, "Nm"),
-                      ("maxTorque", 16.17, "Nm"),
+                      ("encoder_resolution", 1048576, "inc/rev (the manual's 20-bit example)"),
+                      ("rated_torque", 5.39, "N m (6076h, our choice)"),
+                      ("peak_torque", 16.17, "N m (300 %, 6072h, our choice)"),
                   ]},
     }
