@@ -38,7 +38,7 @@ std::uint16_t pdo_bytes_for_sm(const od::DeviceDescription& d, std::size_t sm) {
   return static_cast<std::uint16_t>((bits + 7) / 8);
 }
 
-SiiPdo make_pdo(const od::Pdo& p, SiiStringTable& strings) {
+SiiPdo make_pdo(const od::Pdo& p, SiiStringTable& strings, bool entry_names) {
   SiiPdo out;
   out.index = p.index;
   out.sync_manager = p.sm ? *p.sm : sii::kPdoNoSm;
@@ -50,7 +50,7 @@ SiiPdo make_pdo(const od::Pdo& p, SiiStringTable& strings) {
     SiiPdoEntry se;
     se.index = e.index;
     se.subindex = e.subindex;
-    se.name_idx = e.index == 0 ? 0 : strings.add(e.name);
+    se.name_idx = (e.index == 0 || !entry_names) ? 0 : strings.add(e.name);
     se.data_type = e.index == 0 ? 0 : static_cast<std::uint8_t>(static_cast<std::uint16_t>(e.type));
     se.bit_length = e.bit_length;
     out.entries.push_back(se);
@@ -173,7 +173,16 @@ std::array<std::uint8_t, 14> sii_config_bytes(const od::EscProperties& esc) {
   return out;  // words 5 and 6 reserved, 0
 }
 
-SiiImage sii_from_device(const od::DeviceDescription& d) {
+const char* to_string(SiiDetail detail) noexcept {
+  switch (detail) {
+    case SiiDetail::Full: return "full";
+    case SiiDetail::NoEntryNames: return "without PDO entry names";
+    case SiiDetail::NoPdoDc: return "without PDO and DC categories";
+  }
+  return "?";
+}
+
+SiiImage sii_from_device(const od::DeviceDescription& d, SiiDetail detail) {
   SiiImage img;
   const auto cfg = sii_config_bytes(d.esc);
   ByteReader r(cfg);
@@ -234,8 +243,13 @@ SiiImage sii_from_device(const od::DeviceDescription& d) {
     s.type = static_cast<std::uint8_t>(sm.type);
     img.sync_managers.push_back(s);
   }
-  for (const auto& p : d.tx_pdos) img.tx_pdos.push_back(make_pdo(p, strings));
-  for (const auto& p : d.rx_pdos) img.rx_pdos.push_back(make_pdo(p, strings));
+  if (detail == SiiDetail::NoPdoDc) {
+    img.strings = strings.take();
+    return img;
+  }
+  const bool entry_names = detail == SiiDetail::Full;
+  for (const auto& p : d.tx_pdos) img.tx_pdos.push_back(make_pdo(p, strings, entry_names));
+  for (const auto& p : d.rx_pdos) img.rx_pdos.push_back(make_pdo(p, strings, entry_names));
   for (const auto& m : d.dc_op_modes) {
     SiiDcMode s;
     s.shift_time_sync0 = static_cast<std::uint32_t>(m.shift_time_sync0);
@@ -299,8 +313,21 @@ Expected<std::vector<std::uint8_t>, std::string> encode_sii(const SiiImage& img,
   return out;
 }
 
+Expected<SiiOutput, std::string> write_sii_detailed(const od::DeviceDescription& device) {
+  std::string first_error;
+  for (auto detail : {SiiDetail::Full, SiiDetail::NoEntryNames, SiiDetail::NoPdoDc}) {
+    auto bytes = encode_sii(sii_from_device(device, detail), device.esc.eeprom_bytes);
+    if (bytes) return SiiOutput{std::move(*bytes), detail};
+    if (bytes.error().starts_with("EEPROM size")) return fail(bytes.error());  // no level helps
+    if (first_error.empty()) first_error = bytes.error();
+  }
+  return fail(first_error + " (also without PDO entry names and without PDO/DC categories)");
+}
+
 Expected<std::vector<std::uint8_t>, std::string> write_sii(const od::DeviceDescription& device) {
-  return encode_sii(sii_from_device(device), device.esc.eeprom_bytes);
+  auto out = write_sii_detailed(device);
+  if (!out) return fail(out.error());
+  return std::move(out->bytes);
 }
 
 }  // namespace ecat::esi

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "esi/sii_crc.hpp"
+#include "esi/sii_parser.hpp"
 #include "esi/sii_writer.hpp"
 #include "esi_test_device.hpp"
 
@@ -141,12 +142,39 @@ TEST(SiiWriter, Deterministic) {
   EXPECT_EQ(*write_sii(test::make_test_device()), *write_sii(test::make_test_device()));
 }
 
-TEST(SiiWriter, ErrorWhenTooSmall) {
+TEST(SiiWriter, SmallEepromFallsBackStepByStep) {
+  auto d = test::make_test_device();
+  d.esc.eeprom_bytes = 384;  // full image needs 488 bytes
+  auto r = write_sii_detailed(d);
+  ASSERT_TRUE(r) << r.error();
+  EXPECT_EQ(r->detail, SiiDetail::NoEntryNames);
+  auto parsed = parse_sii(r->bytes);
+  ASSERT_TRUE(parsed);
+  EXPECT_EQ(*parsed, sii_from_device(d, SiiDetail::NoEntryNames));
+  EXPECT_EQ(parsed->rx_pdos.at(0).entries.at(0).name_idx, 0);
+  EXPECT_EQ(parsed->string_at(parsed->rx_pdos.at(0).name_idx), "RxPDO 1");
+
+  d.esc.eeprom_bytes = 256;
+  r = write_sii_detailed(d);
+  ASSERT_TRUE(r) << r.error();
+  EXPECT_EQ(r->detail, SiiDetail::NoPdoDc);
+  parsed = parse_sii(r->bytes);
+  ASSERT_TRUE(parsed);
+  EXPECT_TRUE(parsed->tx_pdos.empty());
+  EXPECT_TRUE(parsed->dc_modes.empty());
+  EXPECT_EQ(parsed->strings, (std::vector<std::string>{"TS-100", "Test Servo", "Servo"}));
+  EXPECT_EQ(parsed->sync_managers.size(), 4u);
+}
+
+TEST(SiiWriter, ErrorWhenNothingFits) {
   auto d = test::make_test_device();
   d.esc.eeprom_bytes = 256;
+  d.identity.name = std::string(200, 'n');  // strings alone overflow 128 bytes of categories
   auto r = write_sii(d);
   ASSERT_FALSE(r);
-  EXPECT_EQ(r.error(), "SII image needs 488 bytes but the EEPROM holds only 256 bytes");
+  EXPECT_EQ(r.error(),
+            "SII image needs 719 bytes but the EEPROM holds only 256 bytes (also without PDO "
+            "entry names and without PDO/DC categories)");
 }
 
 TEST(SiiWriter, ErrorOnUnencodableSize) {

@@ -1,0 +1,50 @@
+// ESI import (ETG.2000): reads one device of a vendor's EtherCATInfo file into
+// the device model, so the emulator can pose as any device that has an ESI.
+// What the model cannot express is skipped with a warning naming the element
+// and its line; what makes the file unusable is a LoadError "file:line: ...".
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/expected.hpp"
+#include "esi/device_error.hpp"
+#include "od/device.hpp"
+
+namespace ecat::esi {
+
+struct EsiWarning {
+  std::string element;  // element name ("Slots", "InitCmd", ...)
+  int line = 0;
+  std::string message;
+  // "file:line: warning: <element>: message"
+  std::string to_string(std::string_view file) const;
+};
+
+// Which device of a file with several: by product code and/or revision;
+// neither: the first device in the file.
+struct EsiSelection {
+  std::optional<std::uint32_t> product_code;
+  std::optional<std::uint32_t> revision;
+};
+
+Expected<od::DeviceDescription, LoadError> read_esi(const std::filesystem::path& path,
+                                                    std::optional<std::uint32_t> product_code = {},
+                                                    std::optional<std::uint32_t> revision = {},
+                                                    std::vector<EsiWarning>* warnings = nullptr);
+
+// `name` is used in messages.
+Expected<od::DeviceDescription, LoadError> read_esi_string(std::string_view xml,
+                                                           std::string_view name,
+                                                           const EsiSelection& selection = {},
+                                                           std::vector<EsiWarning>* warnings = nullptr);
+
+// ESI HexDecValue ("#x1A00", "6656") or C hex ("0x1A00") as a 32-bit number,
+// for command lines; nullopt if it is none of these or too large.
+std::optional<std::uint32_t> parse_esi_number(std::string_view text);
+
+}  // namespace ecat::esi

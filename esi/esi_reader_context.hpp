@@ -1,0 +1,53 @@
+// Shared state of one ESI import: the file name, the line index for pugixml
+// offsets, the warnings list and small typed accessors for ESI values.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "esi/device_error.hpp"
+#include "esi/esi_reader.hpp"
+#include "esi/xml_lines.hpp"
+
+namespace ecat::esi {
+
+class EsiContext {
+ public:
+  EsiContext(std::string file, std::string_view text, std::vector<EsiWarning>* warnings)
+      : file_(std::move(file)), lines_(text), warnings_(warnings) {}
+
+  int line(const pugi::xml_node& n) const { return lines_.line_of(n.offset_debug()); }
+  void warn(const pugi::xml_node& n, std::string message) const {
+    if (warnings_) warnings_->push_back({n.name(), line(n), std::move(message)});
+  }
+  // Warns "element not modelled; ignored".
+  void ignored(const pugi::xml_node& n) const { warn(n, "not modelled; ignored"); }
+  LoadError error(const pugi::xml_node& n, std::string message) const {
+    return LoadError{file_, line(n), std::move(message)};
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  LineIndex lines_;
+  std::vector<EsiWarning>* warnings_;
+};
+
+// Text of a HexDecValue child or attribute as a number (nullopt if absent/bad).
+std::optional<std::int64_t> esi_number(std::string_view text);
+// xs:boolean.
+bool esi_bool(const pugi::xml_attribute& a, bool fallback = false);
+// The Name child in LcId 1033 (English), else the first one.
+std::string esi_name(const pugi::xml_node& parent, const char* element = "Name");
+
+// Reads Profile/Dictionary into the device (DataTypes resolved, Objects with
+// Info and Flags); objects the model cannot hold are skipped with a warning.
+void read_esi_dictionary(const pugi::xml_node& dictionary, const EsiContext& ctx,
+                         od::Dictionary& out);
+
+}  // namespace ecat::esi
