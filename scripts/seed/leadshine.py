@@ -123,6 +123,10 @@ def build(seed_dir: str, repo: str) -> dict:
         objs[i].sub(0).access = "ro"
         objs[i].sub(0).min = objs[i].sub(0).max = ""
     objs[0x608F].sub(1).default = "10000"
+    # 4.1.1: electronic gear changes are "only valid under Pre-operation mode".
+    for i in (0x6091, 0x6092):
+        for s in (1, 2):
+            objs[i].sub(s).write_in = "PreOp"
     for i in (0x608F, 0x6092):
         objs[i].code = "ARRAY"
 
