@@ -351,15 +351,15 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
     case OperationMode::CyclicSyncPosition:
       if (!halted_) b |= sw::kFollowsCommand;
       if (following_error_) b |= sw::kFollowingError;
-      if (position_reached(in.target_position)) b |= sw::kTargetReached;
+      if (position_reached(static_cast<double>(in.target_position) + in.position_offset)) b |= sw::kTargetReached;
       break;
     case OperationMode::CyclicSyncVelocity:
       if (!halted_) b |= sw::kFollowsCommand;
-      if (velocity_reached(in.target_velocity)) b |= sw::kTargetReached;
+      if (velocity_reached(static_cast<double>(in.target_velocity) + in.velocity_offset)) b |= sw::kTargetReached;
       break;
     case OperationMode::CyclicSyncTorque:
       if (!halted_) b |= sw::kFollowsCommand;
-      if (std::abs(torque_pm - in.target_torque) <= kTorqueWindowPerMille) b |= sw::kTargetReached;
+      if (std::abs(torque_pm - in.target_torque - in.torque_offset) <= kTorqueWindowPerMille) b |= sw::kTargetReached;
       break;
     default: break;
   }

@@ -66,8 +66,8 @@ struct LoopDemand {
   double position = 0;  // increments, at the end of the cycle (linear in between)
   double velocity = 0;  // increments/s: demand (Velocity) or profile velocity (Position),
                         // fed forward scaled by velocity_feed_forward
-  double velocity_offset = 0;  // increments/s added to the velocity command (60B1h)
   double torque = 0;    // N·m: demand (Torque) or feed-forward
+  double velocity_offset = 0;  // increments/s added to the velocity command (60B1h)
 };
 
 struct LoopLimits {
