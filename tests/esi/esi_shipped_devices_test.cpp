@@ -27,9 +27,9 @@ std::vector<std::string> shipped_devices() {
   return out;
 }
 
-class ShippedDevice : public ::testing::TestWithParam<std::string> {};
+class EsiShippedDevice : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(ShippedDevice, GivesSchemaValidEsiAndSii) {
+TEST_P(EsiShippedDevice, GivesSchemaValidEsiAndSii) {
   const auto path = std::filesystem::path(ECAT_SOURCE_DIR) / "xml" / "devices" / GetParam();
   auto device = load_device_file(path);
   ASSERT_TRUE(device) << device.error().to_string();
@@ -50,7 +50,7 @@ TEST_P(ShippedDevice, GivesSchemaValidEsiAndSii) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(XmlDevices, ShippedDevice, ::testing::ValuesIn(shipped_devices()),
+INSTANTIATE_TEST_SUITE_P(XmlDevices, EsiShippedDevice, ::testing::ValuesIn(shipped_devices()),
                          [](const auto& param_info) {
                            const std::string& file = param_info.param;
                            std::string n = file.substr(0, file.size() - 4);
@@ -60,7 +60,7 @@ INSTANTIATE_TEST_SUITE_P(XmlDevices, ShippedDevice, ::testing::ValuesIn(shipped_
                            return n;
                          });
 
-TEST(EmbeddedDefault, GivesSchemaValidEsi) {
+TEST(EsiEmbeddedDefault, GivesSchemaValidEsi) {
   auto device = load_default_device();
   ASSERT_TRUE(device) << device.error().to_string();
   ASSERT_TRUE(write_sii(*device));

@@ -144,7 +144,12 @@ TEST(SiiWriter, Deterministic) {
 
 TEST(SiiWriter, SmallEepromFallsBackStepByStep) {
   auto d = test::make_test_device();
-  d.esc.eeprom_bytes = 384;  // full image needs 488 bytes
+  d.rx_pdos[0].entries[0].name = std::string(120, 'c');  // full image: 597 bytes
+  d.esc.eeprom_bytes = 512;  // without entry names: 408 bytes
+  EXPECT_EQ(write_sii_detailed(d)->detail, SiiDetail::NoEntryNames);
+  d.esc.eeprom_bytes = 1024;
+  EXPECT_EQ(write_sii_detailed(d)->detail, SiiDetail::Full);
+  d.esc.eeprom_bytes = 512;
   auto r = write_sii_detailed(d);
   ASSERT_TRUE(r) << r.error();
   EXPECT_EQ(r->detail, SiiDetail::NoEntryNames);
@@ -173,7 +178,7 @@ TEST(SiiWriter, ErrorWhenNothingFits) {
   auto r = write_sii(d);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error(),
-            "SII image needs 719 bytes but the EEPROM holds only 256 bytes (also without PDO "
+            "SII image needs 678 bytes but the EEPROM holds only 256 bytes (also without PDO "
             "entry names and without PDO/DC categories)");
 }
 
