@@ -1,0 +1,74 @@
+#include "coe/emergency.hpp"
+
+#include <gtest/gtest.h>
+
+#include "tests/coe/rig.hpp"
+
+namespace ecat::coe {
+namespace {
+
+using test::Frame;
+
+TEST(Emergency, QueuedAsCoEServiceOneAndSetsErrorRegister) {
+  test::Rig rig;
+  Emergency emcy(rig.mailbox, rig.store);
+  rig.mailbox.poll(Nanoseconds{0});  // open the mailbox
+  ASSERT_TRUE(emcy.raise(0x8611, 0x81, {1, 2, 3, 4, 5}));
+  rig.mailbox.poll(Nanoseconds{0});
+  auto msg = rig.fetch();
+  ASSERT_TRUE(msg);
+  EXPECT_EQ(*msg, (Frame{0x0A, 0x00, 0x00, 0x00, 0x00, 0x13, 0x00, 0x10, 0x11, 0x86, 0x81, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x1001, 0), 0x81);
+}
+
+TEST(Emergency, ClosedMailboxStillUpdatesTheRegister) {
+  test::Rig rig;
+  rig.esc.set_state(0x01);
+  Emergency emcy(rig.mailbox, rig.store);
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_EQ(emcy.raise(0x5000, 0x01).error(), MailboxError::NoMoreMemory);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x1001, 0), 0x01);
+}
+
+TEST(Emergency, FullQueueIsReportedNotOverwritten) {
+  test::Rig rig(test::make_device(), 3);
+  Emergency emcy(rig.mailbox, rig.store);
+  rig.mailbox.poll(Nanoseconds{0});
+  ASSERT_TRUE(emcy.raise(0x1000, 1));
+  ASSERT_TRUE(emcy.raise(0x1001, 1));
+  // SM1 empty until poll: the queue holds both; a third does not fit (one slot is reserved).
+  EXPECT_EQ(emcy.raise(0x1002, 1).error(), MailboxError::NoMoreMemory);
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_EQ((*rig.fetch())[8], 0x00);
+  EXPECT_EQ((*rig.fetch())[8], 0x01);
+  EXPECT_FALSE(rig.fetch());
+}
+
+TEST(Emergency, DiagnosisHistory) {
+  od::DeviceDescription d = test::make_device();
+  od::Object diag = test::composite(0x10F3, "Diagnosis History", od::ObjectCode::Record, od::DataType::Record, test::kRo,
+                                    {test::entry(1, "Maximum Messages", od::DataType::Unsigned8, 8, test::kRo, {2}),
+                                     test::entry(2, "Newest Message", od::DataType::Unsigned8, 8, test::kRo, {0}),
+                                     test::entry(3, "Newest Acknowledged Message", od::DataType::Unsigned8, 8, test::kRw, {0}),
+                                     test::entry(4, "New Messages Available", od::DataType::Boolean, 1, test::kRo, {0}),
+                                     test::entry(5, "Flags", od::DataType::Unsigned16, 16, test::kRw),
+                                     test::entry(6, "Diagnosis Message 001", od::DataType::OctetString, 8 * 28, test::kRo),
+                                     test::entry(7, "Diagnosis Message 002", od::DataType::OctetString, 8 * 28, test::kRo)});
+  (void)d.dictionary.put(diag);
+  test::Rig rig(std::move(d));
+  Emergency emcy(rig.mailbox, rig.store);
+  (void)emcy.raise(0x2310, 0x03, {}, Nanoseconds{0x0102030405});
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 6);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 4), 1);
+  const auto m = rig.store.value(0x10F3, 6);
+  EXPECT_EQ(Frame(m.begin(), m.end()),
+            (Frame{0x10, 0x23, 0, 0, 0x02, 0x00, 0, 0, 0x05, 0x04, 0x03, 0x02, 0x01, 0, 0, 0}));
+  (void)emcy.raise(0x2311, 0x03);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 7);
+  (void)emcy.raise(0x2312, 0x03);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 6);  // ring of two
+  EXPECT_EQ(rig.store.value(0x10F3, 6)[0], 0x12);
+}
+
+}  // namespace
+}  // namespace ecat::coe
