@@ -1,0 +1,177 @@
+// Exact bytes of the requests the master puts on the wire (frame layout per
+// ETG.1000.4 §5.3/§5.4; sequences per shared/spec/masters.md §1).
+#include <gtest/gtest.h>
+
+#include "master_fixture.hpp"
+
+namespace ecat::master::test {
+namespace {
+
+using Bytes8 = std::vector<std::uint8_t>;
+
+TEST_F(MasterFixture, CountSlavesIsOneBrdOfRegisterZeroPaddedTo60Bytes) {
+  ASSERT_EQ(master.count_slaves().value_or(99), 1u);
+  ASSERT_EQ(frames().size(), 1u);
+  Bytes8 expected{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x88, 0xA4,
+                  0x0E, 0x10,                                           // 14 bytes of datagrams, type 1
+                  0x07, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00,  // BRD idx 0 ADP 0 ADO 0 len 2
+                  0x00, 0x00, 0x00, 0x00};                              // data, WKC
+  expected.resize(60, 0);
+  EXPECT_EQ(frames()[0], expected);
+}
+
+TEST_F(MasterFixture, ScanAssignsStationAddressAndReadsSii) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  // First datagram: Init + ack to everybody (SOEM).
+  auto all = sent();
+  ASSERT_GE(all.size(), 3u);
+  EXPECT_EQ(all[0].command, Command::Bwr);
+  EXPECT_EQ(all[0].ado, 0x0120);
+  EXPECT_EQ(all[0].data, (Bytes8{0x11, 0x00}));
+  EXPECT_EQ(all[1].command, Command::Brd);
+  // APWR 0x0010 = 0x1001 at position 0 (ADP 0).
+  auto apwr = sent(Command::Apwr, 0x0010);
+  ASSERT_EQ(apwr.size(), 1u);
+  EXPECT_EQ(apwr[0].adp, 0x0000);
+  EXPECT_EQ(apwr[0].data, (Bytes8{0x01, 0x10}));
+  EXPECT_EQ(fake.u16(0x0010), 0x1001);
+  // SII read of word 0: {0x0100, address 0} in one 6-byte FPWR to 0x0502 (SOEM S-cap #50).
+  auto cmds = sent(Command::Fpwr, 0x0502);
+  ASSERT_FALSE(cmds.empty());
+  EXPECT_EQ(cmds[0].adp, 0x1001);
+  EXPECT_EQ(cmds[0].data, (Bytes8{0x00, 0x01, 0x00, 0x00, 0x00, 0x00}));
+  // Word 8 (vendor id) is read by a command with address 0x0008; 8-byte reads step by 4 words.
+  EXPECT_EQ(cmds[2].data, (Bytes8{0x00, 0x01, 0x08, 0x00, 0x00, 0x00}));
+  auto data_reads = sent(Command::Fprd, 0x0508);
+  ASSERT_FALSE(data_reads.empty());
+  EXPECT_EQ(data_reads[0].data.size(), 8u);
+  const SlaveInfo& s = master.slave(0);
+  EXPECT_EQ(s.station_address, 0x1001);
+  EXPECT_EQ(s.sii.vendor_id, kVendor);
+  EXPECT_EQ(s.sii.device_name(), "TestSlave");
+  EXPECT_EQ(s.sii_image.size(), test_sii_image().size() - 2);  // up to the end marker word
+}
+
+TEST_F(MasterFixture, StateRequestWritesAlControlAndPollsStatusWithCode) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  clear_sent();
+  auto st = master.request_state(0, AlState::PreOp);
+  ASSERT_TRUE(st.has_value());
+  EXPECT_TRUE(st->is(AlState::PreOp));
+  auto w = sent(Command::Fpwr, 0x0120);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].data, (Bytes8{0x02, 0x00}));
+  auto r = sent(Command::Fprd, 0x0130);
+  ASSERT_FALSE(r.empty());
+  EXPECT_EQ(r[0].data.size(), 6u);  // 0x0130 + 0x0134 in one read
+  // Acknowledge writes state | 0x10.
+  fake.mem[0x0130] = 0x12;
+  fake.mem[0x0134] = 0x16;
+  clear_sent();
+  auto err = master.read_al_status(0);
+  ASSERT_TRUE(err.has_value());
+  EXPECT_TRUE(err->error());
+  EXPECT_EQ(err->code, 0x0016);
+  fake.mem[0x0130] = 0x12;
+  auto ack = master.acknowledge_error(0);
+  ASSERT_TRUE(ack.has_value());
+  EXPECT_EQ(sent(Command::Fpwr, 0x0120).at(0).data, (Bytes8{0x12, 0x00}));
+}
+
+TEST_F(MasterFixture, MailboxSmsFromSiiInOneDatagram) {
+  scan_and_mailbox();
+  auto w = sent(Command::Fpwr, 0x0800);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].data, (Bytes8{0x00, 0x10, 0x80, 0x00, 0x26, 0x00, 0x01, 0x00,
+                               0x80, 0x10, 0x80, 0x00, 0x22, 0x00, 0x01, 0x00}));
+}
+
+TEST_F(MasterFixture, ProcessDataSmFmmuAndLrw) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  master.slave(0).pd.output_bytes = 2;
+  master.slave(0).pd.input_bytes = 4;
+  ASSERT_TRUE(master.configure_process_data().has_value());
+  EXPECT_EQ(sent(Command::Fpwr, 0x0810).at(0).data, (Bytes8{0x00, 0x11, 0x02, 0x00, 0x64, 0x00, 0x01, 0x00}));
+  EXPECT_EQ(sent(Command::Fpwr, 0x0818).at(0).data, (Bytes8{0x00, 0x14, 0x04, 0x00, 0x20, 0x00, 0x01, 0x00}));
+  // FMMU0: logical 0, 2 bytes, bits 0..7, physical 0x1100, write, enabled.
+  EXPECT_EQ(sent(Command::Fpwr, 0x0600).at(0).data,
+            (Bytes8{0, 0, 0, 0, 0x02, 0x00, 0x00, 0x07, 0x00, 0x11, 0x00, 0x02, 0x01, 0, 0, 0}));
+  // FMMU1: logical 2, 4 bytes, physical 0x1400, read.
+  EXPECT_EQ(sent(Command::Fpwr, 0x0610).at(0).data,
+            (Bytes8{2, 0, 0, 0, 0x04, 0x00, 0x00, 0x07, 0x00, 0x14, 0x00, 0x01, 0x01, 0, 0, 0}));
+  EXPECT_EQ(master.expected_wkc(), 3);
+  master.outputs(0)[0] = 0xAB;
+  master.outputs(0)[1] = 0xCD;
+  fake.mem[0x1400] = 0x11;
+  fake.mem[0x1403] = 0x44;
+  clear_sent();
+  auto r = master.exchange_process_data();
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->wkc, 3);
+  EXPECT_TRUE(r->ok());
+  auto lrw = sent();
+  ASSERT_EQ(lrw.size(), 1u);
+  EXPECT_EQ(lrw[0].command, Command::Lrw);
+  EXPECT_EQ(lrw[0].data, (Bytes8{0xAB, 0xCD, 0, 0, 0, 0}));
+  EXPECT_EQ(fake.mem[0x1100], 0xAB);
+  EXPECT_EQ(master.inputs(0)[0], 0x11);
+  EXPECT_EQ(master.inputs(0)[3], 0x44);
+  EXPECT_EQ(master.cyclic_stats().cycles, 1u);
+  EXPECT_EQ(master.cyclic_stats().max_round_trip, std::chrono::microseconds(10));
+  // A slave that stops answering its inputs shows as a WKC error.
+  fake.mem[0x0610 + 12] = 0;
+  auto bad = master.exchange_process_data();
+  ASSERT_TRUE(bad.has_value());
+  EXPECT_EQ(bad->wkc, 2);
+  EXPECT_FALSE(bad->ok());
+  EXPECT_EQ(master.cyclic_stats().wkc_errors, 1u);
+}
+
+TEST_F(MasterFixture, DcDelaysAndOffsetsFromPortTimes) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  master.slave(0).esc.features = EscInfo::kFeatureDc;
+  store_le(fake.mem.data() + 0x0900, std::uint32_t{1000});
+  store_le(fake.mem.data() + 0x0904, std::uint32_t{1000});
+  store_le(fake.mem.data() + 0x0918, std::uint64_t{5000});
+  clear_sent();
+  auto n = master.configure_dc(Nanoseconds{1'000'000});
+  ASSERT_EQ(n.value_or(0), 1u);
+  EXPECT_EQ(sent(Command::Bwr, 0x0900).at(0).data, (Bytes8{0, 0, 0, 0}));
+  // Offset = master time - 0x0918 = 995000 = 0x000F2EB8.
+  EXPECT_EQ(sent(Command::Fpwr, 0x0920).at(0).data, (Bytes8{0xB8, 0x2E, 0x0F, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(sent(Command::Fpwr, 0x0928).at(0).data, (Bytes8{0, 0, 0, 0}));
+  EXPECT_EQ(master.reference_clock(), std::optional<std::size_t>(0));
+  // Sync0: 1 ms cycle starting on a whole cycle after now + 100 ms.
+  store_le(fake.mem.data() + 0x0910, std::uint64_t{2'500'000});
+  clear_sent();
+  auto start = master.configure_sync0(0, 1'000'000, 0, std::chrono::milliseconds(100));
+  ASSERT_EQ(start.value_or(0), 103'000'000u);
+  auto act = sent(Command::Fpwr, 0x0981);
+  ASSERT_EQ(act.size(), 2u);
+  EXPECT_EQ(act[0].data, (Bytes8{0x00}));
+  EXPECT_EQ(act[1].data, (Bytes8{0x03}));
+  EXPECT_EQ(sent(Command::Fpwr, 0x09A0).at(0).data, (Bytes8{0x40, 0x42, 0x0F, 0x00}));
+  // FRMW 0x0910 rides in the cyclic frame once DC is configured.
+  master.slave(0).pd.input_bytes = 1;
+  ASSERT_TRUE(master.configure_process_data().has_value());
+  clear_sent();
+  ASSERT_TRUE(master.exchange_process_data().has_value());
+  auto cyc = sent();
+  ASSERT_EQ(cyc.size(), 2u);
+  EXPECT_EQ(cyc[0].command, Command::Frmw);
+  EXPECT_EQ(cyc[0].adp, 0x1001);
+  EXPECT_EQ(cyc[0].ado, 0x0910);
+  EXPECT_EQ(cyc[1].command, Command::Lrw);
+}
+
+TEST_F(MasterFixture, NoReplyIsATimeoutAfterRetries) {
+  transport_.set_processor([](Bytes) {});
+  transport_.drop_next(100);
+  auto r = master.count_slaves();
+  ASSERT_FALSE(r.has_value());
+  EXPECT_EQ(r.error(), MasterError::Timeout);
+  EXPECT_EQ(master.link().stats().frames_sent, 4u);  // 1 + 3 retries
+}
+
+}  // namespace
+}  // namespace ecat::master::test
