@@ -297,8 +297,23 @@ class DeviceReader {
     }
     if (!mailbox_seen_) d_.mailbox = od::MailboxProtocols{false, false, false, false, false,
                                                           false, false, false, false, false};
-    if (bootstrap_node_) {
-      ctx_.warn(bootstrap_node_, "the Bootstrap mailbox is modelled as the standard mailbox's layout");
+    if (bootstrap_node_) check_bootstrap();
+  }
+
+  // The model keeps no separate Bootstrap mailbox: it reuses SM0/SM1's layout.
+  void check_bootstrap() const {
+    auto bytes = parse_hex_binary(bootstrap_node_.child_value()).value_or(od::Value{});
+    od::Value standard;
+    for (const auto& sm : d_.sync_managers) {
+      if (sm.type != od::SmType::MailboxOut && sm.type != od::SmType::MailboxIn) continue;
+      for (std::uint16_t w : {sm.start_address, sm.default_size}) {
+        standard.push_back(static_cast<std::uint8_t>(w));
+        standard.push_back(static_cast<std::uint8_t>(w >> 8));
+      }
+    }
+    if (bytes != standard) {
+      ctx_.warn(bootstrap_node_, "a Bootstrap mailbox layout other than the standard mailbox's is "
+                                 "not modelled; the standard layout is used");
     }
   }
 

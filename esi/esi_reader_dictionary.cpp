@@ -86,7 +86,8 @@ class DictionaryReader {
     } else if (auto it = types_.find(type); it != types_.end() && it->second.child("SubItem")) {
       if (!read_structured(o, it->second, obj, access)) return;
     } else {
-      ctx_.warn(obj, fmt::format("object {:04X}h: unknown data type '{}'; object skipped", o.index, type));
+      ctx_.warn(obj, fmt::format("object {:04X}h: {} data type '{}'; object skipped", o.index,
+                                 types_.count(type) ? "unsupported" : "unknown", type));
       return;
     }
     if (auto ok = out.put(std::move(o)); !ok) ctx_.warn(obj, ok.error() + "; object skipped");
