@@ -72,7 +72,7 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
   limits_.torque_negative = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.negative_torque_limit)));
   plant_.step(demand_, limits_, dt);
 
-  probe_.cycle(in.touch_probe_function, axis_, plant_.previous_position(), plant_.position(), units_);
+  probe_.cycle(in.touch_probe_function, axis_, plant_.previous_position(), plant_.position(), units_, home_shift_);
   monitor(in, dt);
   fill(in, out, dt);
   previous_controlword_ = in.controlword;
@@ -132,13 +132,13 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
   stopped_ = false;
   const double halt_decel = decel_for(stop_for_halt(config_.halt.pick(in.halt_option)), in);
   const bool limits_on = in.software_limit_min < in.software_limit_max;
-  const double lim_min = to_inc(in.software_limit_min), lim_max = to_inc(in.software_limit_max);
+  const double lim_min = position_to_inc(in.software_limit_min), lim_max = position_to_inc(in.software_limit_max);
   const double vmax_profile = to_inc(in.max_profile_velocity);
   const double actual = plant_.position();
 
   switch (mode_) {
     case OperationMode::ProfilePosition: {
-      PpSetPoint sp{to_inc(in.target_position), std::min(to_inc(in.profile_velocity), vmax_profile),
+      PpSetPoint sp{to_inc(in.target_position) - ((in.controlword & cw::kRelative) ? 0.0 : home_shift_), std::min(to_inc(in.profile_velocity), vmax_profile),
                     to_inc(in.profile_acceleration), to_inc(in.profile_deceleration)};
       pp_.handshake(in.controlword, sp, (in.controlword & cw::kRelative) != 0, limits_on ? lim_min : 0,
                     limits_on ? lim_max : 0);
@@ -181,8 +181,7 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
                                   to_inc(in.homing_acceleration)};
       if (const auto shift = homing_.cycle(gen_, axis_, plant_.previous_position(), actual, speeds,
                                            to_inc(in.home_offset), dt)) {
-        plant_.shift_position(*shift);
-        gen_.shift(*shift);
+        home_shift_ = *shift;
       }
       demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
       return;
@@ -193,7 +192,7 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
         demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
         return;
       }
-      double target = to_inc(static_cast<double>(in.target_position) + in.position_offset);
+      double target = position_to_inc(static_cast<double>(in.target_position) + in.position_offset);
       if (limits_on && (target < lim_min || target > lim_max)) {
         target = std::clamp(target, lim_min, lim_max);
         internal_limit_ = true;
@@ -284,7 +283,7 @@ void Drive::monitor(const DriveInputs& in, double dt) noexcept {
   const bool clipping = mode_ == OperationMode::ProfilePosition || mode_ == OperationMode::Homing ||
                         mode_ == OperationMode::CyclicSyncPosition;
   if (operating && !clipping && in.software_limit_min < in.software_limit_max) {
-    const double u = to_user(pos);
+    const double u = position_to_user(pos);
     if ((u > in.software_limit_max && v > moving) || (u < in.software_limit_min && v < -moving)) {
       raise_fault(FaultKind::SoftwareLimit);
     }
@@ -300,7 +299,7 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
   const PdsState s = sm_.state();
   if (s == PdsState::QuickStopActive) return stopped_ ? sw::kTargetReached : 0;
   if (s != PdsState::OperationEnabled) return 0;
-  const double pos_user = to_user(plant_.position());
+  const double pos_user = position_to_user(plant_.position());
   const double vel_user = to_user(plant_.velocity());
   const bool gen_stopped = gen_.velocity() == 0.0;
   auto position_reached = [&](double target_user, bool eligible = true) {
@@ -318,7 +317,7 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
       if (pp_.acknowledge()) b |= sw::kSetPointAcknowledge;
       if (following_error_) b |= sw::kFollowingError;
       {
-        const bool reached = position_reached(to_user(pp_.last_target()), pp_.idle());
+        const bool reached = position_reached(position_to_user(pp_.last_target()), pp_.idle());
         if (halted_ ? gen_stopped : reached) b |= sw::kTargetReached;
       }
       break;
@@ -375,10 +374,10 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   out.statusword = status;
   out.modes_of_operation_display = static_cast<std::int8_t>(mode_);
   const double pos = plant_.position();
-  out.position_demand = UnitScaling::to_i32(to_user(demand_.position));
-  out.position_demand_internal = UnitScaling::to_i32(demand_.position);
-  out.position_actual_internal = UnitScaling::to_i32(pos);
-  out.position_actual = UnitScaling::to_i32(to_user(pos));
+  out.position_demand = UnitScaling::to_i32(position_to_user(demand_.position));
+  out.position_demand_internal = UnitScaling::to_i32(demand_.position + home_shift_);
+  out.position_actual_internal = UnitScaling::to_i32(pos + home_shift_);
+  out.position_actual = UnitScaling::to_i32(position_to_user(pos));
   out.velocity_demand = UnitScaling::to_i32(to_user(demand_.velocity));
   out.velocity_actual = UnitScaling::to_i32(to_user(plant_.velocity()));
   out.torque_demand = UnitScaling::to_i16(torque_per_mille(plant_.torque_command()));

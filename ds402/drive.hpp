@@ -46,7 +46,9 @@ class Drive {
   // Raises a fault as if the monitoring had found it.
   void raise_fault(FaultKind k) noexcept;
 
-  // Demand values of the last cycle in increments, increments/s and N·m.
+  // Logical position minus physical position (increments), set by homing.
+  double home_shift() const noexcept { return home_shift_; }
+  // Demand values of the last cycle in physical increments, increments/s and N·m.
   double position_demand() const noexcept { return demand_.position; }
   double velocity_demand() const noexcept { return demand_.velocity; }
   double torque_demand() const noexcept { return plant_.torque_command(); }
@@ -73,6 +75,10 @@ class Drive {
   double decel_for(StopKind stop, const DriveInputs& in) const noexcept;
   double to_inc(double user) const noexcept { return units_.to_increments(user); }
   double to_user(double inc) const noexcept { return units_.to_user(inc); }
+  // Positions: the plant and the axis work in physical increments; objects
+  // read physical + home_shift_ (set by homing).
+  double position_to_inc(double user) const noexcept { return units_.to_increments(user) - home_shift_; }
+  double position_to_user(double physical) const noexcept { return units_.to_user(physical + home_shift_); }
   double torque_nm(double per_mille) const noexcept { return per_mille * plant_.parameters().rated_torque / 1000.0; }
   double torque_per_mille(double nm) const noexcept { return nm * 1000.0 / plant_.parameters().rated_torque; }
 
@@ -90,6 +96,7 @@ class Drive {
   OperationMode mode_ = OperationMode::None;
   LoopDemand demand_;
   LoopLimits limits_;
+  double home_shift_ = 0;        // increments
   double torque_demand_pm_ = 0;  // profile torque ramp, per mille
   std::uint16_t controlword_ = 0;
   std::uint16_t previous_controlword_ = 0;

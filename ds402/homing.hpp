@@ -49,10 +49,9 @@ class Homing {
   // the homing acceleration and the status reads "interrupted".
   void interrupt() noexcept;
 
-  // One cycle. `previous`/`actual`: the actual position at the start and end
-  // of the cycle. On completion returns the position shift that makes the
-  // home position read `home_offset` (increments); the caller shifts the
-  // plant and the generator by it.
+  // One cycle. `previous`/`actual`: the physical position at the start and
+  // end of the cycle. On completion returns the shift (logical - physical
+  // increments) that makes the home position read `home_offset`.
   std::optional<double> cycle(ProfileGenerator& gen, const Axis& axis, double previous, double actual,
                               const Speeds& speeds, double home_offset, double dt) noexcept;
 

@@ -24,12 +24,6 @@ Plant::Plant(const PlantParameters& p) noexcept
   position_ = previous_position_ = last_position_ref_ = p_.initial_position;
 }
 
-void Plant::shift_position(double delta) noexcept {
-  position_ += delta;
-  previous_position_ += delta;
-  last_position_ref_ += delta;
-}
-
 void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
   previous_position_ = position_;
   const bool position_mode = demand.kind == LoopDemand::Kind::Position;

@@ -85,8 +85,6 @@ class Plant {
 
   // A load torque acting against the motor (N·m), e.g. a stall or collision.
   void set_external_torque(double nm) noexcept { external_torque_ = nm; }
-  // Redefines the position (homing): shifts every stored position by `delta`.
-  void shift_position(double delta) noexcept;
 
   double position() const noexcept { return position_; }  // increments
   double velocity() const noexcept { return velocity_; }  // increments/s

@@ -21,7 +21,6 @@ class ProfileGenerator {
     ramp_velocity(0.0, dec, dec, dt);
     return velocity_ == 0.0;
   }
-  void shift(double delta) noexcept { position_ += delta; }
 
   double position() const noexcept { return position_; }
   double velocity() const noexcept { return velocity_; }

@@ -3,14 +3,14 @@
 namespace ecat::ds402 {
 
 void TouchProbe::cycle(std::uint16_t function, const Axis& axis, double previous, double actual,
-                       const UnitScaling& units) noexcept {
-  probe(0, function, axis, previous, actual, units);
-  probe(1, function, axis, previous, actual, units);
+                       const UnitScaling& units, double shift) noexcept {
+  probe(0, function, axis, previous, actual, units, shift);
+  probe(1, function, axis, previous, actual, units, shift);
   previous_function_ = function;
 }
 
 void TouchProbe::probe(unsigned n, std::uint16_t function, const Axis& axis, double previous, double actual,
-                       const UnitScaling& units) noexcept {
+                       const UnitScaling& units, double home_shift) noexcept {
   const unsigned shift = n * tp::kProbe2Shift;
   const auto f = static_cast<std::uint16_t>(function >> shift);
   const auto before = static_cast<std::uint16_t>(previous_function_ >> shift);
@@ -49,7 +49,7 @@ void TouchProbe::probe(unsigned n, std::uint16_t function, const Axis& axis, dou
                      std::size_t slot) {
       if (!has || !(f & enable)) return;
       if (!continuous && (st & stored)) return;
-      values_[n * 2 + slot] = UnitScaling::to_i32(units.to_user(pos));
+      values_[n * 2 + slot] = UnitScaling::to_i32(units.to_user(pos + home_shift));
       st = static_cast<std::uint16_t>(st | stored);
       if (continuous) st = static_cast<std::uint16_t>(st ^ toggle);
     };

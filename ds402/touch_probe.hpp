@@ -32,9 +32,10 @@ inline constexpr unsigned kProbe2Shift = 8;
 
 class TouchProbe {
  public:
-  // One cycle: the motion went from `previous` to `actual` (increments).
+  // One cycle: the motion went from `previous` to `actual` (physical
+  // increments); latched values are reported at position + `shift` (homing).
   void cycle(std::uint16_t function, const Axis& axis, double previous, double actual,
-             const UnitScaling& units) noexcept;
+             const UnitScaling& units, double shift) noexcept;
 
   std::uint16_t status() const noexcept { return status_; }
   // 60BAh, 60BBh, 60BCh, 60BDh.
@@ -42,7 +43,7 @@ class TouchProbe {
 
  private:
   void probe(unsigned n, std::uint16_t function, const Axis& axis, double previous, double actual,
-             const UnitScaling& units) noexcept;
+             const UnitScaling& units, double home_shift) noexcept;
 
   std::uint16_t status_ = 0;
   std::uint16_t previous_function_ = 0;
