@@ -95,6 +95,7 @@ void MailboxServer::poll(Nanoseconds now) noexcept {
   }
   open_ = true;
   sm1_length_ = sm1.length;
+  sm0_length_ = sm0.length;
   if ((sm1.activate ^ sm1.pdi_control) & bits::kSmActivateRepeatRequest) {
     handle_repeat_request(sm1);
     sm1 = read_sm(kReadMailboxSm);
@@ -197,6 +198,7 @@ void MailboxServer::dispatch(const MailboxHeader& header, ConstBytes payload) no
   MailboxService* service = find(header.type);
   if (!service || !service->active_in(state_)) return queue_error(MailboxError::UnsupportedProtocol);
   continuing_ = nullptr;
+  service->set_sizes(sm0_length_ - MailboxHeader::kSize, sm1_length_ - MailboxHeader::kSize);
   const auto n = service->handle(payload, {reply_.data() + MailboxHeader::kSize,
                                            static_cast<std::size_t>(sm1_length_ - MailboxHeader::kSize)},
                                  state_);

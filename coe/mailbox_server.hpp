@@ -89,6 +89,7 @@ class MailboxServer {
   bool open_ = false;
   std::uint8_t last_request_counter_ = 0;
   std::uint8_t reply_counter_ = 0;
+  std::uint16_t sm0_length_ = 0;
   std::uint16_t sm1_length_ = 0;
 
   std::vector<std::uint8_t> request_;     // SM0 image

@@ -32,6 +32,12 @@ class MailboxService {
     (void)reply;
     return 0;
   }
+  // Payload room of SM0 (requests) and SM1 (replies) as the master set them;
+  // told before every request (FoE needs it to see a file's last packet).
+  virtual void set_sizes(std::size_t request_payload, std::size_t reply_payload) noexcept {
+    (void)request_payload;
+    (void)reply_payload;
+  }
   // The mailbox was closed (state fell back to Init): drop transfers.
   virtual void reset() noexcept {}
 };

@@ -1,0 +1,142 @@
+#include "coe/foe_server.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace ecat::coe {
+namespace {
+
+bool name_char(char c) noexcept {
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
+         c == '-';
+}
+
+}  // namespace
+
+bool FoeServer::safe_name(std::string_view name) const noexcept {
+  if (name.empty() || name.size() > options_.max_name_length || name.front() == '.') return false;
+  for (char c : name) {
+    if (!name_char(c)) return false;
+  }
+  return true;
+}
+
+void FoeServer::reset() noexcept {
+  if (file_) {
+    std::fclose(file_);
+    file_ = nullptr;
+  }
+  if (state_ == State::Writing) ::unlink(temp_path_.c_str());
+  state_ = State::Idle;
+}
+
+std::size_t FoeServer::header(Bytes reply, std::uint8_t opcode, std::uint32_t value) noexcept {
+  ByteWriter w(reply);
+  w.u8(opcode);
+  w.u8(0);
+  w.u32(value);
+  return w.position();
+}
+
+std::size_t FoeServer::error(Bytes reply, foe::FoeError code) noexcept {
+  reset();
+  return header(reply, foe::kError, static_cast<std::uint32_t>(code));
+}
+
+Expected<std::size_t, MailboxError> FoeServer::handle(ConstBytes request, Bytes reply, od::EsmState) noexcept {
+  if (request.size() < foe::kHeaderSize) return fail(MailboxError::SizeTooShort);
+  if (reply.size() <= foe::kHeaderSize) return fail(MailboxError::NoMoreMemory);
+  ByteReader r(request);
+  const std::uint8_t opcode = r.u8();
+  r.skip(1);
+  const std::uint32_t value = r.u32();  // password, packet number or error code
+  const ConstBytes rest = r.rest();
+  const std::string_view name(reinterpret_cast<const char*>(rest.data()), rest.size());
+  switch (opcode) {
+    case foe::kReadRequest: return read_request(name, reply);
+    case foe::kWriteRequest: return write_request(name, reply);
+    case foe::kData: return data(value, rest, reply);
+    case foe::kAck: return ack(value, reply);
+    case foe::kError: reset(); return std::size_t{0};  // the master gave up: no answer
+    case foe::kBusy: return error(reply, foe::FoeError::Illegal);
+    default: return fail(MailboxError::ServiceNotSupported);
+  }
+}
+
+std::size_t FoeServer::read_request(std::string_view name, Bytes reply) noexcept {
+  reset();
+  if (options_.directory.empty() || !safe_name(name)) return error(reply, foe::FoeError::AccessDenied);
+  try {
+    path_ = options_.directory + "/" + std::string(name);
+  } catch (...) {
+    return error(reply, foe::FoeError::NotDefined);
+  }
+  file_ = std::fopen(path_.c_str(), "rb");
+  if (!file_) return error(reply, foe::FoeError::NotFound);
+  state_ = State::Reading;
+  packet_ = 0;
+  return send_data(reply);
+}
+
+std::size_t FoeServer::send_data(Bytes reply) noexcept {
+  ++packet_;
+  const std::size_t room = reply.size() - foe::kHeaderSize;
+  const std::size_t n = std::fread(reply.data() + foe::kHeaderSize, 1, room, file_);
+  if (n < room && std::ferror(file_)) return error(reply, foe::FoeError::ProgramError);
+  last_short_ = n < room;
+  header(reply, foe::kData, packet_);
+  return foe::kHeaderSize + n;
+}
+
+std::size_t FoeServer::ack(std::uint32_t packet, Bytes reply) noexcept {
+  if (state_ != State::Reading) return error(reply, foe::FoeError::Illegal);
+  if (packet != packet_) return error(reply, foe::FoeError::PacketNumber);
+  if (last_short_) {
+    reset();  // the short packet was the end of the file
+    return 0;
+  }
+  return send_data(reply);
+}
+
+std::size_t FoeServer::write_request(std::string_view name, Bytes reply) noexcept {
+  reset();
+  if (options_.directory.empty() || !safe_name(name)) return error(reply, foe::FoeError::AccessDenied);
+  try {
+    path_ = options_.directory + "/" + std::string(name);
+    temp_path_ = path_ + ".part";
+  } catch (...) {
+    return error(reply, foe::FoeError::NotDefined);
+  }
+  file_ = std::fopen(temp_path_.c_str(), "wb");
+  if (!file_) return error(reply, foe::FoeError::AccessDenied);
+  state_ = State::Writing;
+  packet_ = 0;
+  size_ = 0;
+  return header(reply, foe::kAck, 0);
+}
+
+std::size_t FoeServer::data(std::uint32_t packet, ConstBytes bytes, Bytes reply) noexcept {
+  if (state_ != State::Writing) return error(reply, foe::FoeError::Illegal);
+  if (packet != packet_ + 1) return error(reply, foe::FoeError::PacketNumber);
+  if (size_ + bytes.size() > options_.max_file_bytes) return error(reply, foe::FoeError::DiskFull);
+  if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) {
+    return error(reply, foe::FoeError::DiskFull);
+  }
+  size_ += bytes.size();
+  packet_ = packet;
+  // A packet shorter than the mailbox allows is the last one.
+  if (bytes.size() + foe::kHeaderSize < request_payload_) {
+    const bool flushed = std::fflush(file_) == 0 && ::fsync(fileno(file_)) == 0;
+    std::fclose(file_);
+    file_ = nullptr;
+    if (!flushed || std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
+      state_ = State::Writing;  // so reset() removes the temporary file
+      return error(reply, foe::FoeError::DiskFull);
+    }
+    state_ = State::Idle;
+  }
+  return header(reply, foe::kAck, packet);
+}
+
+}  // namespace ecat::coe

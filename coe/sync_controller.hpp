@@ -1,0 +1,120 @@
+// The application side of synchronisation (ETG.1000.6 §5.6.7.4.3, ETG.1020):
+// keeps 1C32h/1C33h, checks the master's choice at PreOp->SafeOp and
+// SafeOp->Op (as an esc::EsmHooks), and decides from the PDI events when the
+// application cycle runs:
+//   free run (0)        local timer, 1C32h:02 (or the minimum cycle time)
+//   SM-synchronous (1)  new SM2 buffer (inputs only: SM3 event)
+//   DC SYNC0/SYNC1 (2/3) SYNC0 / SYNC1 event (AL event 0x0220 bit 2/3)
+// In Op it counts missed SM events (a SYNC0 without new outputs), cycle time
+// too small and shift time too short, and drops the slave to SafeOp on a sync
+// error (0x001A), SYNC timeout (0x0034) or a SYNC unit switched off (0x002C).
+//
+//   coe::SyncController sync(pdi, store, device.sync, has_outputs, has_inputs);
+//   sync.install();  sync.attach(esm);
+//   each poll: if (sync.poll(now).run) { read outputs, app, write inputs; sync.cycle_done(now); }
+// Call poll() before anything reads the SM2 buffer in the same step.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "coe/object_hooks.hpp"
+#include "coe/object_store.hpp"
+#include "coe/sync_checks.hpp"
+#include "coe/sync_mode.hpp"
+#include "common/clock.hpp"
+#include "esc/dc/vcd_trace.hpp"
+#include "esc/esm.hpp"
+#include "esc/pdi.hpp"
+#include "od/device.hpp"
+
+namespace ecat::coe {
+
+struct SyncPoll {
+  bool run = false;                  // start an application cycle now
+  std::optional<Nanoseconds> next;   // when poll() next has something to do by time alone
+};
+
+class SyncController final : public esc::EsmHooks, public ObjectHooks {
+ public:
+  // SYNC0 pulses the application must have seen in SafeOp before Op (else 0x002D).
+  static constexpr unsigned kSyncPulsesBeforeOp = 2;
+  // SYNC missing for this many cycles in SafeOp/Op: 0x0034 (or 0x002C if switched off).
+  static constexpr unsigned kSyncTimeoutCycles = 3;
+  // Sync error counter (ETG.1020): +3 per missed SM event, -1 per good cycle;
+  // above the limit (10F1h:02 if present) the slave leaves Op with 0x001A.
+  static constexpr std::uint16_t kMissPenalty = 3;
+  static constexpr std::uint16_t kDefaultErrorLimit = 4;
+  static constexpr Nanoseconds kDefaultFreeRunCycle{1'000'000};
+
+  SyncController(esc::Pdi& pdi, ObjectStore& store, const od::SyncLimits& limits, bool has_outputs,
+                 bool has_inputs) noexcept;
+
+  // Start-up: hooks for 1C32h/1C33h; sub 4 (modes supported) and 5 (minimum
+  // cycle) from the limits where the dictionary left them 0.
+  void install() noexcept;
+  // Registers with the ESM (checks, state changes) and keeps it for raise_error.
+  bool attach(esc::Esm& esm) noexcept;
+  void set_trace(esc::VcdProbe* probe) noexcept { trace_ = probe; }
+
+  SyncPoll poll(Nanoseconds now) noexcept;
+  // The application cycle started by poll() has finished (for the trace).
+  void cycle_done(Nanoseconds now) noexcept;
+
+  SyncMode output_mode() const noexcept { return mode_[0]; }
+  SyncMode input_mode() const noexcept { return mode_[1]; }
+  std::uint16_t sm_events_missed() const noexcept { return missed_; }
+  std::uint16_t cycle_time_too_small() const noexcept { return too_small_; }
+  std::uint16_t shift_time_too_short() const noexcept { return too_short_; }
+  bool sync_error() const noexcept { return sync_error_; }
+
+  // esc::EsmHooks
+  esc::AlStatusCode check_transition(esc::AlState from, esc::AlState to) noexcept override;
+  void on_state_changed(esc::AlState from, esc::AlState to, esc::AlStatusCode code) noexcept override;
+  // ObjectHooks (1C32h/1C33h)
+  Expected<void, SdoAbort> on_write(ObjectStore& store, const WriteRequest& request) noexcept override;
+  void after_write(ObjectStore& store, std::uint16_t index, std::uint8_t subindex) noexcept override;
+
+ private:
+  SyncMode trigger_mode() const noexcept;
+  SyncSettings settings() noexcept;
+  void load_modes() noexcept;
+  bool new_outputs(Nanoseconds now) noexcept;
+  bool new_input_event() noexcept;
+  SyncPoll poll_free_run(Nanoseconds now) noexcept;
+  SyncPoll poll_sm(Nanoseconds now) noexcept;
+  SyncPoll poll_dc(Nanoseconds now) noexcept;
+  void sync_cycle(Nanoseconds now) noexcept;
+  void publish_counters() noexcept;
+  void reset_counters() noexcept;
+  void start_cycle(Nanoseconds now) noexcept;
+  Nanoseconds cycle_time() noexcept;
+
+  esc::Pdi& pdi_;
+  ObjectStore& store_;
+  od::SyncLimits limits_;
+  bool has_outputs_;
+  bool has_inputs_;
+  esc::Esm* esm_ = nullptr;
+  esc::VcdProbe* trace_ = nullptr;
+  esc::AlState state_ = esc::AlState::Init;
+  std::array<SyncMode, 2> mode_{SyncMode::FreeRun, SyncMode::FreeRun};  // [0] 1C32h, [1] 1C33h
+  std::array<bool, 2> mode_written_{};
+  std::uint32_t sync0_cycle_ = 0;  // 0x09A0 at PreOp->SafeOp
+  std::optional<std::uint8_t> sm2_buffer_;  // last seen SM2 status bits 5:4
+  bool sm3_event_seen_ = false;
+  bool outputs_since_sync_ = false;
+  std::optional<Nanoseconds> last_outputs_;
+  std::optional<Nanoseconds> last_sync_;
+  std::optional<Nanoseconds> next_free_run_;
+  unsigned syncs_in_safeop_ = 0;
+  std::uint16_t error_counter_ = 0;
+  std::uint16_t missed_ = 0;
+  std::uint16_t too_small_ = 0;
+  std::uint16_t too_short_ = 0;
+  bool sync_error_ = false;
+  bool timeout_reported_ = false;
+};
+
+}  // namespace ecat::coe

@@ -1,0 +1,129 @@
+#include "coe/foe_server.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/coe/rig.hpp"
+
+namespace ecat::coe {
+namespace {
+
+using test::Frame;
+using test::mbx;
+
+Frame foe_frame(std::uint8_t opcode, std::uint32_t value, Frame rest = {}) {
+  Frame f{opcode, 0, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
+          static_cast<std::uint8_t>(value >> 16), static_cast<std::uint8_t>(value >> 24)};
+  f.insert(f.end(), rest.begin(), rest.end());
+  return f;
+}
+Frame name(const std::string& s) { return Frame(s.begin(), s.end()); }
+
+class FoeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = std::filesystem::path(ECAT_BINARY_DIR) / "coe_foe_test" /
+          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    foe = std::make_unique<FoeServer>(FoeServer::Options{dir.string(), 200, 16});
+    rig.mailbox.add_service(*foe);
+  }
+  Frame request(const Frame& payload) {
+    counter = MailboxHeader::next_counter(counter);
+    auto reply = rig.request(mbx(4, counter, payload));
+    if (!reply) return {};
+    EXPECT_EQ((*reply)[5] & 0x0F, 4);
+    return Frame(reply->begin() + 6, reply->end());
+  }
+  static std::uint32_t error_code(const Frame& f) {
+    if (f.size() < 6 || f[0] != 5) return 0;
+    return static_cast<std::uint32_t>(f[2] | (f[3] << 8) | (f[4] << 16) | (f[5] << 24));
+  }
+
+  test::Rig rig;
+  std::filesystem::path dir;
+  std::unique_ptr<FoeServer> foe;
+  std::uint8_t counter = 0;
+};
+
+Frame pattern(std::size_t n) {
+  Frame f(n);
+  for (std::size_t i = 0; i < n; ++i) f[i] = static_cast<std::uint8_t>(i * 13);
+  return f;
+}
+
+TEST_F(FoeTest, WriteThenReadBack) {
+  const Frame data = pattern(190);  // 116 + 74 with a 128-byte mailbox
+  EXPECT_EQ(request(foe_frame(2, 0, name("fw.bin"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, Frame(data.begin(), data.begin() + 116))), foe_frame(4, 1));
+  EXPECT_FALSE(std::filesystem::exists(dir / "fw.bin"));  // not complete yet
+  EXPECT_EQ(request(foe_frame(3, 2, Frame(data.begin() + 116, data.end()))), foe_frame(4, 2));
+  ASSERT_TRUE(std::filesystem::exists(dir / "fw.bin"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "fw.bin.part"));
+  EXPECT_EQ(std::filesystem::file_size(dir / "fw.bin"), 190u);
+
+  Frame first = request(foe_frame(1, 0, name("fw.bin")));
+  ASSERT_EQ(first.size(), 122u);
+  EXPECT_EQ(Frame(first.begin(), first.begin() + 6), foe_frame(3, 1));
+  Frame second = request(foe_frame(4, 1));
+  ASSERT_EQ(second.size(), 6u + 74);
+  EXPECT_EQ(Frame(second.begin(), second.begin() + 6), foe_frame(3, 2));
+  Frame back(first.begin() + 6, first.end());
+  back.insert(back.end(), second.begin() + 6, second.end());
+  EXPECT_EQ(back, data);
+  EXPECT_TRUE(request(foe_frame(4, 2)).empty());  // last ACK: nothing more
+}
+
+TEST_F(FoeTest, ExactMultipleEndsWithAnEmptyPacket) {
+  const Frame data = pattern(116);
+  EXPECT_EQ(request(foe_frame(2, 0, name("a"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, data)), foe_frame(4, 1));
+  EXPECT_FALSE(std::filesystem::exists(dir / "a"));
+  EXPECT_EQ(request(foe_frame(3, 2)), foe_frame(4, 2));
+  EXPECT_EQ(std::filesystem::file_size(dir / "a"), 116u);
+  EXPECT_EQ(request(foe_frame(1, 0, name("a"))).size(), 122u);
+  EXPECT_EQ(request(foe_frame(4, 1)), foe_frame(3, 2));
+}
+
+TEST_F(FoeTest, UnsafeNamesAreRefused) {
+  for (const char* bad : {"../etc", "a/b", ".hidden", "", "name-that-is-too-long", "sp ace"}) {
+    EXPECT_EQ(error_code(request(foe_frame(2, 0, name(bad)))), 0x8002u) << bad;
+    EXPECT_EQ(error_code(request(foe_frame(1, 0, name(bad)))), 0x8002u) << bad;
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST_F(FoeTest, ErrorsCarryFoECodes) {
+  EXPECT_EQ(error_code(request(foe_frame(1, 0, name("missing")))), 0x8001u);
+  EXPECT_EQ(error_code(request(foe_frame(3, 1, pattern(4)))), 0x8004u);  // data without a write
+  EXPECT_EQ(request(foe_frame(2, 0, name("b"))), foe_frame(4, 0));
+  EXPECT_EQ(error_code(request(foe_frame(3, 2, pattern(116)))), 0x8005u);  // packet 2 before 1
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.part"));
+  EXPECT_EQ(request(foe_frame(2, 0, name("c"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, pattern(116))), foe_frame(4, 1));
+  EXPECT_EQ(error_code(request(foe_frame(3, 2, pattern(116)))), 0x8003u);  // over 200 bytes
+  EXPECT_FALSE(std::filesystem::exists(dir / "c"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "c.part"));
+  // An ERR from the master ends a transfer silently.
+  EXPECT_EQ(request(foe_frame(2, 0, name("d"))), foe_frame(4, 0));
+  EXPECT_TRUE(request(foe_frame(5, 0x8000)).empty());
+  EXPECT_FALSE(std::filesystem::exists(dir / "d.part"));
+}
+
+TEST_F(FoeTest, OfferedInBootstrap) {
+  rig.esc.set_state(0x03);
+  EXPECT_EQ(request(foe_frame(2, 0, name("boot.bin"))), foe_frame(4, 0));
+}
+
+TEST(Foe, NotOfferedIsAMailboxError) {
+  test::Rig rig;
+  auto reply = rig.request(mbx(4, 1, foe_frame(1, 0, name("x"))));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Frame{0x04, 0x00, 0x00, 0x00, 0x00, 0x10, 0x01, 0x00, 0x02, 0x00}));
+}
+
+}  // namespace
+}  // namespace ecat::coe
