@@ -54,19 +54,23 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
 
   select_mode(in);
 
+  if (sm_.stop() == StopKind::None) stopping_ = false;
   if (!sm_.power_stage_on()) {
     demand_ = LoopDemand{};
     demand_.position = plant_.position();
     gen_.reset(plant_.position(), plant_.velocity());
     stopped_ = true;
   } else if (sm_.stop() != StopKind::None) {
+    // A stop ramps down from the motion as it is, whatever the mode demanded.
+    if (!stopping_) gen_.reset(plant_.position(), plant_.velocity());
+    stopping_ = true;
     run_stop(sm_.stop(), in, dt);
   } else {
     run_mode(in, dt);
   }
 
   const PlantParameters& pp = plant_.parameters();
-  const double max_rpm = in.max_motor_speed ? std::min<double>(in.max_motor_speed, pp.over_speed) : pp.max_speed;
+  const double max_rpm = in.max_motor_speed ? static_cast<double>(in.max_motor_speed) : pp.max_speed;
   limits_.velocity = plant_.rpm_to_increments(max_rpm);
   limits_.torque_positive = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.positive_torque_limit)));
   limits_.torque_negative = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.negative_torque_limit)));
@@ -118,7 +122,9 @@ double Drive::decel_for(StopKind stop, const DriveInputs& in) const noexcept {
 }
 
 void Drive::run_stop(StopKind stop, const DriveInputs& in, double dt) noexcept {
-  stopped_ = gen_.stop(decel_for(stop, in), dt);
+  // Stopped once the ramp has ended and the motor follows it to rest.
+  stopped_ = gen_.stop(decel_for(stop, in), dt) &&
+             std::abs(plant_.velocity()) < plant_.rpm_to_increments(kMovingRpm);
   demand_ = LoopDemand{LoopDemand::Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
 }
 

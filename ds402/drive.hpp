@@ -102,6 +102,7 @@ class Drive {
   std::uint16_t previous_controlword_ = 0;
   bool halted_ = false;
   bool stopped_ = true;
+  bool stopping_ = false;  // a state-machine stop ramp is running
   bool internal_limit_ = false;
   bool warning_ = false;
   bool following_error_ = false;
