@@ -1,0 +1,38 @@
+#include "coe/coe_server.hpp"
+
+#include <algorithm>
+
+namespace ecat::coe {
+
+std::size_t CoeServer::mailbox_bytes(const od::DeviceDescription& device) noexcept {
+  std::size_t n = kMinMailboxBytes;
+  for (std::size_t sm = 0; sm < device.sync_managers.size() && sm <= MailboxServer::kReadMailboxSm; ++sm) {
+    n = std::max<std::size_t>({n, device.sync_managers[sm].default_size, device.sync_managers[sm].max_size});
+  }
+  return n;
+}
+
+CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOptions options)
+    : pdi_(pdi),
+      store_(device.dictionary, ObjectStore::Options{options.variable_capacity}),
+      sdo_(store_),
+      info_(store_),
+      coe_(sdo_, device.mailbox.sdo_info ? &info_ : nullptr),
+      foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64}),
+      mailbox_(pdi, mailbox_bytes(device), options.mailbox_queue),
+      emergency_(mailbox_, store_),
+      pdo_(store_, device),
+      process_data_(store_, pdo_),
+      parameters_(store_, options.parameter_file) {
+  if (device.mailbox.coe) mailbox_.add_service(coe_);
+  if (device.mailbox.foe) mailbox_.add_service(foe_);
+  if (auto loaded = parameters_.load(); !loaded) warnings_.push_back(loaded.error());
+  pdo_.rebuild();
+}
+
+esc::AlStatusCode CoeServer::Hooks::check_transition(esc::AlState from, esc::AlState to) noexcept {
+  if (from == esc::AlState::PreOp && to == esc::AlState::SafeOp) return owner_.pdo_.check_safeop(owner_.pdi_);
+  return esc::AlStatusCode::NoError;
+}
+
+}  // namespace ecat::coe
