@@ -21,9 +21,12 @@ void TouchProbe::probe(unsigned n, std::uint16_t function, const Axis& axis, dou
     st = 0;
   } else {
     if (rising(tp::kEnable)) st = tp::kEnabled;
-    // Switching an edge's sampling on (again) re-arms it (single trigger).
-    if (rising(tp::kPositiveEdge)) st = static_cast<std::uint16_t>(st & ~tp::kPositiveStored);
-    if (rising(tp::kNegativeEdge)) st = static_cast<std::uint16_t>(st & ~tp::kNegativeStored);
+    // An edge whose sampling is off shows nothing stored; switching it on
+    // (again) re-arms it for a single trigger.
+    if (!(f & tp::kPositiveEdge) || rising(tp::kPositiveEdge))
+      st = static_cast<std::uint16_t>(st & ~(tp::kPositiveStored | tp::kPositiveToggle));
+    if (!(f & tp::kNegativeEdge) || rising(tp::kNegativeEdge))
+      st = static_cast<std::uint16_t>(st & ~(tp::kNegativeStored | tp::kNegativeToggle));
 
     double pos_edge = 0, neg_edge = 0;
     bool has_pos = false, has_neg = false;
