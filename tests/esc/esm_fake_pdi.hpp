@@ -19,6 +19,7 @@ namespace ecat::esc::test {
 class FakePdi final : public Pdi {
  public:
   static constexpr std::size_t kSize = 0x2000;
+  static constexpr std::uint16_t kSync0Status = 0x098E;
 
   void read(std::uint16_t address, std::span<std::uint8_t> out) noexcept override {
     for (std::size_t i = 0; i < out.size(); ++i) {
@@ -30,6 +31,8 @@ class FakePdi final : public Pdi {
         clear_event(1u << 4);
       }
       if (a == reg::kWatchdogStatusProcessData) clear_event(1u << 6);
+      if (a == kSync0Status) clear_event(1u << 2);  // DC SYNC0/SYNC1 acknowledge
+      if (a == kSync0Status + 1u) clear_event(1u << 3);
     }
   }
   void write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept override {
@@ -61,6 +64,10 @@ class FakePdi final : public Pdi {
   std::uint8_t u8(std::uint16_t address) const noexcept { return mem_[address]; }
   std::uint32_t events() const noexcept { return load_le<std::uint32_t>(&mem_[reg::kAlEventRequest]); }
   void poke_u16(std::uint16_t address, std::uint16_t v) noexcept { store_le(&mem_[address], v); }
+  void poke_u8(std::uint16_t address, std::uint8_t v) noexcept { mem_[address] = v; }
+  void poke_u32(std::uint16_t address, std::uint32_t v) noexcept { store_le(&mem_[address], v); }
+  void poke_u64(std::uint16_t address, std::uint64_t v) noexcept { store_le(&mem_[address], v); }
+  void raise_event(std::uint32_t bits) noexcept { set_event(bits); }
 
  private:
   void set_event(std::uint32_t bit) noexcept {
