@@ -150,6 +150,16 @@ void build_pdos(const DeviceSpec& spec, od::DeviceDescription& dev) {
   for (const auto& [index, p] : spec.pdos) {
     (p.rx ? dev.rx_pdos : dev.tx_pdos).push_back(build_pdo(p, dev));
   }
+  for (const auto* list : {&dev.rx_pdos, &dev.tx_pdos}) {
+    for (const auto& p : *list) {
+      for (std::uint16_t x : p.excludes) {
+        if (!spec.pdos.contains(x)) {
+          fail_at(where_of(spec.pdos.at(p.index).element, "excludes"),
+                  fmt::format("PDO {} excludes PDO {}, which is not defined", object_name(p.index), object_name(x)));
+        }
+      }
+    }
+  }
   check_pdo_sizes(spec, dev);
 }
 

@@ -7,6 +7,7 @@
 
 #include "esi/device_attrs.hpp"
 #include "esi/device_build.hpp"
+#include "esi/device_failure.hpp"
 #include "od/device.hpp"
 
 namespace ecat::esi {
@@ -32,6 +33,7 @@ constexpr std::uint16_t kDriveManufacturer = 0x6504;
 constexpr std::uint16_t kSyncFreeRun = 1u << 0;
 constexpr std::uint16_t kSyncSm = 1u << 1;
 constexpr std::uint16_t kSyncDc = 1u << 2;  // bits 3:2 = 01
+constexpr std::uint8_t kMaxAssignEntries = 254;  // 1C1xh subindices 1..254
 constexpr unsigned kMappingIndexShift = 16;
 constexpr unsigned kMappingSubShift = 8;
 
@@ -138,6 +140,9 @@ void derive_sm_objects(DeviceSpec& spec) {
     std::uint8_t sub = 0, assigned = 0;
     for (const auto& [pdo_index, pdo] : spec.pdos) {
       if (pdo.rx != (type == "Outputs")) continue;
+      if (sub == kMaxAssignEntries) {
+        fail_at(pdo.element.where, fmt::format("more than {} PDOs for SyncManager {}", kMaxAssignEntries, n));
+      }
       ++sub;
       if (pdo.element.attrs.has("sm") && attr_unsigned(pdo.element, "sm", 0xFF, 0) == n) {
         ElementSpec& e = o.entries[++assigned];

@@ -358,3 +358,32 @@ TEST(DeviceErrors, TooManyFmmus) {
 
 }  // namespace
 }  // namespace ecat::esi
+
+namespace ecat::esi {
+namespace {
+
+TEST(DeviceErrors, ExcludesUnknownPdo) {
+  const LoadError e = error_of(with_sms(R"(  <RxPdo index="#x1600" excludes="#x1601 #x1602"/>
+  <RxPdo index="#x1601"/>
+)"));
+  EXPECT_EQ(e.line, 9);
+  EXPECT_EQ(e.message, "PDO 1600h excludes PDO 1602h, which is not defined");
+}
+
+TEST(DeviceErrors, MailboxSmWithoutSize) {
+  const LoadError e = error_of(device(R"(  <SyncManagers>
+    <Sm index="0" type="MailboxOut" start="#x1000" control="#x26"/>
+  </SyncManagers>
+)"));
+  EXPECT_EQ(e.line, 4);
+  EXPECT_EQ(e.message, "mailbox SyncManager 0 needs a size");
+}
+
+TEST(DeviceErrors, ObjectWithoutName) {
+  const LoadError e = error_of(device("  <Objects>\n    <Object index=\"#x2000\" type=\"UNSIGNED8\"/>\n  </Objects>\n"));
+  EXPECT_EQ(e.line, 4);
+  EXPECT_EQ(e.message, "object 2000h has no name");
+}
+
+}  // namespace
+}  // namespace ecat::esi
