@@ -1,0 +1,171 @@
+// 1C32h/1C33h at run time over the fake PDI with the real ESM: SDO write
+// checks, the ESM refusals (0x0030, 0x002D), mode derivation from 0x0981,
+// application cycle triggers per mode, counters 0Bh/0Ch/0Dh/20h and the
+// run-time drops (0x001A, 0x0034, 0x002C).
+#include <gtest/gtest.h>
+
+#include "sync_fixture.hpp"
+
+namespace ecat::coe::test {
+namespace {
+
+TEST_F(SyncTest, InstallFillsSupportedModesAndMinimumCycle) {
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSyncModesSupported), 0x0027u);
+  EXPECT_EQ(store.get<std::uint32_t>(kSmInputParameter, syncsub::kMinimumCycleTime), 250'000u);
+}
+
+TEST_F(SyncTest, SdoWritesOfUndefinedModesAreRefused) {
+  EXPECT_EQ(sdo_write(kSmOutputParameter, 1, 5, 2).error(), SdoAbort::ValueRange);
+  EXPECT_EQ(sdo_write(kSmOutputParameter, 1, 0x22, 2).error(), SdoAbort::ValueRange);
+  EXPECT_TRUE(sdo_write(kSmInputParameter, 1, 0x22, 2).has_value());
+  EXPECT_EQ(sync.input_mode(), SyncMode::SmSynchronousSm2);
+  EXPECT_EQ(sdo_write(kSmOutputParameter, 8, 3, 2).error(), SdoAbort::ValueRange);
+}
+
+TEST_F(SyncTest, DcModeNeedsActivatedSyncUnit0x0030) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
+  dc_registers(0x00, 1'000'000);
+  request(0x0004);
+  EXPECT_EQ(status(), 0x0012);
+  EXPECT_EQ(code(), 0x0030);
+}
+
+TEST_F(SyncTest, CycleBelowMinimum0x0036) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
+  dc_registers(0x03, 100'000);
+  request(0x0004);
+  EXPECT_EQ(code(), 0x0036);
+}
+
+TEST_F(SyncTest, ModeDerivedFromSyncActivationWhenNotWritten) {
+  go_preop();
+  dc_registers(0x03, 1'000'000);
+  request(0x0004);
+  EXPECT_EQ(status(), 0x0004);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSyncMode), 2u);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSyncMode), 2u);
+}
+
+TEST_F(SyncTest, OpOnlyOnceSynchronised0x002D) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
+  dc_registers(0x03, 1'000'000);
+  request(0x0004);
+  request(0x0008);
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x002D);
+  EXPECT_TRUE(sync0(t += kCycle).run);
+  EXPECT_TRUE(sync0(t += kCycle).run);
+  request(0x0018);
+  EXPECT_EQ(status(), 0x0008);
+  EXPECT_EQ(code(), 0x0000);
+}
+
+TEST_F(SyncTest, DcCycleRunsOnSync0Only) {
+  go_dc_op();
+  EXPECT_FALSE(sync.poll(t += Nanoseconds{10'000}).run);
+  new_outputs();
+  EXPECT_FALSE(sync.poll(t += Nanoseconds{10'000}).run);  // outputs alone do not start it
+  EXPECT_TRUE(sync0(t += kCycle).run);
+  EXPECT_EQ(pdi.events() & esc::dcreg::kAlEventSync0, 0u);  // acknowledged via 0x098E
+}
+
+TEST_F(SyncTest, MissedSmEventsCountAndDropToSafeOp0x001A) {
+  go_dc_op();
+  new_outputs();
+  sync0(t += kCycle);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSmEventMissed), 0u);
+  sync0(t += kCycle);  // master skipped a cycle
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSmEventMissed), 1u);
+  EXPECT_EQ(store.get<std::uint8_t>(kSmOutputParameter, syncsub::kSyncError), 1u);
+  EXPECT_EQ(sync.sm_events_missed(), 1u);
+  EXPECT_EQ(status(), 0x0008);  // 3 <= limit 4
+  new_outputs();
+  sync0(t += kCycle);  // good cycle: counter 2
+  EXPECT_EQ(store.get<std::uint8_t>(kSmOutputParameter, syncsub::kSyncError), 0u);
+  sync0(t += kCycle);  // miss: 5 > 4
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x001A);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSmEventMissed), 2u);
+}
+
+TEST_F(SyncTest, CounterResetBySubindex8) {
+  go_dc_op();
+  sync0(t += kCycle);  // takes the buffer written before Op
+  sync0(t += kCycle);
+  ASSERT_EQ(sync.sm_events_missed(), 1u);
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 8, 2, 2).has_value());
+  EXPECT_EQ(sync.sm_events_missed(), 0u);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSmEventMissed), 0u);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kGetCycleTime), 0u);
+}
+
+TEST_F(SyncTest, SyncTimeoutInOp0x0034) {
+  go_dc_op();
+  new_outputs();
+  sync0(t += kCycle);
+  const SyncPoll p = sync.poll(t += kCycle);
+  ASSERT_TRUE(p.next.has_value());
+  EXPECT_EQ(*p.next, t - kCycle + 3 * kCycle);
+  sync.poll(*p.next);
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x0034);
+}
+
+TEST_F(SyncTest, SyncUnitSwitchedOffInOp0x002C) {
+  go_dc_op();
+  new_outputs();
+  sync0(t += kCycle);
+  pdi.poke_u8(dc(esc::dcreg::kActivation), 0x00);
+  sync.poll(t += 3 * kCycle);
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x002C);
+}
+
+TEST_F(SyncTest, ShiftTimeTooShortCounted) {
+  go_dc_op();
+  ASSERT_TRUE(store.set(kSmOutputParameter, syncsub::kCalcAndCopyTime, std::uint32_t{100'000}).has_value());
+  pdi.poke_u64(dc(esc::dcreg::kSystemTime), 5'000'000);
+  pdi.poke_u64(dc(esc::dcreg::kStartTimeCyclicOperation), 5'050'000);  // next SYNC0 in 50 µs
+  new_outputs();
+  sync.poll(t += Nanoseconds{1000});
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kShiftTimeTooShort), 1u);
+  pdi.poke_u64(dc(esc::dcreg::kStartTimeCyclicOperation), 5'500'000);  // 500 µs: fine
+  new_outputs();
+  sync.poll(t += Nanoseconds{1000});
+  EXPECT_EQ(sync.shift_time_too_short(), 1u);
+}
+
+TEST_F(SyncTest, SmSynchronousRunsOnNewOutputs) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 1, 2).has_value());
+  request(0x0004);
+  ASSERT_EQ(status(), 0x0004);
+  EXPECT_FALSE(sync.poll(t += kCycle).run);
+  new_outputs();
+  EXPECT_TRUE(sync.poll(t += kCycle).run);
+  EXPECT_FALSE(sync.poll(t += kCycle).run);  // same buffer
+  request(0x0008);
+  new_outputs();
+  EXPECT_TRUE(sync.poll(t += Nanoseconds{100'000}).run);
+  new_outputs();
+  EXPECT_TRUE(sync.poll(t += Nanoseconds{100'000}).run);  // faster than the 250 µs minimum
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kCycleTimeTooSmall), 1u);
+}
+
+TEST_F(SyncTest, FreeRunUsesCycleTime) {
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 2, 2'000'000, 4).has_value());
+  go_preop();
+  request(0x0004);
+  ASSERT_EQ(status(), 0x0004);
+  SyncPoll p = sync.poll(t);
+  EXPECT_TRUE(p.run);
+  EXPECT_EQ(p.next, t + Nanoseconds{2'000'000});
+  EXPECT_FALSE(sync.poll(t + Nanoseconds{1'999'999}).run);
+  EXPECT_TRUE(sync.poll(t + Nanoseconds{2'000'000}).run);
+}
+
+}  // namespace
+}  // namespace ecat::coe::test
