@@ -135,8 +135,10 @@ void Esc::load_eeprom(bool power_on) noexcept {
 void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
   const Nanoseconds t = clock_.now();
   run_timers(t);
+  // Bytes that are not there (past the RAM or the address space) or that a
+  // sync manager refuses read as 0.
+  std::fill(out.begin(), out.end(), std::uint8_t{0});
   const std::size_t n = std::min<std::size_t>(out.size(), kAddressSpace - address);
-  std::fill(out.begin() + static_cast<std::ptrdiff_t>(n), out.end(), std::uint8_t{0});
   mem_read(address, out.first(n), Side::Pdi);
   pdi_watchdog_trigger(t);
   update_dl_status();

@@ -74,6 +74,8 @@ class Esc final : public Pdi {
 
   // --- Accessors for tests and the slave layer ---
   const std::uint8_t* memory() const noexcept { return mem_.get(); }
+  // Raw little-endian register value without side effects (the DC block is
+  // read through DcUnit as a PDI read).
   std::uint16_t register_u16(std::uint16_t address) const noexcept;
   const EscConfig& config() const noexcept { return config_; }
   DcUnit& dc() noexcept { return dc_; }
@@ -84,8 +86,6 @@ class Esc final : public Pdi {
   Nanoseconds last_time() const noexcept { return now_; }
 
  private:
-  friend class EscTestAccess;
-
   // Register space 0x0000-0x0FFF from either side (esc/register_access.cpp).
   // Return true if the access counts for the WKC.
   bool reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept;
