@@ -1,0 +1,129 @@
+#include "ds402/od_binding.hpp"
+
+#include <tuple>
+#include <type_traits>
+#include <utility>
+
+namespace ecat::ds402 {
+
+namespace {
+
+template <typename S, typename T>
+struct Field {
+  std::uint16_t index;
+  std::uint8_t subindex;
+  T S::*member;
+};
+template <typename S, typename T>
+constexpr Field<S, T> f(std::uint16_t index, std::uint8_t subindex, T S::*member) {
+  return {index, subindex, member};
+}
+
+using I = DriveInputs;
+using O = DriveOutputs;
+
+// CiA 402-2 object numbers (§8-§14).
+constexpr auto kInputs = std::make_tuple(
+    f(0x6040, 0, &I::controlword), f(0x6060, 0, &I::modes_of_operation), f(0x607A, 0, &I::target_position),
+    f(0x60FF, 0, &I::target_velocity), f(0x6071, 0, &I::target_torque), f(0x60B0, 0, &I::position_offset),
+    f(0x60B1, 0, &I::velocity_offset), f(0x60B2, 0, &I::torque_offset), f(0x6081, 0, &I::profile_velocity),
+    f(0x6083, 0, &I::profile_acceleration), f(0x6084, 0, &I::profile_deceleration),
+    f(0x6085, 0, &I::quick_stop_deceleration), f(0x6087, 0, &I::torque_slope),
+    f(0x607F, 0, &I::max_profile_velocity), f(0x6080, 0, &I::max_motor_speed), f(0x6098, 0, &I::homing_method),
+    f(0x6099, 1, &I::homing_speed_switch), f(0x6099, 2, &I::homing_speed_zero),
+    f(0x609A, 0, &I::homing_acceleration), f(0x607C, 0, &I::home_offset), f(0x607D, 1, &I::software_limit_min),
+    f(0x607D, 2, &I::software_limit_max), f(0x6072, 0, &I::max_torque), f(0x60E0, 0, &I::positive_torque_limit),
+    f(0x60E1, 0, &I::negative_torque_limit), f(0x6065, 0, &I::following_error_window),
+    f(0x6066, 0, &I::following_error_timeout), f(0x6067, 0, &I::position_window),
+    f(0x6068, 0, &I::position_window_time), f(0x606D, 0, &I::velocity_window),
+    f(0x606E, 0, &I::velocity_window_time), f(0x606F, 0, &I::velocity_threshold),
+    f(0x6070, 0, &I::velocity_threshold_time), f(0x605A, 0, &I::quick_stop_option),
+    f(0x605B, 0, &I::shutdown_option), f(0x605C, 0, &I::disable_operation_option), f(0x605D, 0, &I::halt_option),
+    f(0x605E, 0, &I::fault_reaction_option), f(0x60B8, 0, &I::touch_probe_function),
+    f(0x608F, 1, &I::encoder_increments), f(0x608F, 2, &I::motor_revolutions),
+    f(0x6091, 1, &I::gear_motor_revolutions), f(0x6091, 2, &I::gear_shaft_revolutions), f(0x6092, 1, &I::feed),
+    f(0x6092, 2, &I::feed_shaft_revolutions));
+
+constexpr auto kOutputs = std::make_tuple(
+    f(0x6041, 0, &O::statusword), f(0x6061, 0, &O::modes_of_operation_display), f(0x6062, 0, &O::position_demand),
+    f(0x6063, 0, &O::position_actual_internal), f(0x6064, 0, &O::position_actual),
+    f(0x606B, 0, &O::velocity_demand), f(0x606C, 0, &O::velocity_actual), f(0x6074, 0, &O::torque_demand),
+    f(0x6077, 0, &O::torque_actual), f(0x60F4, 0, &O::following_error), f(0x60FC, 0, &O::position_demand_internal),
+    f(0x603F, 0, &O::error_code), f(0x60B9, 0, &O::touch_probe_status), f(0x60BA, 0, &O::touch_probe_1_positive),
+    f(0x60BB, 0, &O::touch_probe_1_negative), f(0x60BC, 0, &O::touch_probe_2_positive),
+    f(0x60BD, 0, &O::touch_probe_2_negative), f(0x60FD, 0, &O::digital_inputs),
+    f(0x6502, 0, &O::supported_drive_modes));
+
+static_assert(std::tuple_size_v<decltype(kInputs)> == DriveBinding::kInputCount);
+static_assert(std::tuple_size_v<decltype(kOutputs)> == DriveBinding::kOutputCount);
+
+template <typename Tuple, typename Fn, std::size_t... N>
+void each(const Tuple& t, Fn&& fn, std::index_sequence<N...>) {
+  (fn(std::get<N>(t), N), ...);
+}
+template <typename Tuple, typename Fn>
+void each(const Tuple& t, Fn&& fn) {
+  each(t, fn, std::make_index_sequence<std::tuple_size_v<Tuple>>{});
+}
+
+constexpr std::uint16_t kErrorRegister = 0x1001;
+constexpr std::uint16_t kSupportedHomingMethods = 0x60E3;
+
+}  // namespace
+
+DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency) noexcept
+    : store_(store), emergency_(emergency) {
+  each(kInputs, [&](const auto& fld, std::size_t i) { in_[i] = store_.slot(fld.index, fld.subindex); });
+  each(kOutputs, [&](const auto& fld, std::size_t i) { out_[i] = store_.slot(fld.index, fld.subindex); });
+  error_register_ = store_.slot(kErrorRegister, 0);
+}
+
+void DriveBinding::publish(const DriveConfig& config) noexcept {
+  if (auto* s = store_.slot(0x6502, 0)) store_.set(*s, config.supported_modes);
+  const coe::ObjectStore::Slot* count = store_.slot(kSupportedHomingMethods, 0);
+  if (!count) return;
+  std::uint8_t sub = 0;
+  for (int m = -128; m < 128; ++m) {
+    if (!config.supports_homing(static_cast<std::int8_t>(m))) continue;
+    coe::ObjectStore::Slot* s = store_.slot(kSupportedHomingMethods, static_cast<std::uint8_t>(sub + 1));
+    if (!s) break;
+    store_.set(*s, static_cast<std::int16_t>(m));
+    ++sub;
+  }
+}
+
+void DriveBinding::read(DriveInputs& in) const noexcept {
+  each(kInputs, [&](const auto& fld, std::size_t i) {
+    if (const auto* s = in_[i]) {
+      using T = std::remove_cvref_t<decltype(in.*fld.member)>;
+      in.*fld.member = store_.get<T>(*s);
+    }
+  });
+}
+
+void DriveBinding::write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept {
+  each(kOutputs, [&](const auto& fld, std::size_t i) {
+    if (auto* s = out_[i]) store_.set(*s, out.*fld.member);
+  });
+  if (!emergency_) {
+    if (error_register_) store_.set(*error_register_, out.error_register);
+    while (emergencies.pop()) ++emergencies_lost_;  // nobody to send them to
+    return;
+  }
+  while (auto r = emergencies.pop()) {
+    if (!emergency_->raise(r->error_code, r->error_register, r->manufacturer, now)) ++emergencies_lost_;
+  }
+}
+
+std::size_t DriveBinding::bound_inputs() const noexcept {
+  std::size_t n = 0;
+  for (const auto* s : in_) n += s != nullptr;
+  return n;
+}
+std::size_t DriveBinding::bound_outputs() const noexcept {
+  std::size_t n = 0;
+  for (const auto* s : out_) n += s != nullptr;
+  return n;
+}
+
+}  // namespace ecat::ds402
