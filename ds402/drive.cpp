@@ -32,6 +32,10 @@ Drive::Drive(DriveConfig config, const PlantParameters& plant)
 
 void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) noexcept {
   const double dt = std::chrono::duration<double>(cycle).count();
+  if (!(dt > 0)) {  // no time passed: nothing moves, report as is
+    fill(in, out, 0.0);
+    return;
+  }
   units_ = UnitScaling::from(in, plant_.parameters().encoder_resolution);
   controlword_ = in.controlword;
   halted_ = (in.controlword & cw::kHalt) != 0;

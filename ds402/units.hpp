@@ -24,7 +24,8 @@ class UnitScaling {
                             ? static_cast<double>(in.gear_motor_revolutions) / in.gear_shaft_revolutions
                             : 1.0;
     const double feed_per_shaft_rev = static_cast<double>(in.feed) / in.feed_shaft_revolutions;
-    s.inc_per_unit_ = enc / motor_revs * gear / feed_per_shaft_rev;
+    const double f = enc / motor_revs * gear / feed_per_shaft_rev;
+    if (std::isfinite(f) && f > 0) s.inc_per_unit_ = f;  // a zero gear keeps 1:1
     return s;
   }
 
@@ -34,12 +35,14 @@ class UnitScaling {
 
   // Rounded and saturated to the 32-bit object types.
   static std::int32_t to_i32(double v) noexcept {
+    if (std::isnan(v)) return 0;
     const double r = std::round(v);
     if (r >= 2147483647.0) return INT32_MAX;
     if (r <= -2147483648.0) return INT32_MIN;
     return static_cast<std::int32_t>(r);
   }
   static std::int16_t to_i16(double v) noexcept {
+    if (std::isnan(v)) return 0;
     const double r = std::round(v);
     if (r >= 32767.0) return INT16_MAX;
     if (r <= -32768.0) return INT16_MIN;

@@ -1,0 +1,28 @@
+// Counts heap allocations while armed: the drive's cyclic path must make none.
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "tests/ds402/alloc_counter.hpp"
+
+namespace {
+std::atomic<bool> armed{false};
+std::atomic<std::size_t> allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (armed.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace ecat::ds402::test {
+AllocCounter::AllocCounter() {
+  allocations = 0;
+  armed = true;
+}
+AllocCounter::~AllocCounter() { armed = false; }
+std::size_t AllocCounter::count() const { return allocations.load(); }
+}  // namespace ecat::ds402::test
