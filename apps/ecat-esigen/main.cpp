@@ -1,0 +1,151 @@
+// ecat-esigen: one device description in, ESI / SII / C++ tables / device XML
+// out (STYLE lesson 3). Either a device file in our format (or the built-in
+// generic servo) or, with --from-esi, a vendor's ESI.
+//
+//   ecat-esigen DEVICE.xml --esi OUT.xml [--sii OUT.bin] [--cpp OUT.hpp]
+//   ecat-esigen --from-esi VENDOR.xml [--product-code X --revision Y]
+//               [--device-xml OUT.xml] [--esi OUT.xml] [--sii OUT.bin] [--cpp OUT.hpp]
+//
+// Every output is made in memory first, then written to a temporary name next
+// to its target and renamed only when all outputs are ready, so a failed run
+// leaves no file half-written. Errors: one line "file:line: message", exit 1;
+// bad options: exit 2.
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "esi/atomic_file.hpp"
+#include "esi/cpp_writer.hpp"
+#include "esi/device_loader.hpp"
+#include "esi/esi_reader.hpp"
+#include "esi/esi_writer.hpp"
+#include "esi/esi_writer_device_xml.hpp"
+#include "esi/sii_writer.hpp"
+
+namespace {
+
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+
+struct Options {
+  std::string device;
+  std::string from_esi;
+  std::string product_code;
+  std::string revision;
+  std::string esi_out;
+  std::string sii_out;
+  std::string cpp_out;
+  std::string cpp_namespace = "ecat_device";
+  std::string device_xml_out;
+};
+
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "ecat-esigen: %s\n", message.c_str());
+  return kExitUsage;
+}
+
+int error(const std::string& line) {
+  std::fprintf(stderr, "%s\n", line.c_str());
+  return kExitError;
+}
+
+int run(const Options& o) {
+  using ecat::esi::LoadError;
+  ecat::Expected<ecat::od::DeviceDescription, LoadError> device = ecat::fail(LoadError{});
+  std::string source;
+  if (!o.from_esi.empty()) {
+    std::optional<std::uint32_t> pc;
+    std::optional<std::uint32_t> rev;
+    if (!o.product_code.empty() && !(pc = ecat::esi::parse_esi_number(o.product_code))) {
+      return usage_error(fmt::format("--product-code '{}' is not a number (#x.., 0x.. or decimal)",
+                                     o.product_code));
+    }
+    if (!o.revision.empty() && !(rev = ecat::esi::parse_esi_number(o.revision))) {
+      return usage_error(fmt::format("--revision '{}' is not a number (#x.., 0x.. or decimal)",
+                                     o.revision));
+    }
+    std::vector<ecat::esi::EsiWarning> warnings;
+    device = ecat::esi::read_esi(o.from_esi, pc, rev, &warnings);
+    for (const auto& w : warnings) std::fprintf(stderr, "%s\n", w.to_string(o.from_esi).c_str());
+    source = o.from_esi;
+  } else if (!o.device.empty()) {
+    device = ecat::esi::load_device_file(o.device);
+    source = o.device;
+  } else {
+    device = ecat::esi::load_default_device();
+    source = "<built-in generic servo>";
+  }
+  if (!device) return error(device.error().to_string());
+
+  // Everything in memory first: a failure here writes nothing.
+  ecat::esi::StagedFiles files;
+  auto stage = [&](const std::string& path, auto&& content) -> bool {
+    if (path.empty()) return true;
+    auto ok = files.stage(path, content);
+    if (!ok) error(ok.error());
+    return static_cast<bool>(ok);
+  };
+  std::vector<std::uint8_t> sii;
+  if (!o.sii_out.empty()) {
+    auto out = ecat::esi::write_sii_detailed(*device);
+    if (!out) return error(fmt::format("{}: SII: {}", source, out.error()));
+    if (out->detail != ecat::esi::SiiDetail::Full) {
+      std::fprintf(stderr, "%s: warning: SII written %s: the %u-byte EEPROM cannot hold more\n",
+                   source.c_str(), ecat::esi::to_string(out->detail),
+                   static_cast<unsigned>(device->esc.eeprom_bytes));
+    }
+    sii = std::move(out->bytes);
+  }
+  if (!stage(o.esi_out, o.esi_out.empty() ? std::string{} : ecat::esi::write_esi(*device)) ||
+      !stage(o.sii_out, std::span<const std::uint8_t>(sii)) ||
+      !stage(o.cpp_out,
+             o.cpp_out.empty() ? std::string{} : ecat::esi::write_cpp_tables(*device, o.cpp_namespace)) ||
+      !stage(o.device_xml_out,
+             o.device_xml_out.empty() ? std::string{} : ecat::esi::write_device_xml(*device))) {
+    return kExitError;
+  }
+  if (auto ok = files.commit(); !ok) return error(ok.error());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"ecat-esigen: ESI (ETG.2000), SII EEPROM (ETG.2010), C++ tables and device XML "
+               "from one device description"};
+  app.add_option("device", o.device, "device file in the ecatslave format (default: built-in generic servo)");
+  app.add_option("--from-esi", o.from_esi, "import this vendor ESI instead of a device file");
+  app.add_option("--product-code", o.product_code, "with --from-esi: device to take (#x.., 0x.. or decimal)");
+  app.add_option("--revision", o.revision, "with --from-esi: revision to take");
+  app.add_option("--esi", o.esi_out, "write the ESI XML here");
+  app.add_option("--sii", o.sii_out, "write the SII EEPROM image here");
+  app.add_option("--cpp", o.cpp_out, "write constexpr C++ tables here");
+  app.add_option("--cpp-namespace", o.cpp_namespace, "namespace of the C++ tables");
+  app.add_option("--device-xml", o.device_xml_out, "write the model as a device file in our format");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kExitUsage;
+  }
+  if (!o.device.empty() && !o.from_esi.empty()) {
+    return usage_error("give either a DEVICE file or --from-esi, not both");
+  }
+  if (o.from_esi.empty() && (!o.product_code.empty() || !o.revision.empty())) {
+    return usage_error("--product-code and --revision need --from-esi");
+  }
+  if (o.esi_out.empty() && o.sii_out.empty() && o.cpp_out.empty() && o.device_xml_out.empty()) {
+    return usage_error("nothing to do: give --esi, --sii, --cpp or --device-xml");
+  }
+  try {
+    return run(o);
+  } catch (const std::exception& e) {
+    return error(fmt::format("ecat-esigen: {}", e.what()));
+  }
+}

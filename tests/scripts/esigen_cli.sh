@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# ecat-esigen end to end: exit codes (0 ok, 1 error, 2 bad options), outputs
+# valid against the ETG ESI schema (1.14 and 1.17) and the device schema, the
+# C++ tables compile, ESI -> device XML -> ESI is stable, and a failing run
+# leaves no output file behind (and an existing one untouched).
+# Usage: esigen_cli.sh SRCDIR BUILDDIR   (exit 77 = skipped)
+set -uo pipefail
+src=${1:?srcdir}
+build=${2:?builddir}
+gen="$build/bin/ecat-esigen"
+[ -x "$gen" ] || { echo "skip: $gen not built"; exit 77; }
+command -v xmllint > /dev/null || { echo "skip: xmllint not installed"; exit 77; }
+schema114="$src/../shared/esi-schema/EtherCATInfo.xsd"
+schema117="$src/../shared/esi-schema/v1.17/EtherCATInfo.xsd"
+[ -f "$schema114" ] || { echo "skip: ESI schema not found at $schema114"; exit 77; }
+
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+status=0
+fail() { echo "FAIL: $*"; status=1; }
+expect_rc() {  # expected-rc description command...
+  local want=$1 what=$2; shift 2
+  "$@" > "$out/stdout" 2> "$out/stderr"
+  local rc=$?
+  [ "$rc" -eq "$want" ] || fail "$what: exit $rc, expected $want ($(head -c 300 "$out/stderr"))"
+}
+valid_esi() {
+  xmllint --noout --schema "$schema114" "$1" 2> "$out/lint" || fail "$1 invalid (1.14): $(head -3 "$out/lint")"
+  xmllint --noout --schema "$schema117" "$1" 2> "$out/lint" || fail "$1 invalid (1.17): $(head -3 "$out/lint")"
+}
+
+# 1. Built-in default device: every output.
+expect_rc 0 "default device" "$gen" --esi "$out/default.xml" --sii "$out/default.bin" \
+  --cpp "$out/default.hpp" --device-xml "$out/default.device.xml"
+valid_esi "$out/default.xml"
+[ "$(stat -c %s "$out/default.bin")" -eq 2048 ] || fail "default SII is not 2048 bytes"
+xmllint --noout --schema "$src/xml/schema/device.xsd" "$out/default.device.xml" 2> /dev/null \
+  || fail "device XML does not match xml/schema/device.xsd"
+if command -v c++ > /dev/null; then
+  echo '#include "default.hpp"' > "$out/default_check.cpp"
+  echo 'static_assert(ecat_device::kObjects.size() > 0);' >> "$out/default_check.cpp"
+  c++ -std=c++20 -Wall -Wextra -Wpedantic -Werror -fsyntax-only "$out/default_check.cpp" \
+    || fail "generated C++ tables do not compile"
+fi
+ls -A "$out" | grep -q '\.tmp-' && fail "temporary files left behind"
+
+# 2. Determinism: a second run gives the same bytes.
+expect_rc 0 "second run" "$gen" --esi "$out/default2.xml" --sii "$out/default2.bin"
+cmp -s "$out/default.xml" "$out/default2.xml" || fail "ESI differs between runs"
+cmp -s "$out/default.bin" "$out/default2.bin" || fail "SII differs between runs"
+
+# 3. Every shipped device gives a schema-valid ESI.
+for dev in "$src"/xml/devices/*.xml; do
+  name=$(basename "$dev" .xml)
+  expect_rc 0 "$name" "$gen" "$dev" --esi "$out/$name.esi.xml" --sii "$out/$name.bin"
+  valid_esi "$out/$name.esi.xml"
+done
+
+# 4. Vendor ESI import: device XML, then the device XML gives the same ESI again.
+vendor="$src/tests/data/esi/vendor-drives.xml"
+expect_rc 0 "from-esi" "$gen" --from-esi "$vendor" --product-code '#x1001' --revision 0x20000 \
+  --device-xml "$out/v.device.xml" --esi "$out/v1.xml"
+grep -q 'warning: Slots: not modelled' "$out/stderr" || fail "import warnings missing"
+valid_esi "$out/v1.xml"
+expect_rc 0 "device xml -> esi" "$gen" "$out/v.device.xml" --esi "$out/v2.xml"
+expect_rc 0 "esi -> esi" "$gen" --from-esi "$out/v2.xml" --device-xml "$out/v2.device.xml" --esi "$out/v3.xml"
+cmp -s "$out/v2.xml" "$out/v3.xml" || fail "ESI -> model -> device XML -> ESI not stable"
+
+# 5. Errors and bad options.
+expect_rc 2 "unknown option" "$gen" --bogus
+expect_rc 2 "no output" "$gen"
+expect_rc 2 "device and --from-esi" "$gen" "$src/xml/devices/generic-servo.xml" --from-esi "$vendor" --esi "$out/x.xml"
+expect_rc 2 "--revision without --from-esi" "$gen" --revision 1 --esi "$out/x.xml"
+expect_rc 2 "bad product code" "$gen" --from-esi "$vendor" --product-code zz --esi "$out/x.xml"
+expect_rc 1 "missing device" "$gen" "$out/none.xml" --esi "$out/x.xml"
+grep -q "none.xml" "$out/stderr" || fail "missing-device error does not name the file"
+expect_rc 1 "unknown product" "$gen" --from-esi "$vendor" --product-code 77 --esi "$out/x.xml"
+grep -qE '^.*vendor-drives.xml:[0-9]+: no device with product code #x0000004D' "$out/stderr" \
+  || fail "unknown-product error is not 'file:line: message': $(cat "$out/stderr")"
+[ "$(wc -l < "$out/stderr")" -eq 1 ] || fail "error is not one line"
+[ -e "$out/x.xml" ] && fail "a failed run wrote x.xml"
+
+# 6. Atomic output: SII does not fit -> exit 1, no ESI written, old file untouched.
+echo "old" > "$out/keep.xml"
+expect_rc 1 "SII too large" "$gen" "$src/tests/data/esi/eeprom-too-small.xml" \
+  --esi "$out/keep.xml" --sii "$out/keep.bin"
+[ "$(cat "$out/keep.xml")" = "old" ] || fail "failed run replaced keep.xml"
+[ -e "$out/keep.bin" ] && fail "failed run wrote keep.bin"
+# One output not writable -> the others are not written either.
+expect_rc 1 "unwritable output" "$gen" --esi "$out/no-such-dir/a.xml" --sii "$out/partial.bin"
+[ -e "$out/partial.bin" ] && fail "partial.bin written although another output failed"
+ls -A "$out" | grep -q '\.tmp-' && fail "temporary files left behind after failures"
+
+[ $status -eq 0 ] && echo "esigen_cli: ok"
+exit $status
