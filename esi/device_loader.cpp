@@ -64,7 +64,7 @@ class Loader {
   void read(Source src) {
     stack_.push_back(src.id);
     const Source& s = src;
-    parse_device_text(s.text, s.name, spec_,
+    parse_device_text(s.text, s.name, schema_, spec_,
                       [&](const Where& w, std::string_view href) { include(s, w, href); });
     stack_.pop_back();
   }
@@ -92,6 +92,7 @@ class Loader {
     fail_at(w, fmt::format("include file '{}' not found (looked for {})", href, path.string()));
   }
 
+  SchemaValidator schema_{find_embedded(kEmbeddedSchema).value_or(std::string_view{})};
   DeviceSpec spec_;
   std::vector<std::string> stack_;
 };

@@ -7,9 +7,7 @@
 
 #include "esi/device_failure.hpp"
 #include "esi/device_values.hpp"
-#include "esi/xml_embedded.hpp"
 #include "esi/xml_lines.hpp"
-#include "esi/xml_schema.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -178,8 +176,8 @@ std::string entry_name(std::uint16_t index, std::uint8_t sub) {
   return fmt::format("{:04X}h:{:02X}", index, sub);
 }
 
-void parse_device_text(std::string_view text, const std::string& file, DeviceSpec& spec,
-                       const IncludeHandler& on_include) {
+void parse_device_text(std::string_view text, const std::string& file, const SchemaValidator& schema,
+                       DeviceSpec& spec, const IncludeHandler& on_include) {
   pugi::xml_document doc;
   const pugi::xml_parse_result result =
       doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
@@ -188,9 +186,7 @@ void parse_device_text(std::string_view text, const std::string& file, DeviceSpe
     fail_at(Where{file, lines.line_of(result.offset)},
             fmt::format("XML parse error: {}", result.description()));
   }
-  auto xsd = find_embedded(kEmbeddedSchema);
-  if (!xsd) fail_at(Where{file, 0}, "the device schema is not built into this program");
-  if (auto ok = validate_against_schema(text, file, *xsd); !ok) throw LoadFailure{ok.error()};
+  if (auto ok = schema.validate(text, file); !ok) throw LoadFailure{ok.error()};
 
   FileReader reader(text, file, spec, on_include);
   reader.read_root(doc.document_element());

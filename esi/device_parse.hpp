@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "esi/device_spec.hpp"
+#include "esi/xml_schema.hpp"
 
 namespace ecat::esi {
 
@@ -16,8 +17,8 @@ using IncludeHandler = std::function<void(const Where& where, std::string_view h
 
 // Parses `text` (named `file` in messages), checks it against the schema and
 // merges it into `spec`. Throws LoadFailure (esi/device_failure.hpp).
-void parse_device_text(std::string_view text, const std::string& file, DeviceSpec& spec,
-                       const IncludeHandler& on_include);
+void parse_device_text(std::string_view text, const std::string& file, const SchemaValidator& schema,
+                       DeviceSpec& spec, const IncludeHandler& on_include);
 
 // "6040h" / "6040h:01", the form every message uses.
 std::string object_name(std::uint16_t index);

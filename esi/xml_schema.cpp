@@ -62,28 +62,34 @@ class ErrorCapture {
 
 }  // namespace
 
-Expected<void, LoadError> validate_against_schema(std::string_view xml, std::string_view file_name,
-                                                  std::string_view xsd) {
-  const std::string file(file_name);
+struct SchemaValidator::Impl {
+  std::unique_ptr<xmlSchema, SchemaFree> schema;
+  std::string error;
+};
+
+SchemaValidator::SchemaValidator(std::string_view xsd) : impl_(std::make_unique<Impl>()) {
   FirstError first;
   ErrorCapture capture(first);
-
   std::unique_ptr<xmlSchemaParserCtxt, SchemaParserFree> parser(
       xmlSchemaNewMemParserCtxt(xsd.data(), static_cast<int>(xsd.size())));
-  if (!parser) return fail(LoadError{file, 0, "schema: cannot read the device schema"});
-  std::unique_ptr<xmlSchema, SchemaFree> schema(xmlSchemaParse(parser.get()));
-  if (!schema) {
-    return fail(LoadError{file, 0, "schema: the device schema is invalid: " + first.message});
-  }
+  if (parser) impl_->schema.reset(xmlSchemaParse(parser.get()));
+  if (!impl_->schema) impl_->error = "schema: the device schema is invalid: " + first.message;
+}
 
+SchemaValidator::~SchemaValidator() = default;
+
+Expected<void, LoadError> SchemaValidator::validate(std::string_view xml, std::string_view file_name) const {
+  const std::string file(file_name);
+  if (!impl_->schema) return fail(LoadError{file, 0, impl_->error});
+  FirstError first;
+  ErrorCapture capture(first);
   std::unique_ptr<xmlDoc, DocFree> doc(xmlReadMemory(xml.data(), static_cast<int>(xml.size()),
                                                      file.c_str(), nullptr, XML_PARSE_NONET));
   if (!doc) return fail(LoadError{file, first.line, "XML parse error: " + first.message});
 
-  std::unique_ptr<xmlSchemaValidCtxt, ValidFree> valid(xmlSchemaNewValidCtxt(schema.get()));
+  std::unique_ptr<xmlSchemaValidCtxt, ValidFree> valid(xmlSchemaNewValidCtxt(impl_->schema.get()));
   if (!valid) return fail(LoadError{file, 0, "schema: out of memory"});
-  xmlSchemaSetValidStructuredErrors(valid.get(), &collect,
-                                    &first);
+  xmlSchemaSetValidStructuredErrors(valid.get(), &collect, &first);
   const int rc = xmlSchemaValidateDoc(valid.get(), doc.get());
   if (rc != 0 || first.seen) {
     return fail(LoadError{file, first.line,
