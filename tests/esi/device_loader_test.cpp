@@ -172,8 +172,10 @@ TEST_F(GenericServo, DriveObjects) {
   EXPECT_EQ(homing->entries[0].default_value, Value{8});
   EXPECT_EQ(homing->entries[8].default_value, Value{37});
   ASSERT_FALSE(dev.drive->plant.empty());
-  EXPECT_EQ(dev.drive->plant[0].first, "rotorInertia");
+  EXPECT_EQ(dev.drive->plant[0].first, "rotor_inertia");
   EXPECT_DOUBLE_EQ(dev.drive->plant[0].second, 1.2e-4);
+  EXPECT_EQ(dev.drive->plant[7].first, "encoder_resolution");
+  EXPECT_DOUBLE_EQ(dev.drive->plant[7].second, 1048576.0);
   const std::string vendor = "ecatslave (placeholder vendor)";
   EXPECT_EQ(entry(0x6504, 0).default_value, Value(vendor.begin(), vendor.end()));
 }
