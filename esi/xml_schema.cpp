@@ -68,6 +68,7 @@ struct SchemaValidator::Impl {
 };
 
 SchemaValidator::SchemaValidator(std::string_view xsd) : impl_(std::make_unique<Impl>()) {
+  xmlInitParser();  // idempotent; makes later use from several threads safe
   FirstError first;
   ErrorCapture capture(first);
   std::unique_ptr<xmlSchemaParserCtxt, SchemaParserFree> parser(
