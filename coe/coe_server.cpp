@@ -15,7 +15,7 @@ std::size_t CoeServer::mailbox_bytes(const od::DeviceDescription& device) noexce
 CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOptions options)
     : pdi_(pdi),
       store_(device.dictionary, ObjectStore::Options{options.variable_capacity}),
-      sdo_(store_),
+      sdo_(store_, device.mailbox.complete_access),
       info_(store_),
       coe_(sdo_, device.mailbox.sdo_info ? &info_ : nullptr),
       foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64}),

@@ -24,8 +24,9 @@ std::size_t initiate_reply(Bytes reply, std::uint8_t cmd, std::uint16_t index, s
 
 }  // namespace
 
-SdoServer::SdoServer(ObjectStore& store)
+SdoServer::SdoServer(ObjectStore& store, bool complete_access)
     : store_(store),
+      complete_access_supported_(complete_access),
       buffer_(std::max<std::size_t>(store.max_entry_capacity(), max_complete_access_size(store.dictionary()))),
       scratch_(buffer_.size()) {
   // The rollback copy of a complete access holds every entry of one object.
@@ -73,6 +74,7 @@ Expected<void, SdoAbort> SdoServer::check_target(std::uint16_t index, std::uint8
   const ObjectStore::Slot* s0 = store_.slot(index, 0);
   if (!s0) return fail(SdoAbort::NoObject);
   if (complete_access) {
+    if (!complete_access_supported_) return fail(SdoAbort::UnsupportedAccess);
     // Complete access starts at subindex 0 or 1 of an ARRAY/RECORD (ETG.1000.6 §5.6.2.1.2).
     if (sub > 1 || s0->object->code == od::ObjectCode::Var) return fail(SdoAbort::UnsupportedAccess);
     return {};

@@ -20,7 +20,9 @@ namespace ecat::coe {
 
 class SdoServer {
  public:
-  explicit SdoServer(ObjectStore& store);
+  // `complete_access`: whether the device offers it (ESI CoE CompleteAccess,
+  // SII CoE details bit 5); if not, a CA request is aborted with 06010000.
+  explicit SdoServer(ObjectStore& store, bool complete_access = true);
 
   // `request`: the bytes after the CoE header. Writes the whole CoE reply
   // (CoE header included) into `reply`; returns its length (0 = no reply).
@@ -45,6 +47,7 @@ class SdoServer {
   std::size_t abort(Bytes reply, std::uint16_t index, std::uint8_t sub, SdoAbort code) noexcept;
 
   ObjectStore& store_;
+  bool complete_access_supported_ = true;
   std::vector<std::uint8_t> buffer_;   // segmented transfer data
   std::vector<std::uint8_t> scratch_;  // complete-access rollback
   Transfer transfer_ = Transfer::None;

@@ -208,3 +208,20 @@ TEST_F(SdoServerTest, CompleteAccessDownload) {
 
 }  // namespace
 }  // namespace ecat::coe
+
+namespace ecat::coe {
+namespace {
+
+TEST(SdoServerOptions, CompleteAccessRefusedWhenNotOffered) {
+  od::DeviceDescription d = test::make_device();
+  ObjectStore store(d.dictionary);
+  SdoServer server(store, false);
+  const std::uint8_t req[8] = {0x50, 0x18, 0x10, 0x00, 0, 0, 0, 0};
+  std::uint8_t reply[64]{};
+  auto n = server.handle(req, reply, od::EsmState::PreOp);
+  ASSERT_TRUE(n);
+  EXPECT_EQ(test::Frame(reply, reply + *n), (test::Frame{0x00, 0x20, 0x80, 0x18, 0x10, 0x00, 0x00, 0x00, 0x01, 0x06}));
+}
+
+}  // namespace
+}  // namespace ecat::coe
