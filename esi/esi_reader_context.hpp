@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -13,6 +14,7 @@
 #include "esi/device_error.hpp"
 #include "esi/esi_reader.hpp"
 #include "esi/xml_lines.hpp"
+#include "od/device.hpp"
 
 namespace ecat::esi {
 
@@ -44,6 +46,26 @@ std::optional<std::int64_t> esi_number(std::string_view text);
 bool esi_bool(const pugi::xml_attribute& a, bool fallback = false);
 // The Name child in LcId 1033 (English), else the first one.
 std::string esi_name(const pugi::xml_node& parent, const char* element = "Name");
+
+// A number that must fit T: nullopt-free; a missing attribute/text gives
+// `fallback`, a bad or out-of-range one a warning on `where` and `fallback`.
+template <typename T>
+T ranged(const EsiContext& ctx, const pugi::xml_node& where, std::string_view what,
+         std::string_view text, T fallback) {
+  if (text.empty()) return fallback;
+  auto v = esi_number(text);
+  if (!v || *v < static_cast<std::int64_t>(std::numeric_limits<T>::min()) ||
+      *v > static_cast<std::int64_t>(std::numeric_limits<T>::max())) {
+    ctx.warn(where, std::string(what) + " '" + std::string(text) + "' is not a number in range; " +
+                        "taken as " + std::to_string(fallback));
+    return fallback;
+  }
+  return static_cast<T>(*v);
+}
+
+// Reads one Device element (and the file's Vendor/Groups from `info`).
+Expected<void, LoadError> read_esi_device(const pugi::xml_node& info, const pugi::xml_node& device,
+                                          const EsiContext& ctx, od::DeviceDescription& out);
 
 // Reads Profile/Dictionary into the device (DataTypes resolved, Objects with
 // Info and Flags); objects the model cannot hold are skipped with a warning.
