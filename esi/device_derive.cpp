@@ -3,6 +3,8 @@
 // spec as if the file had given them, unless it did. They then go through
 // the same building and checks as every other object, and errors point at
 // the attribute they came from.
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "esi/device_attrs.hpp"
@@ -111,50 +113,80 @@ void set_access(ElementSpec& e, bool writable_in_preop, const Where& w) {
   if (writable_in_preop) e.attrs.set("writeIn", attr("PreOp", w));
 }
 
-void derive_sm_objects(DeviceSpec& spec) {
-  if (!spec.sync_managers || spec.sync_managers->empty()) return;
+// An object the file only declares (name, type, access) and leaves the
+// elements to the loader: no count and no Entry other than subindex 0.
+bool declared_only(const ObjectSpec& o) {
+  return !o.attrs.has("count") && std::all_of(o.entries.begin(), o.entries.end(),
+                                              [](const auto& e) { return e.first == 0; });
+}
+
+// The object at `index` if the loader is to fill it: absent or declared only.
+ObjectSpec* to_fill(DeviceSpec& spec, std::uint16_t index, const Where& w) {
+  auto it = spec.objects.find(index);
+  if (it != spec.objects.end() && !declared_only(it->second)) return nullptr;
+  return &ensure(spec, index, w, {});
+}
+
+void derive_sm_types(DeviceSpec& spec) {
   const Where& w = spec.sync_managers_where;
+  ObjectSpec* o = to_fill(spec, kSmCommType, w);
+  if (o == nullptr) return;
+  set_if_absent(*o, "name", attr("Sync manager type", w));
+  set_if_absent(*o, "code", attr("ARRAY", w));
+  set_if_absent(*o, "type", attr("UNSIGNED8", w));
+  set_if_absent(*o, "default", attr("0", w));
   std::uint64_t count = 0;
-  for (const auto& sm : *spec.sync_managers) count = std::max(count, attr_unsigned(sm, "index", 0xFF, 0) + 1);
-  if (!spec.objects.contains(kSmCommType)) {
-    ObjectSpec& o = ensure(spec, kSmCommType, w,
-                           {{"name", "Sync manager type"}, {"code", "ARRAY"}, {"type", "UNSIGNED8"}, {"default", "0"}});
-    o.attrs.set("count", attr(std::to_string(count), w));
-    for (const auto& sm : *spec.sync_managers) {
-      const auto n = static_cast<std::uint8_t>(attr_unsigned(sm, "index", 0xFF, 0) + 1);
-      o.entries[n].where = sm.where;
-      o.entries[n].attrs.set("default", attr(sm_type_code(attr_text(sm, "type")), sm.where));
+  for (const auto& sm : *spec.sync_managers) {
+    const auto n = attr_unsigned(sm, "index", 0xFF, 0) + 1;
+    count = std::max(count, n);
+    ElementSpec& e = o->entries[static_cast<std::uint8_t>(n)];
+    e.where = sm.where;
+    e.attrs.set("default", attr(sm_type_code(attr_text(sm, "type")), sm.where));
+  }
+  o->attrs.set("count", attr(std::to_string(count), w));
+}
+
+void derive_sm_assignment(DeviceSpec& spec, const ElementSpec& sm, bool assignable) {
+  const bool outputs = attr_text(sm, "type") == "Outputs";
+  const auto n = attr_unsigned(sm, "index", 0xFF, 0);
+  ObjectSpec* o = to_fill(spec, static_cast<std::uint16_t>(kSmAssignFirst + n), sm.where);
+  if (o == nullptr) return;
+  set_if_absent(*o, "name", attr(fmt::format("Sync manager {} PDO assignment", n), sm.where));
+  set_if_absent(*o, "code", attr("ARRAY", sm.where));
+  set_if_absent(*o, "type", attr("UNSIGNED16", sm.where));
+  set_if_absent(*o, "default", attr("0", sm.where));
+  if (!o->attrs.has("access")) set_access(*o, assignable, sm.where);
+  std::uint8_t sub = 0, assigned = 0;
+  for (const auto& [pdo_index, pdo] : spec.pdos) {
+    if (pdo.rx != outputs) continue;
+    if (sub == kMaxAssignEntries) {
+      fail_at(pdo.element.where, fmt::format("more than {} PDOs for SyncManager {}", kMaxAssignEntries, n));
+    }
+    ++sub;
+    if (pdo.element.attrs.has("sm") && attr_unsigned(pdo.element, "sm", 0xFF, 0) == n) {
+      ElementSpec& e = o->entries[++assigned];
+      e.where = pdo.element.where;
+      e.attrs.set("default", attr(fmt::format("#x{:04X}", pdo_index), pdo.element.where));
     }
   }
+  o->attrs.set("count", attr(std::to_string(std::max<std::uint8_t>(sub, 1)), sm.where));
+  ElementSpec& sub0 = o->entries[0];
+  if (sub0.where.file.empty()) sub0.where = sm.where;
+  set_if_absent(sub0, "default", attr(std::to_string(assigned), sm.where));
+  if (!sub0.attrs.has("access")) {
+    for (const char* a : {"access", "writeIn"}) {
+      if (const Attr* declared = o->attrs.find(a)) sub0.attrs.set(a, *declared);
+    }
+  }
+}
+
+void derive_sm_objects(DeviceSpec& spec) {
+  if (!spec.sync_managers || spec.sync_managers->empty()) return;
+  derive_sm_types(spec);
   const bool assignable = attr_bool(spec.mailbox, "pdoAssign", od::MailboxProtocols{}.pdo_assign);
   for (const auto& sm : *spec.sync_managers) {
     const std::string type = attr_text(sm, "type");
-    if (type != "Outputs" && type != "Inputs") continue;
-    const auto n = attr_unsigned(sm, "index", 0xFF, 0);
-    const auto index = static_cast<std::uint16_t>(kSmAssignFirst + n);
-    if (spec.objects.contains(index)) continue;
-    ObjectSpec& o = ensure(spec, index, sm.where,
-                           {{"code", "ARRAY"}, {"type", "UNSIGNED16"}, {"default", "0"}});
-    o.attrs.set("name", attr(fmt::format("Sync manager {} PDO assignment", n), sm.where));
-    set_access(o, assignable, sm.where);
-    std::uint8_t sub = 0, assigned = 0;
-    for (const auto& [pdo_index, pdo] : spec.pdos) {
-      if (pdo.rx != (type == "Outputs")) continue;
-      if (sub == kMaxAssignEntries) {
-        fail_at(pdo.element.where, fmt::format("more than {} PDOs for SyncManager {}", kMaxAssignEntries, n));
-      }
-      ++sub;
-      if (pdo.element.attrs.has("sm") && attr_unsigned(pdo.element, "sm", 0xFF, 0) == n) {
-        ElementSpec& e = o.entries[++assigned];
-        e.where = pdo.element.where;
-        e.attrs.set("default", attr(fmt::format("#x{:04X}", pdo_index), pdo.element.where));
-      }
-    }
-    o.attrs.set("count", attr(std::to_string(std::max<std::uint8_t>(sub, 1)), sm.where));
-    ElementSpec& sub0 = o.entries[0];
-    sub0.where = sm.where;
-    sub0.attrs.set("default", attr(std::to_string(assigned), sm.where));
-    set_access(sub0, assignable, sm.where);
+    if (type == "Outputs" || type == "Inputs") derive_sm_assignment(spec, sm, assignable);
   }
 }
 

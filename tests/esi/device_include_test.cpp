@@ -109,5 +109,43 @@ TEST(DeviceInclude, StringSourceResolvesIncludesAgainstItsName) {
   EXPECT_NE(dev->dictionary.find(0x2000), nullptr);
 }
 
+TEST(DeviceInclude, DeclaredAssignmentObjectsAreFilledExplicitOnesKept) {
+  const std::string xml = R"(<Device formatVersion="1">
+  <Identity name="Assign"/>
+  <SyncManagers>
+    <Sm index="0" type="MailboxOut" start="#x1000" size="64" control="#x26"/>
+    <Sm index="1" type="MailboxIn" start="#x1040" size="64" control="#x22"/>
+    <Sm index="2" type="Outputs" start="#x1100" control="#x64"/>
+    <Sm index="3" type="Inputs" start="#x1200" control="#x20"/>
+  </SyncManagers>
+  <Objects>
+    <Object index="#x1C12" name="RxPDO assign" access="ro"/>
+    <Object index="#x1C13" name="TxPDO assign" code="ARRAY" type="UNSIGNED16" count="1" default="#x1A07"/>
+    <Object index="#x7000" name="Out" type="UNSIGNED8" access="rw" pdo="rx"/>
+  </Objects>
+  <RxPdo index="#x1600" sm="2"><Entry index="#x7000" bits="8"/></RxPdo>
+  <RxPdo index="#x1601"><Entry index="#x7000" bits="8"/></RxPdo>
+</Device>
+)";
+  auto dev = load_device_string(xml, kDir + "assign.xml");
+  ASSERT_TRUE(dev.has_value()) << dev.error().to_string();
+  const od::Object* rx = dev->dictionary.find(0x1C12);
+  ASSERT_NE(rx, nullptr);
+  EXPECT_EQ(rx->name, "RxPDO assign");
+  ASSERT_EQ(rx->entries.size(), 3u);
+  EXPECT_EQ(rx->entries[0].default_value, Value{1});
+  EXPECT_EQ(rx->entries[0].access.bits, od::Access::kRo);  // the declared access
+  EXPECT_EQ(rx->entries[1].access.bits, od::Access::kRo);
+  EXPECT_EQ(rx->entries[1].default_value, (Value{0x00, 0x16}));
+  const od::Object* tx = dev->dictionary.find(0x1C13);
+  ASSERT_NE(tx, nullptr);
+  ASSERT_EQ(tx->entries.size(), 2u);
+  EXPECT_EQ(tx->entries[1].default_value, (Value{0x07, 0x1A}));  // as written
+  const od::Object* types = dev->dictionary.find(0x1C00);
+  ASSERT_NE(types, nullptr);
+  ASSERT_EQ(types->entries.size(), 5u);
+  EXPECT_EQ(types->entries[3].default_value, Value{3});
+}
+
 }  // namespace
 }  // namespace ecat::esi
