@@ -22,6 +22,7 @@ inline constexpr std::uint16_t kOpMode9 = 1u << 9;  // pp: change on set-point
 // Named aliases of the mode-specific bits.
 inline constexpr std::uint16_t kNewSetPoint = kOpMode4;
 inline constexpr std::uint16_t kHomingStart = kOpMode4;
+inline constexpr std::uint16_t kEnableIpMode = kOpMode4;
 inline constexpr std::uint16_t kChangeSetImmediately = kOpMode5;
 inline constexpr std::uint16_t kRelative = kOpMode6;
 

@@ -109,6 +109,7 @@ void Drive::enter_mode() noexcept {
   torque_demand_pm_ = torque_per_mille(plant_.torque());
   position_window_ = velocity_window_ = speed_zero_ = Timer{};
   demand_.position = plant_.position();
+  ip_active_ = false;
 }
 
 double Drive::decel_for(StopKind stop, const DriveInputs& in) const noexcept {
@@ -196,6 +197,9 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
       demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
       return;
     }
+    case OperationMode::InterpolatedPosition:
+      run_interpolated(in, dt);
+      return;
     case OperationMode::CyclicSyncPosition: {
       if (halted_) {
         gen_.stop(halt_decel, dt);
@@ -235,9 +239,41 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
       return;
     }
     default:
-      hold();  // no mode, or one this simulator does not run (vl, ip)
+      hold();  // no mode, or one this simulator does not run (vl)
       return;
   }
+}
+
+// Interpolated position (CiA 402-2 §13, sub-mode 0 linear): while bit 4 is
+// set, every interpolation period 60C2h takes 60C1h:01 as the next point and
+// the demand moves to it in a straight line over that period.
+void Drive::run_interpolated(const DriveInputs& in, double dt) noexcept {
+  const bool enable = (in.controlword & cw::kEnableIpMode) != 0;
+  if (!enable || halted_) {
+    ip_active_ = false;
+    if (halted_) {
+      gen_.stop(decel_for(stop_for_halt(config_.halt.pick(in.halt_option)), in), dt);
+    } else {
+      gen_.reset(gen_.position(), 0.0);
+    }
+    demand_ = LoopDemand{LoopDemand::Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
+    return;
+  }
+  const double period = in.ip_period_value == 0
+                            ? dt
+                            : in.ip_period_value * std::pow(10.0, std::clamp<int>(in.ip_period_index, -9, 0));
+  if (!ip_active_ || ip_elapsed_ >= period - 1e-12) {
+    ip_from_ = ip_active_ ? ip_to_ : gen_.position();
+    ip_to_ = position_to_inc(in.ip_position);
+    ip_elapsed_ = 0;
+    ip_active_ = true;
+  }
+  ip_elapsed_ += dt;
+  const double share = std::min(1.0, ip_elapsed_ / period);
+  const double target = ip_from_ + (ip_to_ - ip_from_) * share;
+  const double v = (target - demand_.position) / dt;
+  gen_.reset(target, v);
+  demand_ = LoopDemand{LoopDemand::Kind::Position, target, v, 0, 0};
 }
 
 void Drive::raise_fault(FaultKind k) noexcept {
@@ -291,7 +327,8 @@ void Drive::monitor(const DriveInputs& in, double dt) noexcept {
   }
   // Software limits (607Dh) in the modes that do not clip their targets.
   const bool clipping = mode_ == OperationMode::ProfilePosition || mode_ == OperationMode::Homing ||
-                        mode_ == OperationMode::CyclicSyncPosition;
+                        mode_ == OperationMode::CyclicSyncPosition ||
+                        mode_ == OperationMode::InterpolatedPosition;
   if (operating && !clipping && in.software_limit_min < in.software_limit_max) {
     const double u = position_to_user(pos);
     if ((u > in.software_limit_max && v > moving) || (u < in.software_limit_min && v < -moving)) {
@@ -356,6 +393,11 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
           if (!homing_.stopping()) b |= sw::kTargetReached;
           break;
       }
+      break;
+    case OperationMode::InterpolatedPosition:
+      if (ip_active_) b |= sw::kIpModeActive;
+      if (following_error_) b |= sw::kFollowingError;
+      if (halted_ ? gen_stopped : position_reached(position_to_user(ip_to_), ip_active_)) b |= sw::kTargetReached;
       break;
     case OperationMode::CyclicSyncPosition:
       if (!halted_) b |= sw::kFollowsCommand;

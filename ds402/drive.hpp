@@ -65,6 +65,7 @@ class Drive {
   void select_mode(const DriveInputs& in) noexcept;
   void enter_mode() noexcept;
   void run_mode(const DriveInputs& in, double dt) noexcept;
+  void run_interpolated(const DriveInputs& in, double dt) noexcept;
   void run_stop(StopKind stop, const DriveInputs& in, double dt) noexcept;
   void hold() noexcept;
   void monitor(const DriveInputs& in, double dt) noexcept;
@@ -98,6 +99,9 @@ class Drive {
   LoopLimits limits_;
   double home_shift_ = 0;        // increments
   double torque_demand_pm_ = 0;  // profile torque ramp, per mille
+  // Interpolated position: the segment being interpolated (physical increments).
+  double ip_from_ = 0, ip_to_ = 0, ip_elapsed_ = 0;
+  bool ip_active_ = false;
   std::uint16_t controlword_ = 0;
   std::uint16_t previous_controlword_ = 0;
   bool halted_ = false;

@@ -50,8 +50,8 @@ constexpr std::uint32_t supported_bit(std::int8_t mode) noexcept {
 
 // Modes this simulator implements.
 inline constexpr std::uint32_t kSimulatedModes = supported::kPp | supported::kPv | supported::kTq |
-                                                supported::kHm | supported::kCsp | supported::kCsv |
-                                                supported::kCst;
+                                                supported::kHm | supported::kIp | supported::kCsp |
+                                                supported::kCsv | supported::kCst;
 
 constexpr bool is_position_mode(OperationMode m) noexcept {
   return m == OperationMode::ProfilePosition || m == OperationMode::Homing ||

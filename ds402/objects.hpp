@@ -58,6 +58,11 @@ struct DriveInputs {
 
   std::uint16_t touch_probe_function = 0;  // 60B8h
 
+  // Interpolated position mode (CiA 402-2 §13): linear interpolation only.
+  std::int32_t ip_position = 0;        // 60C1h:01 interpolation data record, position
+  std::uint8_t ip_period_value = 0;    // 60C2h:01 (0: one drive cycle)
+  std::int8_t ip_period_index = -3;    // 60C2h:02, period = value · 10^index s
+
   // Factor group (CiA 402-2 §6.3). 0 in a feed/encoder field means "one
   // position unit per encoder increment".
   std::uint32_t encoder_increments = 0;  // 608Fh:01

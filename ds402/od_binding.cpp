@@ -42,7 +42,8 @@ constexpr auto kInputs = std::make_tuple(
     f(0x605E, 0, &I::fault_reaction_option), f(0x60B8, 0, &I::touch_probe_function),
     f(0x608F, 1, &I::encoder_increments), f(0x608F, 2, &I::motor_revolutions),
     f(0x6091, 1, &I::gear_motor_revolutions), f(0x6091, 2, &I::gear_shaft_revolutions), f(0x6092, 1, &I::feed),
-    f(0x6092, 2, &I::feed_shaft_revolutions));
+    f(0x6092, 2, &I::feed_shaft_revolutions), f(0x60C1, 1, &I::ip_position), f(0x60C2, 1, &I::ip_period_value),
+    f(0x60C2, 2, &I::ip_period_index));
 
 constexpr auto kOutputs = std::make_tuple(
     f(0x6041, 0, &O::statusword), f(0x6061, 0, &O::modes_of_operation_display), f(0x6062, 0, &O::position_demand),

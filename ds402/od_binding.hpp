@@ -20,7 +20,7 @@ namespace ecat::ds402 {
 
 class DriveBinding {
  public:
-  static constexpr std::size_t kInputCount = 45;
+  static constexpr std::size_t kInputCount = 48;
   static constexpr std::size_t kOutputCount = 19;
 
   // `emergency` may be null (then 1001h is written from DriveOutputs instead).

@@ -143,6 +143,38 @@ TEST(CyclicSyncTorque, TorqueFollowsWithTheCurrentLoopLag) {
   EXPECT_TRUE(h.bit(sw::kTargetReached));
 }
 
+TEST(InterpolatedPosition, LinearBetweenPointsOverThePeriod) {
+  Harness h;
+  h.in.ip_period_value = 4;  // 4 ms: four drive cycles per point
+  h.in.ip_period_index = -3;
+  h.enable(OperationMode::InterpolatedPosition);
+  EXPECT_FALSE(h.bit(sw::kIpModeActive));
+  h.in.ip_position = 4000;
+  h.command(kEnableOp | cw::kEnableIpMode);
+  EXPECT_TRUE(h.bit(sw::kIpModeActive));
+  EXPECT_EQ(h.out.position_demand, 1000);
+  h.step();
+  EXPECT_EQ(h.out.position_demand, 2000);
+  h.in.ip_position = 8000;  // not taken before the period ends
+  h.step();
+  EXPECT_EQ(h.out.position_demand, 3000);
+  h.step();
+  EXPECT_EQ(h.out.position_demand, 4000);
+  h.step();
+  EXPECT_EQ(h.out.position_demand, 5000);
+  h.run(3);
+  EXPECT_EQ(h.out.position_demand, 8000);
+  h.run(300);
+  EXPECT_TRUE(h.bit(sw::kTargetReached));
+  EXPECT_NEAR(h.out.position_actual, 8000, 5);
+  // Bit 4 off: interpolation stops, the axis holds.
+  h.in.ip_position = 20000;
+  h.command(kEnableOp);
+  EXPECT_FALSE(h.bit(sw::kIpModeActive));
+  h.run(50);
+  EXPECT_EQ(h.out.position_demand, 8000);
+}
+
 TEST(TorqueLimits, MaxTorqueAndDirectionalLimitsClamp) {
   Harness h;
   h.in.max_torque = 800;
@@ -177,7 +209,7 @@ TEST(ModeSwitch, ChangesInOperationEnabledAndRejectsUnsupported) {
   h.step();
   EXPECT_EQ(h.out.modes_of_operation_display, 1);
   EXPECT_TRUE(h.bit(sw::kWarning));
-  EXPECT_EQ(h.out.supported_drive_modes, 0x3ADu);
+  EXPECT_EQ(h.out.supported_drive_modes, 0x3EDu);
 }
 
 }  // namespace
