@@ -1,5 +1,6 @@
 // Identity, ESC properties, mailbox, sync managers, FMMUs, DC and drive facts
 // of a device file (docs/device-format.md "Elements").
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <limits>

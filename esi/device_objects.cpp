@@ -1,6 +1,7 @@
 // Object and entry building (docs/device-format.md "Objects"): types,
 // access, default/min/max values with their range checks, generated
 // subindex 0 of ARRAY/RECORD (CiA 301 §7.4.3: "highest sub-index supported").
+#include <algorithm>
 #include <array>
 #include <utility>
 

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,24 @@ INSTANTIATE_TEST_SUITE_P(XmlDevices, ShippedDevice, ::testing::ValuesIn(xml_file
 TEST(ShippedDevices, GenericServoIsAmongThem) {
   const auto files = xml_files(kXml / "devices");
   EXPECT_NE(std::find(files.begin(), files.end(), "generic-servo.xml"), files.end());
+}
+
+TEST(ShippedDevices, DocumentationExampleLoads) {
+  std::ifstream in(fs::path(ECAT_SOURCE_DIR) / "docs" / "device-format.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string doc = ss.str();
+  const std::string open = "```xml\n";
+  const auto begin = doc.find(open);
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = doc.find("```", begin + open.size());
+  ASSERT_NE(end, std::string::npos);
+  const std::string xml = doc.substr(begin + open.size(), end - begin - open.size());
+  auto dev = load_device_string(xml, (kXml / "devices" / "doc-example.xml").string());
+  ASSERT_TRUE(dev.has_value()) << dev.error().to_string();
+  EXPECT_EQ(dev->identity.name, "Tiny drive");
+  ASSERT_NE(dev->dictionary.find(0x2000, 0), nullptr);
+  EXPECT_EQ(dev->dictionary.find(0x6072, 0)->default_value, (od::Value{0xDC, 0x05}));  // 1500
 }
 
 bool have_xmllint() { return std::system("xmllint --version > /dev/null 2>&1") == 0; }
