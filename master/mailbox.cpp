@@ -31,7 +31,10 @@ Expected<void, MasterError> Master::write_mailbox_sms(std::size_t slave, const M
   w.u8(0);
   w.u8(enable ? reg::kSmActivateEnable : 0);
   w.u8(0);
-  // SM0 + SM1 in one datagram (SOEM).
+  // Both off first (IgH clears them before configuring), then SM0 + SM1 in
+  // one datagram (SOEM).
+  const std::uint8_t off[2 * reg::kSyncManagerSize]{};
+  if (auto r = fpwr(slaves_[slave].station_address, reg::sync_manager(0), off); !r) return fail(r.error());
   if (auto r = fpwr(slaves_[slave].station_address, reg::sync_manager(0), sms); !r) return fail(r.error());
   SlaveInfo& s = slaves_[slave];
   s.mailbox = layout;

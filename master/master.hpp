@@ -116,6 +116,10 @@ class Master {
   // --- mailbox (ETG.1000.4 §5.6; coe-mailbox.md §1-§3) ------------------------------
   // SM0/SM1 from the SII SYNCM category (words 0x18-0x1B, control 0x26/0x22 as fallback).
   Expected<void, MasterError> configure_mailbox(std::size_t slave);
+  // Programs SM n: first disabled (start/length/control are writable only
+  // while the SM is off, Section II 0x0800), then the new values.
+  Expected<void, MasterError> write_sync_manager(std::size_t slave, unsigned n, std::uint16_t start,
+                                                 std::uint16_t length, std::uint8_t control, bool enable);
   // Writes SM0/SM1 exactly as given (for tests of invalid configurations).
   Expected<void, MasterError> write_mailbox_sms(std::size_t slave, const MailboxLayout& layout, bool enable = true);
   // Sends one message (header added, counter rotated 1..7) as one FPWR of the

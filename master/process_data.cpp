@@ -34,19 +34,24 @@ std::array<std::uint8_t, reg::kFmmuSize> fmmu_block(std::uint32_t logical, std::
   return b;
 }
 
-std::array<std::uint8_t, reg::kSyncManagerSize> sm_block(std::uint16_t start, std::uint16_t length,
-                                                         std::uint8_t control) {
+}  // namespace
+
+Expected<void, MasterError> Master::write_sync_manager(std::size_t slave, unsigned n, std::uint16_t start,
+                                                       std::uint16_t length, std::uint8_t control, bool enable) {
+  if (auto c = check_slave(slave); !c) return fail(c.error());
+  const std::uint16_t station = slaves_[slave].station_address;
+  const std::array<std::uint8_t, reg::kSyncManagerSize> off{};
+  if (auto r = fpwr(station, reg::sync_manager(n), off); !r) return fail(r.error());
   std::array<std::uint8_t, reg::kSyncManagerSize> b{};
   ByteWriter w(b);
   w.u16(start);
   w.u16(length);
   w.u8(control);
   w.u8(0);
-  w.u8(length > 0 ? reg::kSmActivateEnable : 0);
+  w.u8(enable ? reg::kSmActivateEnable : 0);
   w.u8(0);
-  return b;
+  return fpwr(station, reg::sync_manager(n), b);
 }
-}  // namespace
 
 Expected<void, MasterError> Master::configure_process_data() {
   output_bytes_ = 0;
@@ -63,7 +68,8 @@ Expected<void, MasterError> Master::configure_process_data() {
   if (output_bytes_ + input_bytes_ > kMaxDatagramData) return fail(MasterError::InvalidArgument);
   image_.assign(output_bytes_ + input_bytes_, 0);
 
-  for (auto& s : slaves_) {
+  for (std::size_t i = 0; i < slaves_.size(); ++i) {
+    SlaveInfo& s = slaves_[i];
     // SM2/SM3 start and control from the SII SYNCM category when it has them.
     const auto& sms = s.sii.sync_managers;
     if (sms.size() > kOutputSm && sms[kOutputSm].start != 0) {
@@ -78,13 +84,16 @@ Expected<void, MasterError> Master::configure_process_data() {
     } else if (s.pd.sm3_start == 0) {
       s.pd.sm3_control = kInputsControl;
     }
-    if (s.pd.output_bytes > 0) {
-      const auto b = sm_block(s.pd.sm2_start, s.pd.output_bytes, s.pd.sm2_control);
-      if (auto r = fpwr(s.station_address, reg::sync_manager(kOutputSm), b); !r) return fail(r.error());
+    // Enabled iff length > 0 (SOEM, IgH).
+    if (auto r = write_sync_manager(i, kOutputSm, s.pd.sm2_start, s.pd.output_bytes, s.pd.sm2_control,
+                                    s.pd.output_bytes > 0);
+        !r) {
+      return fail(r.error());
     }
-    if (s.pd.input_bytes > 0) {
-      const auto b = sm_block(s.pd.sm3_start, s.pd.input_bytes, s.pd.sm3_control);
-      if (auto r = fpwr(s.station_address, reg::sync_manager(kInputSm), b); !r) return fail(r.error());
+    if (auto r = write_sync_manager(i, kInputSm, s.pd.sm3_start, s.pd.input_bytes, s.pd.sm3_control,
+                                    s.pd.input_bytes > 0);
+        !r) {
+      return fail(r.error());
     }
     unsigned next_fmmu = 0;
     if (s.pd.output_bytes > 0) {

@@ -69,6 +69,11 @@ inline constexpr std::uint8_t kSmTypeMailboxIn = 2;
 inline constexpr std::uint8_t kSmTypeOutputs = 3;
 inline constexpr std::uint8_t kSmTypeInputs = 4;
 
+// PDO flags (TXPDO/RXPDO header).
+inline constexpr std::uint16_t kPdoMandatory = 0x0001;
+inline constexpr std::uint16_t kPdoDefault = 0x0002;
+inline constexpr std::uint16_t kPdoFixed = 0x0010;
+
 // FMMU usage codes.
 inline constexpr std::uint8_t kFmmuOutputs = 1;
 inline constexpr std::uint8_t kFmmuInputs = 2;

@@ -65,15 +65,7 @@ CaseResult process_sm_case(Context& ctx, unsigned sm, std::uint16_t code,
   const std::uint8_t control = sm == kOutputSm ? pd.sm2_control : pd.sm3_control;
   if (length == 0) return CaseResult::skip(sm == kOutputSm ? "no outputs" : "no inputs");
   mutate(start, length);
-  std::uint8_t block[reg::kSyncManagerSize]{};
-  ByteWriter w(block);
-  w.u16(start);
-  w.u16(length);
-  w.u8(control);
-  w.u8(0);
-  w.u8(reg::kSmActivateEnable);
-  w.u8(0);
-  if (auto r = ctx.master().fpwr(ctx.info().station_address, reg::sync_manager(sm), block); !r) {
+  if (auto r = ctx.master().write_sync_manager(ctx.slave(), sm, start, length, control, true); !r) {
     return CaseResult::failed("SM written", std::string(describe(r.error())));
   }
   return CaseResult::compare(refused(AlState::PreOp, code),

@@ -26,6 +26,14 @@ std::optional<CaseResult> need_coe(Context& ctx) {
   return std::nullopt;
 }
 
+// First RxPDO the SII does not mark as fixed content.
+std::optional<std::uint16_t> configurable_rx_pdo(Context& ctx) {
+  for (const auto& p : ctx.info().sii.rx_pdos) {
+    if ((p.flags & sii::kPdoFixed) == 0) return p.index;
+  }
+  return std::nullopt;
+}
+
 std::string join(const std::vector<std::uint16_t>& v) {
   std::string s;
   for (auto x : v) s += (s.empty() ? "" : ",") + hex(x, 4);
@@ -174,7 +182,7 @@ std::vector<Case> consistency_cases() {
                                                 mismatches.empty() ? "all consistent" : mismatches);
                    }});
   cases.push_back({"pdo.remap_roundtrip",
-                   "ETG.1000.6 §5.6.7.4 / CiA 301: PDO mapping and assignment rewritten (SI0=0, entries, SI0=n) are kept and accepted in SafeOp",
+                   "ETG.1000.6 §5.6.7.4 / CiA 301: a configurable PDO mapping and 0x1C12 rewritten (SI0=0, entries, SI0=n) read back unchanged, SafeOp accepted",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
@@ -184,50 +192,63 @@ std::vector<Case> consistency_cases() {
                      CoeClient coe = ctx.coe();
                      auto assign = coe.read_pdo_assignment(coe::kRxPdoAssign);
                      if (!assign) return CaseResult::failed("0x1C12 readable", describe_sdo(assign.error()));
-                     if (assign->empty()) return CaseResult::skip("no RxPDO assigned");
-                     auto mapping = coe.read_pdo_mapping(assign->front());
-                     if (!mapping) return CaseResult::failed("mapping readable", describe_sdo(mapping.error()));
-                     if ((g->coe_details & sii::kCoePdoConfig) != 0) {
-                       if (auto r = coe.write_pdo_mapping(assign->front(), *mapping); !r) {
-                         return CaseResult::failed("mapping written", describe_sdo(r.error()));
+                     auto pdo = configurable_rx_pdo(ctx);
+                     if ((g->coe_details & sii::kCoePdoConfig) != 0 && pdo) {
+                       auto mapping = coe.read_pdo_mapping(*pdo);
+                       if (!mapping) return CaseResult::failed("mapping readable", describe_sdo(mapping.error()));
+                       if (auto r = coe.write_pdo_mapping(*pdo, *mapping); !r) {
+                         return CaseResult::failed("mapping of " + hex(*pdo, 4) + " written", describe_sdo(r.error()));
                        }
+                       auto back = coe.read_pdo_mapping(*pdo);
+                       if (!back || *back != *mapping) return CaseResult::failed("mapping read back unchanged", "differs");
                      }
                      if ((g->coe_details & sii::kCoePdoAssign) != 0) {
                        if (auto r = coe.write_pdo_assignment(coe::kRxPdoAssign, *assign); !r) {
                          return CaseResult::failed("assignment written", describe_sdo(r.error()));
                        }
-                     }
-                     auto assign2 = coe.read_pdo_assignment(coe::kRxPdoAssign);
-                     auto mapping2 = coe.read_pdo_mapping(assign->front());
-                     if (!assign2 || !mapping2 || *assign2 != *assign || *mapping2 != *mapping) {
-                       return CaseResult::failed("read back unchanged", "differs");
+                       auto back = coe.read_pdo_assignment(coe::kRxPdoAssign);
+                       if (!back || *back != *assign) return CaseResult::failed("assignment read back unchanged", "differs");
                      }
                      if (auto r = ctx.go_to(AlState::SafeOp); !r) return CaseResult::failed("SafeOp", r.error());
                      return CaseResult::pass("read back unchanged, SafeOp", "read back unchanged, SafeOp");
                    }});
-  cases.push_back({"pdo.remap_shorter_mapping",
-                   "ETG.1000.6 §5.6.7.4: a shorter RxPDO mapping changes the SM2 size the slave expects in PreOp->SafeOp",
+  cases.push_back({"pdo.remap_assign_configurable",
+                   "ETG.1000.6 §5.6.7.4: assigning a configurable RxPDO with a shorter mapping changes the SM2 size the slave checks in PreOp->SafeOp",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
-                     if (!g || (g->coe_details & sii::kCoePdoConfig) == 0) return CaseResult::skip("no PDO config in SII");
+                     if (!g || (g->coe_details & sii::kCoePdoAssign) == 0 || (g->coe_details & sii::kCoePdoConfig) == 0) {
+                       return CaseResult::skip("SII does not advertise PDO assign and config");
+                     }
+                     auto pdo = configurable_rx_pdo(ctx);
+                     if (!pdo) return CaseResult::skip("no configurable RxPDO in the SII");
                      CoeClient coe = ctx.coe();
                      auto assign = coe.read_pdo_assignment(coe::kRxPdoAssign);
-                     if (!assign || assign->empty()) return CaseResult::skip("no RxPDO assigned");
-                     auto mapping = coe.read_pdo_mapping(assign->front());
-                     if (!mapping || mapping->size() < 2) return CaseResult::skip("mapping has fewer than 2 entries");
-                     std::vector<std::uint32_t> shorter(mapping->begin(), mapping->end() - 1);
-                     if (auto r = coe.write_pdo_mapping(assign->front(), shorter); !r) {
-                       return CaseResult::failed("shorter mapping written", describe_sdo(r.error()));
+                     auto mapping = coe.read_pdo_mapping(*pdo);
+                     if (!assign || !mapping) return CaseResult::failed("0x1C12 and mapping readable", "read failed");
+                     if (mapping->empty()) return CaseResult::skip("configurable PDO has an empty mapping");
+                     std::vector<std::uint32_t> shorter(*mapping);
+                     if (shorter.size() > 1) shorter.pop_back();
+                     std::uint32_t bits = 0;
+                     for (auto e : shorter) bits += e & 0xFFu;
+                     const std::string want = "SafeOp with " + std::to_string((bits + 7) / 8) + " output bytes";
+                     std::string seen;
+                     const std::uint16_t assigned[]{*pdo};
+                     if (auto r = coe.write_pdo_mapping(*pdo, shorter); !r) {
+                       seen = "mapping write: " + describe_sdo(r.error());
+                     } else if (auto a = coe.write_pdo_assignment(coe::kRxPdoAssign, assigned); !a) {
+                       seen = "assignment write: " + describe_sdo(a.error());
+                     } else if (auto s = ctx.go_to(AlState::SafeOp); !s) {
+                       seen = s.error();
+                     } else {
+                       seen = "SafeOp with " + std::to_string(ctx.info().pd.output_bytes) + " output bytes";
                      }
-                     auto result = ctx.go_to(AlState::SafeOp);
-                     const std::uint16_t bytes = ctx.info().pd.output_bytes;
-                     // Restore the original mapping in PreOp.
+                     // Put the original mapping and assignment back (PreOp).
                      (void)ctx.go_to(AlState::PreOp);
                      CoeClient restore = ctx.coe();
-                     (void)restore.write_pdo_mapping(assign->front(), *mapping);
-                     if (!result) return CaseResult::failed("SafeOp with the shorter mapping", result.error());
-                     return CaseResult::pass("SafeOp", "SafeOp with " + std::to_string(bytes) + " output bytes");
+                     (void)restore.write_pdo_mapping(*pdo, *mapping);
+                     (void)restore.write_pdo_assignment(coe::kRxPdoAssign, *assign);
+                     return CaseResult::compare(want, seen);
                    }});
   cases.push_back({"pdo.remap_refused_in_safeop",
                    "ETG.1000.6 §5.6.7.4: PDO assignment can only be changed in PreOp (SDO abort in SafeOp)",

@@ -43,6 +43,19 @@ std::string transition(Context& ctx, AlState from, AlState to, std::string& setu
     setup_error = r.error();
     return {};
   }
+  // What the master does before each upward transition (esm-al-codes.md §3).
+  if (from == AlState::Init && to == AlState::PreOp && ctx.info().sii.has_mailbox()) {
+    if (auto r = ctx.master().configure_mailbox(ctx.slave()); !r) {
+      setup_error = std::string("mailbox SMs: ") + std::string(describe(r.error()));
+      return {};
+    }
+  }
+  if (from == AlState::PreOp && to == AlState::SafeOp) {
+    if (auto r = ctx.prepare_process_data(); !r) {
+      setup_error = r.error();
+      return {};
+    }
+  }
   ctx.cycle();
   auto st = ctx.master().request_state(ctx.slave(), to);
   if (!st) return std::string(describe(st.error()));

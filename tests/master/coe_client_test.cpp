@@ -189,7 +189,7 @@ TEST_F(CoeFixture, SdoInfoDescriptionsAndInfoError) {
   for (char ch : std::string("Identity")) od.push_back(static_cast<std::uint8_t>(ch));
   script.push_back({mbx(od)});
   Bytes8 oe{0x00, 0x80, 0x06, 0x00, 0x00, 0x00, 0x18, 0x10, 0x01, 0x17, 0x07, 0x00, 0x20, 0x00, 0x07, 0x00};
-  for (std::uint8_t b : {0x5A, 0x0A, 0x00, 0x00}) oe.push_back(b);  // default value (bit 4)
+  for (std::uint8_t b : Bytes8{0x5A, 0x0A, 0x00, 0x00}) oe.push_back(b);  // default value (bit 4)
   for (char ch : std::string("Vendor ID")) oe.push_back(static_cast<std::uint8_t>(ch));
   script.push_back({mbx(oe, 3, 2)});
   script.push_back({mbx({0x00, 0x80, 0x07, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x06}, 3, 3)});

@@ -80,9 +80,12 @@ TEST_F(MasterFixture, StateRequestWritesAlControlAndPollsStatusWithCode) {
 
 TEST_F(MasterFixture, MailboxSmsFromSiiInOneDatagram) {
   scan_and_mailbox();
+  // Disabled first (start/length/control are writable only while off), then
+  // SM0 + SM1 in one datagram.
   auto w = sent(Command::Fpwr, 0x0800);
-  ASSERT_EQ(w.size(), 1u);
-  EXPECT_EQ(w[0].data, (Bytes8{0x00, 0x10, 0x80, 0x00, 0x26, 0x00, 0x01, 0x00,
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0].data, Bytes8(16, 0));
+  EXPECT_EQ(w[1].data, (Bytes8{0x00, 0x10, 0x80, 0x00, 0x26, 0x00, 0x01, 0x00,
                                0x80, 0x10, 0x80, 0x00, 0x22, 0x00, 0x01, 0x00}));
 }
 
@@ -91,8 +94,9 @@ TEST_F(MasterFixture, ProcessDataSmFmmuAndLrw) {
   master.slave(0).pd.output_bytes = 2;
   master.slave(0).pd.input_bytes = 4;
   ASSERT_TRUE(master.configure_process_data().has_value());
-  EXPECT_EQ(sent(Command::Fpwr, 0x0810).at(0).data, (Bytes8{0x00, 0x11, 0x02, 0x00, 0x64, 0x00, 0x01, 0x00}));
-  EXPECT_EQ(sent(Command::Fpwr, 0x0818).at(0).data, (Bytes8{0x00, 0x14, 0x04, 0x00, 0x20, 0x00, 0x01, 0x00}));
+  EXPECT_EQ(sent(Command::Fpwr, 0x0810).at(0).data, Bytes8(8, 0));
+  EXPECT_EQ(sent(Command::Fpwr, 0x0810).at(1).data, (Bytes8{0x00, 0x11, 0x02, 0x00, 0x64, 0x00, 0x01, 0x00}));
+  EXPECT_EQ(sent(Command::Fpwr, 0x0818).at(1).data, (Bytes8{0x00, 0x14, 0x04, 0x00, 0x20, 0x00, 0x01, 0x00}));
   // FMMU0: logical 0, 2 bytes, bits 0..7, physical 0x1100, write, enabled.
   EXPECT_EQ(sent(Command::Fpwr, 0x0600).at(0).data,
             (Bytes8{0, 0, 0, 0, 0x02, 0x00, 0x00, 0x07, 0x00, 0x11, 0x00, 0x02, 0x01, 0, 0, 0}));

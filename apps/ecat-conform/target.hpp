@@ -1,0 +1,37 @@
+// What ecat-conform runs against: a transport, the clock that times it, and
+// a way to let time pass with the bus idle. The in-process target (a virtual
+// slave built from a device file) is created through make_in_process_target,
+// implemented with slave::Chain; the wire targets through raw socket or UDP.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/clock.hpp"
+#include "common/expected.hpp"
+#include "master/conformance/suite.hpp"
+#include "transport/transport.hpp"
+
+namespace ecat::conform {
+
+class Target {
+ public:
+  virtual ~Target() = default;
+  virtual transport::Transport& transport() = 0;
+  virtual const Clock& clock() const = 0;
+  // Let `d` pass without frames (in-process: advance the simulated time and
+  // run the slaves; on a wire: sleep).
+  virtual void wait(Nanoseconds d) = 0;
+  // Identity from the device file, when the target was made from one.
+  virtual std::optional<master::conformance::ExpectedIdentity> identity() const { return std::nullopt; }
+  virtual std::string description() const = 0;
+};
+
+// A virtual slave from `device_file` (the integrator's slave::Chain), on a
+// ManualClock that advances `frame_time` per frame.
+Expected<std::unique_ptr<Target>, std::string> make_in_process_target(const std::string& device_file);
+Expected<std::unique_ptr<Target>, std::string> make_raw_socket_target(const std::string& interface_name);
+Expected<std::unique_ptr<Target>, std::string> make_udp_target(const std::string& address);
+
+}  // namespace ecat::conform
