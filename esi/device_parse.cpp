@@ -14,6 +14,8 @@ namespace {
 
 constexpr std::uint64_t kMaxIndex = 0xFFFF;
 constexpr std::uint64_t kMaxSubindex = 0xFF;
+// Far above any real device file; keeps sizes within libxml2's int lengths.
+constexpr std::size_t kMaxFileBytes = 64u << 20;
 
 // State of one file being read.
 class FileReader {
@@ -178,6 +180,9 @@ std::string entry_name(std::uint16_t index, std::uint8_t sub) {
 
 void parse_device_text(std::string_view text, const std::string& file, const SchemaValidator& schema,
                        DeviceSpec& spec, const IncludeHandler& on_include) {
+  if (text.size() > kMaxFileBytes) {
+    fail_at(Where{file, 0}, fmt::format("file is larger than {} bytes", kMaxFileBytes));
+  }
   pugi::xml_document doc;
   const pugi::xml_parse_result result =
       doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);

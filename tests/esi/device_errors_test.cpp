@@ -387,3 +387,48 @@ TEST(DeviceErrors, ObjectWithoutName) {
 
 }  // namespace
 }  // namespace ecat::esi
+
+namespace ecat::esi {
+namespace {
+
+TEST(DeviceErrors, ArrayEntryBeyondCount) {
+  const LoadError e = error_of(device(R"(  <Objects>
+    <Object index="#x2000" name="X" code="ARRAY" type="UNSIGNED8" count="2">
+      <Entry sub="3"/>
+    </Object>
+  </Objects>
+)"));
+  EXPECT_EQ(e.line, 5);
+  EXPECT_EQ(e.message, "2000h: subindex 3 is beyond the array's count 2");
+}
+
+TEST(DeviceErrors, NumberOutOfRangeForItsField) {
+  const LoadError e = error_of(device(R"(  <SyncManagers>
+    <Sm index="0" type="MailboxOut" start="#x10000" size="128" control="#x26"/>
+  </SyncManagers>
+)"));
+  EXPECT_EQ(e.line, 4);
+  EXPECT_EQ(e.message, "start '#x10000' is out of range (0..65535)");
+}
+
+TEST(DeviceErrors, RemovedObjectMayBeRedefinedInTheSameFile) {
+  auto dev = load_device_string(device(R"(  <Objects>
+    <Object index="#x2000" name="X" type="UNSIGNED8"/>
+    <Remove index="#x2000"/>
+    <Object index="#x2000" name="Y" type="UNSIGNED16"/>
+  </Objects>
+)"), kName);
+  ASSERT_TRUE(dev.has_value()) << dev.error().to_string();
+  EXPECT_EQ(dev->dictionary.find(0x2000)->name, "Y");
+  EXPECT_EQ(dev->dictionary.find(0x2000)->type, od::DataType::Unsigned16);
+}
+
+TEST(DeviceErrors, OversizedInputIsRejectedNotParsed) {
+  const std::string big(65u << 20, ' ');
+  auto dev = load_device_string(big, kName);
+  ASSERT_FALSE(dev.has_value());
+  EXPECT_EQ(dev.error().to_string(), kName + ": file is larger than 67108864 bytes");
+}
+
+}  // namespace
+}  // namespace ecat::esi
