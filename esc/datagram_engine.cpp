@@ -30,7 +30,7 @@ void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
 
 bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
   run_timers(now);
-  now_ = std::max(now_, now);
+  now_ = now;  // the time of every access in this frame
   dc_.on_frame_arrival(0, now);
   // Circulating-frame prevention (Section I §3.5.1): a frame passing a
   // closed port 0 gets the circulating bit; if it already had it, the ESC

@@ -135,6 +135,7 @@ void Esc::load_eeprom(bool power_on) noexcept {
 void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
   const Nanoseconds t = clock_.now();
   run_timers(t);
+  now_ = t;
   // Bytes that are not there (past the RAM or the address space) or that a
   // sync manager refuses read as 0.
   std::fill(out.begin(), out.end(), std::uint8_t{0});
@@ -147,6 +148,7 @@ void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
 void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
   const Nanoseconds t = clock_.now();
   run_timers(t);
+  now_ = t;
   const std::size_t n = std::min<std::size_t>(in.size(), kAddressSpace - address);
   mem_write(address, in.first(n), Side::Pdi);
   pdi_watchdog_trigger(t);
@@ -165,6 +167,7 @@ void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
 
 std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
   run_timers(now);
+  now_ = now;
   std::optional<Nanoseconds> next = watchdogs_.next_deadline();
   for (auto t : {sii_.next_deadline(), dc_.poll(now)}) {
     if (t && (!next || *t < *next)) next = t;
@@ -173,7 +176,6 @@ std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
 }
 
 void Esc::run_timers(Nanoseconds now) noexcept {
-  if (now > now_) now_ = now;
   sii_action(sii_.poll(now));
   const Watchdogs::Expired e = watchdogs_.check(now);
   std::uint8_t* m = mem_.get();

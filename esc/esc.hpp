@@ -82,7 +82,7 @@ class Esc final : public Pdi {
   const SyncManager& sync_manager(unsigned n) const noexcept { return sms_[n]; }
   // True when (AL event request & AL event mask) != 0: the IRQ pin to the µC.
   bool irq() const noexcept;
-  // EtherCAT time of the last processed frame / poll.
+  // Time of the latest access: frame, PDI access or poll.
   Nanoseconds last_time() const noexcept { return now_; }
 
  private:
