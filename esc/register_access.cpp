@@ -23,6 +23,9 @@ constexpr std::uint16_t kMiiEnd = 0x0518;
 constexpr std::uint8_t kLedOverrideWritable = 0x1F;
 constexpr std::uint8_t kSmControlWritable = 0x7F;
 constexpr std::uint8_t kFmmuTypeWritable = 0x03;
+// The FMMU and SM blocks (0x0700-0x07FF and 0x0880-0x08FF are reserved).
+constexpr std::uint16_t kFmmuEnd = reg::kFmmuBase + kMaxFmmus * reg::kFmmuStride;
+constexpr std::uint16_t kSmEnd = reg::kSyncManagerBase + kMaxSyncManagers * reg::kSyncManagerStride;
 
 // Bits of register byte `a` each side may write (Section II). Registers
 // with side effects beyond storing are handled in after_register_write.
@@ -31,7 +34,7 @@ WriteMask write_mask(std::uint16_t a, const EscConfig& cfg) noexcept {
   constexpr WriteMask kEcat{0xFF, 0x00};
   constexpr WriteMask kPdi{0x00, 0xFF};
   constexpr WriteMask kBoth{0xFF, 0xFF};
-  if (a >= kFmmuBase && a < kSyncManagerBase) {
+  if (a >= kFmmuBase && a < kFmmuEnd) {
     const unsigned n = (a - kFmmuBase) / kFmmuStride;
     const unsigned off = (a - kFmmuBase) % kFmmuStride;
     if (n >= cfg.fmmu_count) return {};
@@ -44,7 +47,7 @@ WriteMask write_mask(std::uint16_t a, const EscConfig& cfg) noexcept {
       default: return off < fmmu_reg::kActivate ? kEcat : WriteMask{};
     }
   }
-  if (a >= kSyncManagerBase && a < kDcBase) {
+  if (a >= kSyncManagerBase && a < kSmEnd) {
     const unsigned n = (a - kSyncManagerBase) / kSyncManagerStride;
     const unsigned off = (a - kSyncManagerBase) % kSyncManagerStride;
     if (n >= cfg.sync_manager_count) return {};
@@ -146,11 +149,11 @@ std::uint8_t Esc::reg_read_byte(std::uint16_t a, Side side) noexcept {
       clear_al_event(bits::kAlEventAlControl);
     } else if (a == reg::kWatchdogStatusProcessData) {
       clear_al_event(bits::kAlEventWatchdog);
-    } else if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+    } else if (in(a, reg::kSyncManagerBase, kSmEnd)) {
       const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
       const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
-      if (off == reg::sm::kActivate) clear_al_event(bits::kAlEventSmActivation);
-      if (off == reg::sm::kStatus) clear_al_event(1u << (bits::kAlEventSmShift + n));
+      if (n < config_.sync_manager_count && off == reg::sm::kActivate) clear_al_event(bits::kAlEventSmActivation);
+      if (n < config_.sync_manager_count && off == reg::sm::kStatus) clear_al_event(1u << (bits::kAlEventSmShift + n));
     }
   } else {
     // ECAT reads that acknowledge: AL status (0x0210.3), DL status (0x0210.2), SM status.
@@ -158,7 +161,7 @@ std::uint8_t Esc::reg_read_byte(std::uint16_t a, Side side) noexcept {
       clear_ecat_event(bits::kEcatEventAlStatus);
     } else if (a == reg::kDlStatus) {
       clear_ecat_event(bits::kEcatEventDlStatus);
-    } else if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+    } else if (in(a, reg::kSyncManagerBase, kSmEnd)) {
       const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
       const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
       if (off == reg::sm::kStatus && n < bits::kEcatEventSmCount) {
@@ -218,7 +221,7 @@ bool Esc::reg_write_byte(std::uint16_t a, std::uint8_t value, Side side) noexcep
     return false;
   }
   // SM configuration bytes are writable only while the SM is disabled (Section II 0x0800).
-  if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+  if (in(a, reg::kSyncManagerBase, kSmEnd)) {
     const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
     const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
     const std::uint8_t activate = m[reg::sync_manager(n) + reg::sm::kActivate];
@@ -272,10 +275,10 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
   } else if (ecat && (a == reg::kWatchdogCounterProcessData || a == reg::kWatchdogCounterPdi)) {
     m[reg::kWatchdogCounterProcessData] = 0;
     m[reg::kWatchdogCounterPdi] = 0;
-  } else if (in(a, reg::kFmmuBase, reg::kSyncManagerBase)) {
+  } else if (in(a, reg::kFmmuBase, kFmmuEnd)) {
     const unsigned n = (a - reg::kFmmuBase) / reg::kFmmuStride;
-    fmmus_[n] = Fmmu::decode(m + reg::fmmu(n));
-  } else if (in(a, reg::kSyncManagerBase, reg::kDcBase)) {
+    if (n < config_.fmmu_count) fmmus_[n] = Fmmu::decode(m + reg::fmmu(n));
+  } else if (in(a, reg::kSyncManagerBase, kSmEnd)) {
     const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
     const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
     if (n < config_.sync_manager_count) {

@@ -206,3 +206,24 @@ TEST_F(RegTest, BadSiiChecksum) {
 
 }  // namespace
 }  // namespace ecat::esc::test
+
+namespace ecat::esc::test {
+namespace {
+
+// Regression (fuzz_frame crash-fee71d73): writes to the reserved blocks
+// 0x0700-0x07FF and 0x0880-0x08FF indexed past the FMMU/SM tables.
+TEST(RegisterRegression, ReservedFmmuAndSmBlocksAreInert) {
+  Line line(1);
+  auto r = transact(line.segment, Command::Bwr, device_address(0, 0x0600), Data(0x0300, 0xFF));
+  EXPECT_EQ(r.wkc, 1);
+  for (std::uint16_t a = 0x0700; a < 0x0900; a = static_cast<std::uint16_t>(a + 0x10)) {
+    if (a >= 0x0800 && a < 0x0880) continue;
+    EXPECT_EQ(line[0].memory()[a], 0) << std::hex << a;
+  }
+  Data back(0x0300);
+  line[0].read(0x0600, back);  // PDI reads of the same range have no side effects beyond the SMs
+  EXPECT_EQ(back[0x0290], 0);
+}
+
+}  // namespace
+}  // namespace ecat::esc::test
