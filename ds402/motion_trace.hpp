@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <istream>
 #include <ostream>
 #include <span>
 #include <string>
@@ -45,6 +46,11 @@ class MotionTrace {
   std::vector<TraceRow> rows_;
   std::size_t dropped_ = 0;
 };
+
+// Reads a CSV written by write_csv back (e.g. to plot it later). A wrong
+// header, a short row or a value that is not a number is an error naming the line.
+Expected<std::vector<TraceRow>, std::string> read_trace_csv(std::istream& is);
+Expected<std::vector<TraceRow>, std::string> read_trace_csv(const std::string& path);
 
 inline constexpr const char* kTraceCsvHeader =
     "time_s,mode,controlword,statusword,position_demand,position_actual,velocity_demand,velocity_actual,"

@@ -138,6 +138,39 @@ TEST(Demo, EnableHomingPpCspQuickStopFaultReset) {
   }
 }
 
+TEST(MotionTrace, CsvRoundTripAndBadInput) {
+  MotionTrace t(3);
+  DriveInputs in;
+  DriveOutputs out;
+  in.controlword = 0x001F;
+  out.statusword = 0x1237;
+  out.modes_of_operation_display = -2;
+  out.position_actual = -123456;
+  out.torque_actual = -321;
+  t.record(0.25, in, out);
+  std::stringstream ss;
+  t.write_csv(ss);
+  auto rows = read_trace_csv(ss);
+  ASSERT_TRUE(rows) << rows.error();
+  ASSERT_EQ(rows->size(), 1u);
+  EXPECT_DOUBLE_EQ((*rows)[0].time_s, 0.25);
+  EXPECT_EQ((*rows)[0].mode, -2);
+  EXPECT_EQ((*rows)[0].controlword, 0x001F);
+  EXPECT_EQ((*rows)[0].statusword, 0x1237);
+  EXPECT_EQ((*rows)[0].position_actual, -123456);
+  EXPECT_EQ((*rows)[0].torque_actual, -321);
+
+  std::stringstream bad_header("time,x\n");
+  EXPECT_EQ(read_trace_csv(bad_header).error(), "line 1: not a ds402 trace header");
+  std::stringstream short_row(std::string(kTraceCsvHeader) + "\n0,1,2\n");
+  EXPECT_EQ(read_trace_csv(short_row).error(), "line 2: expected 10 numeric fields");
+  std::stringstream junk(std::string(kTraceCsvHeader) + "\n0,1,2,3,4,5,6,7,8,x9\n");
+  EXPECT_FALSE(read_trace_csv(junk));
+  std::stringstream overflow(std::string(kTraceCsvHeader) + "\n0,1,2,3,4,5,6,7,99999,9\n");
+  EXPECT_FALSE(read_trace_csv(overflow));  // 6074h is 16 bits
+  EXPECT_FALSE(read_trace_csv(std::string("/nonexistent/trace.csv")));
+}
+
 TEST(SvgPlot, EmptyTraceStillGivesAnSvg) {
   const std::string svg = svg_plot({}, "empty");
   EXPECT_NE(svg.find("no data"), std::string::npos);
