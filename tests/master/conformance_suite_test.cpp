@@ -1,0 +1,76 @@
+// The conformance suite run in-process: clean against the generic servo, and
+// able to fail (a slave that accepts everything, the FakeEsc, fails the
+// forbidden-transition cases).
+#include "master/conformance/suite.hpp"
+
+#include <gtest/gtest.h>
+
+#include "in_process_bus.hpp"
+#include "master_fixture.hpp"
+
+namespace ecat::master::test {
+namespace {
+
+using conformance::Verdict;
+
+TEST(ConformanceSuite, GenericServoPassesEveryCase) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml")));
+  Master master(bus.transport, bus.clock);
+  conformance::SuiteOptions options;
+  options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
+  const auto& id = bus.chain()[0].device().identity;
+  options.identity = conformance::ExpectedIdentity{id.vendor_id, id.product_code, id.revision};
+  const auto reports = conformance::run_suite(master, options);
+  EXPECT_GT(reports.size(), 50u);
+  for (const auto& r : reports) {
+    EXPECT_NE(r.result.verdict, Verdict::Fail) << r.name << ": expected " << r.result.expected << ", seen "
+                                               << r.result.seen;
+    EXPECT_FALSE(r.clause.empty()) << r.name;
+  }
+  EXPECT_EQ(conformance::failures(reports), 0u);
+}
+
+TEST(ConformanceSuite, FilterSelectsCases) {
+  EXPECT_TRUE(conformance::matches_filter("esm.init_to_preop", ""));
+  EXPECT_TRUE(conformance::matches_filter("esm.init_to_preop", "init_to"));
+  EXPECT_TRUE(conformance::matches_filter("sdo.abort_value_range", "sdo.*range"));
+  EXPECT_TRUE(conformance::matches_filter("esm.op_to_init", "esm.??_to_init"));
+  EXPECT_FALSE(conformance::matches_filter("esm.op_to_init", "sdo.*"));
+  EXPECT_FALSE(conformance::matches_filter("esm.op_to_init", "mailbox"));
+}
+
+class PermissiveSlave : public MasterFixture {};
+
+// FakeEsc mirrors AL control into AL status with no checks: every forbidden
+// transition "succeeds", which the suite must report as failures.
+TEST_F(PermissiveSlave, ForbiddenTransitionsAreReportedAsFailures) {
+  conformance::SuiteOptions options;
+  options.filter = "esm.*_refused";
+  auto reports = conformance::run_suite(master, options);
+  ASSERT_EQ(reports.size(), 6u);
+  EXPECT_EQ(conformance::failures(reports), 6u);
+  EXPECT_EQ(reports[0].name, "esm.init_to_safeop_refused");
+  EXPECT_EQ(reports[0].result.expected, "Init+E 0x0011");
+  EXPECT_EQ(reports[0].result.seen, "SafeOp");
+  const std::string table = conformance::format_table(reports);
+  EXPECT_NE(table.find("esm.init_to_safeop_refused  FAIL    Init+E 0x0011"), std::string::npos) << table;
+  EXPECT_NE(table.find("6 tests, 6 failed, 0 skipped"), std::string::npos);
+  const std::string xml = conformance::junit_xml(reports, "suite<&>");
+  EXPECT_NE(xml.find("<testsuite name=\"suite&lt;&amp;&gt;\" tests=\"6\" failures=\"6\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<failure message=\"expected Init+E 0x0011, seen SafeOp\">"), std::string::npos);
+  EXPECT_NE(xml.find("name=\"clause\" value=\"ETG.1000.6 §6.4.1, Table 11"), std::string::npos);
+}
+
+TEST(ConformanceSuite, NoSlaveIsOneFailedScanCase) {
+  transport::InMemoryTransport empty([](Bytes) {});
+  ManualClock clock;
+  Master master(empty, clock);
+  auto reports = conformance::run_suite(master, {});
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].name, "scan");
+  EXPECT_EQ(reports[0].result.verdict, Verdict::Fail);
+}
+
+}  // namespace
+}  // namespace ecat::master::test

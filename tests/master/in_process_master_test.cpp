@@ -1,0 +1,103 @@
+// The master against the real in-process stack (esc::Esc + ESM + CoE behind
+// slave::Chain): scan, SII, station addresses, Init -> PreOp with mailbox SMs,
+// SDO traffic, process data up to Op.
+#include <gtest/gtest.h>
+
+#include "in_process_bus.hpp"
+#include "master/coe_client.hpp"
+
+namespace ecat::master::test {
+namespace {
+
+class InProcessMaster : public ::testing::Test {
+ protected:
+  InProcessBus bus;
+  Master master{bus.transport, bus.clock};
+};
+
+TEST_F(InProcessMaster, ScanThreeSlavesAssignsAddressesAndReadsSii) {
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 3));
+  auto n = master.scan();
+  ASSERT_TRUE(n.has_value()) << describe(n.error());
+  ASSERT_EQ(*n, 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const SlaveInfo& s = master.slave(i);
+    EXPECT_EQ(s.position, i);
+    EXPECT_EQ(s.station_address, 0x1001 + i);
+    EXPECT_TRUE(s.sii.checksum_ok);
+    EXPECT_EQ(s.sii.product_code, bus.chain()[i].device().identity.product_code);
+    EXPECT_EQ(s.sii.vendor_id, bus.chain()[i].device().identity.vendor_id);
+    EXPECT_TRUE(s.sii.has_coe());
+    EXPECT_TRUE(s.al.is(AlState::Init));
+    EXPECT_FALSE(s.al.error());
+    // The ESC register file holds the address the master wrote.
+    EXPECT_EQ(bus.chain()[i].esc().register_u16(0x0010), 0x1001 + i);
+  }
+}
+
+TEST_F(InProcessMaster, InitToPreOpNeedsTheMailboxSms) {
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml")));
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  // Without SM0/SM1 the slave refuses with 0x0016 (ETG.1000.6 Table 11).
+  auto refused = master.request_state(0, AlState::PreOp);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_TRUE(refused->error());
+  EXPECT_TRUE(refused->is(AlState::Init));
+  EXPECT_EQ(refused->code, 0x0016);
+  ASSERT_TRUE(master.acknowledge_error(0).has_value());
+  ASSERT_TRUE(master.configure_mailbox(0).has_value());
+  auto st = master.request_state(0, AlState::PreOp);
+  ASSERT_TRUE(st.has_value());
+  EXPECT_TRUE(st->is(AlState::PreOp));
+  EXPECT_FALSE(st->error());
+  EXPECT_EQ(st->code, 0);
+  // The SM registers the ESC holds are the SII's.
+  const auto& sii = master.slave(0).sii;
+  EXPECT_EQ(bus.chain()[0].esc().register_u16(0x0800), sii.rx_mailbox_offset);
+  EXPECT_EQ(bus.chain()[0].esc().register_u16(0x0802), sii.rx_mailbox_size);
+  EXPECT_EQ(bus.chain()[0].esc().register_u16(0x0808), sii.tx_mailbox_offset);
+}
+
+TEST_F(InProcessMaster, SdoTrafficAndProcessDataToOp) {
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml")));
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  ASSERT_TRUE(master.configure_mailbox(0).has_value());
+  ASSERT_TRUE(master.request_state(0, AlState::PreOp).has_value());
+  CoeClient coe(master, 0);
+  auto vendor = coe.upload_value(0x1018, 1);
+  ASSERT_TRUE(vendor.has_value());
+  EXPECT_EQ(*vendor, master.slave(0).sii.vendor_id);
+  auto product = coe.upload_value(0x1018, 2);
+  ASSERT_TRUE(product.has_value());
+  EXPECT_EQ(*product, master.slave(0).sii.product_code);
+  auto missing = coe.upload(0x5FFF, 0);
+  ASSERT_FALSE(missing.has_value());
+  EXPECT_EQ(missing.error().code, SdoAbortCode::ObjectNotFound);
+  auto list = coe.od_list();
+  ASSERT_TRUE(list.has_value());
+  EXPECT_GT(list->size(), 10u);
+  auto od = coe.object_description(0x1018);
+  ASSERT_TRUE(od.has_value());
+  EXPECT_EQ(od->max_subindex, 4);
+
+  ASSERT_TRUE(coe.read_pdo_sizes().has_value());
+  const auto& pd = master.slave(0).pd;
+  EXPECT_EQ(pd.output_bytes * 8u, master.slave(0).sii.default_pdo_bits(false, 2));
+  EXPECT_EQ(pd.input_bytes * 8u, master.slave(0).sii.default_pdo_bits(true, 3));
+  ASSERT_TRUE(master.configure_process_data().has_value());
+  EXPECT_EQ(master.expected_wkc(), 3);
+  auto safe = master.request_state(0, AlState::SafeOp);
+  ASSERT_TRUE(safe.has_value());
+  EXPECT_TRUE(safe->is(AlState::SafeOp)) << safe->raw << " code " << safe->code;
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(master.exchange_process_data().has_value());
+  auto op = master.request_state(0, AlState::Op);
+  ASSERT_TRUE(op.has_value());
+  EXPECT_TRUE(op->is(AlState::Op)) << op->raw << " code " << op->code;
+  auto r = master.exchange_process_data();
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->wkc, 3);
+  EXPECT_EQ(r->round_trip, InProcessBus::kFrameTime);
+}
+
+}  // namespace
+}  // namespace ecat::master::test
