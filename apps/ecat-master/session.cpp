@@ -1,0 +1,187 @@
+#include "apps/ecat-master/session.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "apps/ecat-master/cia402_motion.hpp"
+#include "apps/ecat-master/error_text.hpp"
+
+namespace ecat::app {
+namespace {
+
+constexpr unsigned kBitsPerByte = 8;
+// Cycles exchanged in SafeOp before Op is requested, so the slaves have seen
+// valid outputs (SM2 written, watchdog triggered) when they check SafeOp->Op.
+constexpr unsigned kSafeOpWarmupCycles = 10;
+constexpr unsigned kDcDriftIterations = 1000;
+constexpr std::uint16_t kSyncManagerOutputsParameter = 0x1C32;
+constexpr std::uint16_t kSyncManagerInputsParameter = 0x1C33;
+constexpr std::uint8_t kSyncModeSub = 1;
+constexpr std::uint16_t kSyncModeDcSync0 = 2;
+constexpr Nanoseconds kSync0StartDelay = std::chrono::milliseconds(20);
+
+const char* state_name(std::uint8_t s) {
+  switch (s) {
+    case 1: return "Init";
+    case 2: return "PreOp";
+    case 3: return "Boot";
+    case 4: return "SafeOp";
+    case 8: return "Op";
+    default: return "?";
+  }
+}
+
+Nanoseconds percentile(std::vector<Nanoseconds>& v, double p) {
+  if (v.empty()) return Nanoseconds{0};
+  const auto k = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+Expected<void, std::string> Session::configure_slave(std::size_t i) {
+  auto& s = master_.slave(i);
+  has_coe_[i] = s.sii.has_coe();
+  if (!s.sii.has_mailbox()) return {};
+  if (auto ok = master_.configure_mailbox(i); !ok) {
+    return fail(fmt::format("slave {}: mailbox set-up: {}", i + 1, error_text(ok.error())));
+  }
+  auto st = master_.request_state(i, master::AlState::PreOp);
+  if (!st) return fail(fmt::format("slave {}: PreOp: {}", i + 1, error_text(st.error())));
+  if (st->error()) return fail(fmt::format("slave {}: PreOp refused, AL status code 0x{:04X}", i + 1, st->code));
+  if (!has_coe_[i]) return {};
+  master::CoeClient coe(master_, i);
+  auto pdos = PdoLocator::read(coe);
+  if (!pdos) return fail(fmt::format("slave {}: {}", i + 1, pdos.error()));
+  pdos_[i] = std::move(*pdos);
+  auto bits = [](const std::vector<MappedObject>& side) {
+    std::uint32_t n = 0;
+    for (const auto& m : side) n += m.bits;
+    return n;
+  };
+  s.pd.output_bytes = static_cast<std::uint16_t>((bits(pdos_[i].outputs) + kBitsPerByte - 1) / kBitsPerByte);
+  s.pd.input_bytes = static_cast<std::uint16_t>((bits(pdos_[i].inputs) + kBitsPerByte - 1) / kBitsPerByte);
+  if (o_.dc) {
+    for (std::uint16_t obj : {kSyncManagerOutputsParameter, kSyncManagerInputsParameter}) {
+      if (auto ok = coe.download_value(obj, kSyncModeSub, kSyncModeDcSync0, 2); !ok) {
+        return fail(fmt::format("slave {}: {:04X}h:01 = DC Sync0: {}", i + 1, obj, error_text(ok.error())));
+      }
+    }
+  }
+  return {};
+}
+
+Expected<void, std::string> Session::bring_up() {
+  auto n = master_.scan();
+  if (!n) return fail(fmt::format("scan: {}", error_text(n.error())));
+  if (o_.expect_slaves != 0 && *n != o_.expect_slaves) {
+    return fail(fmt::format("scan found {} slave(s), expected {}", *n, o_.expect_slaves));
+  }
+  report_.slaves = *n;
+  pdos_.assign(*n, {});
+  has_coe_.assign(*n, false);
+  for (std::size_t i = 0; i < *n; ++i) {
+    const auto& s = master_.slave(i);
+    if (o_.verbose) {
+      std::printf("slave %zu: station 0x%04X vendor 0x%08X product 0x%08X rev 0x%08X \"%s\"\n", i + 1,
+                  s.station_address, s.sii.vendor_id, s.sii.product_code, s.sii.revision,
+                  s.sii.device_name().c_str());
+    }
+    if (auto ok = configure_slave(i); !ok) return ok;
+  }
+  if (auto ok = master_.configure_process_data(); !ok) {
+    return fail(fmt::format("process data set-up: {}", error_text(ok.error())));
+  }
+  if (o_.dc) {
+    auto dc = master_.configure_dc(clock_.now());
+    if (!dc) return fail(fmt::format("DC set-up: {}", error_text(dc.error())));
+    if (auto ok = master_.dc_static_drift_compensation(kDcDriftIterations); !ok) {
+      return fail(fmt::format("DC drift compensation: {}", error_text(ok.error())));
+    }
+    for (std::size_t i = 0; i < *n; ++i) {
+      if (master_.slave(i).esc.has_dc()) {
+        auto start = master_.configure_sync0(i, static_cast<std::uint32_t>(o_.period.count()), 0, kSync0StartDelay);
+        if (!start) return fail(fmt::format("slave {}: Sync0: {}", i + 1, error_text(start.error())));
+      }
+    }
+  }
+  for (auto target : {master::AlState::SafeOp, master::AlState::Op}) {
+    for (std::size_t i = 0; i < *n; ++i) {
+      auto st = master_.request_state(i, target);
+      if (!st) return fail(fmt::format("slave {}: {}: {}", i + 1, state_name(static_cast<std::uint8_t>(target)), error_text(st.error())));
+      if (st->error()) {
+        return fail(fmt::format("slave {}: {} refused, AL status code 0x{:04X}", i + 1,
+                                state_name(static_cast<std::uint8_t>(target)), st->code));
+      }
+      if (target == master::AlState::SafeOp && i + 1 == *n) {
+        // Valid outputs before Op (ETG.1000.6 §6.4.1: SafeOp->Op checks them).
+        for (unsigned c = 0; c < kSafeOpWarmupCycles; ++c) {
+          (void)master_.exchange_process_data();
+          wait_(clock_.now() + o_.period);
+        }
+      }
+    }
+  }
+  if (o_.verbose) std::printf("all %zu slave(s) in Op\n", *n);
+  return {};
+}
+
+void Session::drive_cycle(std::uint64_t cycle) {
+  for (auto& m : motions_) m.cycle(cycle, o_.cycles, o_.move_distance);
+}
+
+Expected<SessionReport, std::string> Session::run() {
+  std::vector<Nanoseconds> rtts;
+  rtts.reserve(o_.cycles);
+  motions_.clear();
+  std::vector<std::size_t> drive_slave;
+  for (std::size_t i = 0; i < report_.slaves; ++i) {
+    Cia402Motion m(master_, i, pdos_[i]);
+    if (has_coe_[i] && m.usable()) {
+      motions_.push_back(m);
+      drive_slave.push_back(i);
+    }
+  }
+  std::vector<std::int32_t> start_positions(motions_.size(), 0);
+  const Nanoseconds start = clock_.now();
+  for (std::uint64_t c = 0; c < o_.cycles; ++c) {
+    const Nanoseconds scheduled = start + o_.period * static_cast<std::int64_t>(c);
+    wait_(scheduled);
+    report_.jitter_max = std::max(report_.jitter_max, clock_.now() - scheduled);
+    if (o_.move) drive_cycle(c);
+    auto r = master_.exchange_process_data();
+    ++report_.cycles;
+    if (!r) {
+      ++report_.lost_frames;
+      continue;
+    }
+    if (!r->ok()) ++report_.wkc_errors;
+    rtts.push_back(r->round_trip);
+    if (c == 0) {
+      for (std::size_t k = 0; k < motions_.size(); ++k) start_positions[k] = motions_[k].actual_position();
+    }
+  }
+  report_.rtt_median = percentile(rtts, 0.5);
+  report_.rtt_p99 = percentile(rtts, 0.99);
+  report_.rtt_max = rtts.empty() ? Nanoseconds{0} : *std::max_element(rtts.begin(), rtts.end());
+  if (o_.move) {
+    if (motions_.empty()) report_.moved_ok = false;
+    for (std::size_t k = 0; k < motions_.size(); ++k) {
+      const Cia402Motion& m = motions_[k];
+      const std::size_t i = drive_slave[k];
+      const std::int32_t moved = m.actual_position() - start_positions[k];
+      report_.final_positions.push_back(m.actual_position());
+      if (!m.operation_enabled() || moved < o_.move_distance / 2) report_.moved_ok = false;
+      if (o_.verbose) {
+        std::printf("slave %zu: statusword 0x%04X, actual position %d (moved %d increments)\n", i + 1,
+                    m.statusword(), m.actual_position(), moved);
+      }
+    }
+  }
+  return report_;
+}
+
+}  // namespace ecat::app

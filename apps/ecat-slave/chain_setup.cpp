@@ -1,0 +1,41 @@
+#include "apps/ecat-slave/chain_setup.hpp"
+
+#include <fmt/format.h>
+
+namespace ecat::app {
+
+Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgramOptions& options,
+                                                               std::vector<od::DeviceDescription> devices,
+                                                               const Clock& clock) {
+  auto chain = std::make_unique<slave::Chain>(clock);
+  for (std::size_t i = 0; i < devices.size(); ++i) {
+    slave::SlaveOptions so;
+    so.state_dir = options.state_dir;
+    so.name = fmt::format("slave-{}", i + 1);
+    if (i < options.ppm.size()) so.clock_ppm = options.ppm[i];
+    if (auto ok = chain->add(std::move(devices[i]), so); !ok) {
+      return fail(fmt::format("slave {}: {}", i + 1, ok.error()));
+    }
+  }
+  if (!options.trace_vcd.empty()) {
+    if (auto ok = chain->open_trace(options.trace_vcd); !ok) return fail(ok.error());
+  }
+  return chain;
+}
+
+std::string format_stats(const slave::Chain& chain) {
+  const slave::ChainStats& s = chain.stats();
+  std::string out = fmt::format(
+      "frames {} returned {} malformed {} lost {} datagrams {} wkc-sum {}\n", s.frames_received,
+      s.frames_returned, s.frames_malformed, s.frames_lost, s.datagrams, s.wkc_total);
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const slave::SlaveStatus st = chain[i].status();
+    out += fmt::format("  slave {:>3} {:<24} {:<7}{} AL code 0x{:04X} ({}) cycles {} watchdog {} sync-errors {}\n",
+                       i + 1, chain[i].device().identity.name, esc::describe(st.state),
+                       st.error ? "+ERR" : "    ", static_cast<unsigned>(st.code), esc::describe(st.code),
+                       st.application_cycles, st.watchdog_expiries, st.sync_errors);
+  }
+  return out;
+}
+
+}  // namespace ecat::app

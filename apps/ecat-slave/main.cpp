@@ -1,0 +1,118 @@
+// ecat-slave: a virtual EtherCAT slave, or a chain of them, on a network
+// interface (raw Ethernet), over UDP (ETG.1000.4 EtherCAT-in-UDP), or
+// replaying a master's pcap capture. See README.md and --help.
+#include <cstdio>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "apps/ecat-slave/device_list.hpp"
+#include "apps/ecat-slave/options.hpp"
+#include "apps/ecat-slave/runners.hpp"
+#include "esi/esi_reader.hpp"
+
+namespace {
+
+constexpr int kExitUsage = 2;
+constexpr int kExitFailure = 1;
+
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = text.find(',', start);
+    const std::size_t end = comma == std::string::npos ? text.size() : comma;
+    if (end > start) out.push_back(text.substr(start, end - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using ecat::app::SlaveProgramOptions;
+  SlaveProgramOptions o;
+  std::string chain, product_code, revision, ppm;
+
+  CLI::App cli{
+      "ecat-slave: virtual EtherCAT CoE slaves (a software ESC with mailbox, CoE and a CiA402 drive).\n"
+      "With no device option it runs the embedded generic CiA402 servo."};
+  cli.add_option("--device", o.device_files, "Device description (our XML format); repeat for a chain")
+      ->check(CLI::ExistingFile);
+  cli.add_option("--esi", o.esi_files, "Vendor ESI file to emulate (first device, or --product-code/--revision)")
+      ->check(CLI::ExistingFile);
+  cli.add_option("--product-code", product_code, "Device of the ESI to emulate (#x hex or decimal)");
+  cli.add_option("--revision", revision, "Revision of the ESI device to emulate (#x hex or decimal)");
+  cli.add_option("--chain", chain, "Comma-separated device files, in line order (port 0 -> port 1)");
+  cli.add_option("--count", o.count, "Number of slaves: the listed devices, then copies of the last")
+      ->check(CLI::Range(1u, 4096u));
+  auto* iface = cli.add_option("--iface", o.iface, "Network interface to answer on (raw Ethernet, needs CAP_NET_RAW)");
+  auto* pin = cli.add_option("--pcap-in", o.pcap_in, "Replay the master frames of this capture")->check(CLI::ExistingFile);
+  auto* pout = cli.add_option("--pcap-out", o.pcap_out, "Write the frames as the segment returns them");
+  auto* udp = cli.add_option("--udp", o.udp, "Serve EtherCAT-in-UDP on [ADDR:]PORT (default port 34980 = 0x88A4)");
+  cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
+  cli.add_option("--stats", o.stats_seconds, "Print statistics every SECONDS (SIGUSR1 prints them once)")
+      ->check(CLI::NonNegativeNumber);
+  cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
+      ->check(CLI::Range(1, 99));
+  cli.add_option("--cpu", o.cpu, "Pin the process to this CPU")->check(CLI::NonNegativeNumber);
+  cli.add_flag("--busy-poll", o.busy_poll, "Poll the socket without sleeping (lowest latency, one core busy)");
+  cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
+  cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
+  cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");
+  cli.add_flag("--keep-privileges", o.keep_privileges, "Do not drop root after opening the raw socket");
+  cli.add_flag("-q,--quiet", o.quiet, "Print only errors");
+  pin->needs(pout);
+  pout->needs(pin);
+  iface->excludes(pin)->excludes(udp);
+  udp->excludes(pin);
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "ecat-slave: %s (see --help)\n", e.what());
+    return kExitUsage;
+  }
+  if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty()) {
+    std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out or --udp (see --help)\n");
+    return kExitUsage;
+  }
+  for (auto& f : split_commas(chain)) o.device_files.push_back(f);
+  if (!product_code.empty()) {
+    o.product_code = ecat::esi::parse_esi_number(product_code);
+    if (!o.product_code) {
+      std::fprintf(stderr, "ecat-slave: --product-code: not a number: %s\n", product_code.c_str());
+      return kExitUsage;
+    }
+  }
+  if (!revision.empty()) {
+    o.revision = ecat::esi::parse_esi_number(revision);
+    if (!o.revision) {
+      std::fprintf(stderr, "ecat-slave: --revision: not a number: %s\n", revision.c_str());
+      return kExitUsage;
+    }
+  }
+  for (auto& p : split_commas(ppm)) {
+    try {
+      o.ppm.push_back(std::stod(p));
+    } catch (const std::exception&) {
+      std::fprintf(stderr, "ecat-slave: --ppm: not a number: %s\n", p.c_str());
+      return kExitUsage;
+    }
+  }
+
+  auto devices = ecat::app::load_devices(o);
+  if (!devices) {
+    std::fprintf(stderr, "ecat-slave: %s\n", devices.error().c_str());
+    return kExitFailure;
+  }
+  if (!o.pcap_in.empty()) return ecat::app::run_pcap(o, std::move(*devices));
+  return ecat::app::run_live(o, std::move(*devices));
+}

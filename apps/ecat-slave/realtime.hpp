@@ -1,0 +1,16 @@
+// Real-time set-up for live runs: SCHED_FIFO priority, locked memory, CPU
+// affinity. Each returns a message on failure; the caller decides whether
+// that is fatal (it is when the user asked for it explicitly).
+#pragma once
+
+#include <string>
+
+#include "common/expected.hpp"
+
+namespace ecat::app {
+
+Expected<void, std::string> set_realtime_priority(int priority);
+Expected<void, std::string> lock_memory();
+Expected<void, std::string> pin_to_cpu(int cpu);
+
+}  // namespace ecat::app

@@ -1,0 +1,136 @@
+#include <csignal>
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "apps/ecat-slave/chain_setup.hpp"
+#include "apps/ecat-slave/realtime.hpp"
+#include "apps/ecat-slave/runners.hpp"
+#include "common/frame.hpp"
+#include "transport/raw_socket_transport.hpp"
+#include "transport/udp_transport.hpp"
+
+namespace ecat::app {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+volatile std::sig_atomic_t g_print_stats = 0;
+
+void on_stop(int) { g_stop = 1; }
+void on_stats(int) { g_print_stats = 1; }
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  sa.sa_handler = on_stats;
+  sigaction(SIGUSR1, &sa, nullptr);
+}
+
+// Longest wait for a frame, so signals and timers are seen promptly even
+// when ppoll is not interrupted.
+constexpr Nanoseconds kMaxWait = std::chrono::milliseconds(50);
+
+Expected<std::unique_ptr<transport::Transport>, std::string> open_medium(const SlaveProgramOptions& o) {
+  if (!o.iface.empty()) {
+    auto t = transport::RawSocketTransport::open(o.iface);
+    if (!t) {
+      return fail(fmt::format("cannot open raw socket on {}: {}", o.iface, transport::describe(t.error())));
+    }
+    auto owned = std::make_unique<transport::RawSocketTransport>(std::move(*t));
+    if (!o.keep_privileges) {
+      if (auto d = transport::drop_privileges(); !d) {
+        return fail(fmt::format("cannot drop privileges: {}", transport::describe(d.error())));
+      }
+    }
+    return owned;
+  }
+  std::string endpoint = o.udp;
+  // "PORT" alone binds every address.
+  if (endpoint.find(':') == std::string::npos &&
+      endpoint.find_first_not_of("0123456789") == std::string::npos) {
+    endpoint = "0.0.0.0:" + endpoint;
+  }
+  auto ep = transport::parse_udp_endpoint(endpoint);
+  if (!ep) return fail(fmt::format("--udp {}: {}", o.udp, transport::describe(ep.error())));
+  auto t = transport::UdpTransport::bind(*ep);
+  if (!t) return fail(fmt::format("cannot bind UDP {}: {}", o.udp, transport::describe(t.error())));
+  return std::unique_ptr<transport::Transport>(std::make_unique<transport::UdpTransport>(std::move(*t)));
+}
+
+}  // namespace
+
+int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> devices) {
+  SteadyClock clock;
+  auto chain = make_chain(o, std::move(devices), clock);
+  if (!chain) {
+    std::fprintf(stderr, "ecat-slave: %s\n", chain.error().c_str());
+    return 1;
+  }
+  if (o.cpu >= 0) {
+    if (auto ok = pin_to_cpu(o.cpu); !ok) {
+      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+      return 1;
+    }
+  }
+  if (o.rt_priority > 0) {
+    for (auto ok : {set_realtime_priority(o.rt_priority), lock_memory()}) {
+      if (!ok) {
+        std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+        return 1;
+      }
+    }
+  }
+  auto medium = open_medium(o);
+  if (!medium) {
+    std::fprintf(stderr, "ecat-slave: %s\n", medium.error().c_str());
+    return 1;
+  }
+  install_signal_handlers();
+  if (!o.quiet) {
+    std::fprintf(stderr, "ecat-slave: %zu slave(s) on %s\n", (*chain)->size(),
+                 o.iface.empty() ? ("udp " + o.udp).c_str() : o.iface.c_str());
+  }
+
+  slave::Chain& line = **chain;
+  transport::Transport& t = **medium;
+  std::array<std::uint8_t, kMaxEthernetPayload + kEthernetHeaderSize + kVlanTagSize> buffer{};
+  const Nanoseconds stats_period{static_cast<std::int64_t>(o.stats_seconds * 1e9)};
+  Nanoseconds next_stats = clock.now() + stats_period;
+
+  while (!g_stop) {
+    Nanoseconds now = clock.now();
+    Nanoseconds wait = kMaxWait;
+    if (auto deadline = line.poll(now)) wait = std::clamp(*deadline - now, Nanoseconds{0}, kMaxWait);
+    if (o.busy_poll) wait = Nanoseconds{0};
+    auto n = t.receive(buffer, wait);
+    if (n) {
+      std::span<std::uint8_t> frame(buffer.data(), *n);
+      if (line.process_frame(frame, clock.now())) {
+        if (auto s = t.send(frame); !s && !o.quiet) {
+          std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
+        }
+      }
+    } else if (n.error() != transport::TransportError::Timeout &&
+               n.error() != transport::TransportError::BufferTooSmall) {
+      std::fprintf(stderr, "ecat-slave: receive failed: %s\n", std::string(transport::describe(n.error())).c_str());
+      break;
+    }
+    if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
+      g_print_stats = 0;
+      next_stats = clock.now() + stats_period;
+      std::fputs(format_stats(line).c_str(), stderr);
+    }
+  }
+  line.shutdown();
+  if (!o.plot_svg.empty()) {
+    if (auto ok = line.write_plot(o.plot_svg); !ok) std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+  }
+  if (!o.quiet) std::fputs(format_stats(line).c_str(), stderr);
+  return 0;
+}
+
+}  // namespace ecat::app

@@ -1,0 +1,24 @@
+// The application a slave runs in its cycle, between reading the outputs
+// from SM2 into the objects and writing the inputs to SM3 (ETG.1000.6
+// §5.6.7.4.3). A CiA402 drive is one; a device with no drive has none.
+#pragma once
+
+#include <string>
+
+#include "common/clock.hpp"
+#include "esc/al_status_code.hpp"
+
+namespace ecat::slave {
+
+class Application {
+ public:
+  virtual ~Application() = default;
+  // One cycle: `dt` since the previous one; `outputs_valid` is true in Op.
+  virtual void cycle(Nanoseconds dt, bool outputs_valid) noexcept = 0;
+  // The ESM changed state (e.g. leaving Op: outputs are no longer valid).
+  virtual void on_state(esc::AlState state) noexcept { (void)state; }
+  // Motion trace / plot, for applications that have one.
+  virtual bool write_plot(const std::string& path) const { (void)path; return false; }
+};
+
+}  // namespace ecat::slave

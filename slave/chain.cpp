@@ -1,0 +1,72 @@
+#include "slave/chain.hpp"
+
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "common/frame_parser.hpp"
+#include "slave/firmware.hpp"
+
+namespace ecat::slave {
+
+Expected<void, std::string> Chain::add(od::DeviceDescription device, const SlaveOptions& options) {
+  auto s = VirtualSlave::create(std::move(device), clock_, options);
+  if (!s) return fail(s.error());
+  segment_.add((*s)->esc());
+  slaves_.push_back(std::move(*s));
+  return {};
+}
+
+bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+  ++stats_.frames_received;
+  const bool returned = segment_.process_frame(frame, now);
+  if (returned) {
+    ++stats_.frames_returned;
+    count_returned(frame);
+  } else if (!parse_frame(frame)) {
+    ++stats_.frames_malformed;  // rare path: parse again only to tell why
+  } else {
+    ++stats_.frames_lost;
+  }
+  // The firmware of every slave reacts to what the frame left behind, as its
+  // interrupt handler would within microseconds.
+  for (auto& s : slaves_) (void)s->poll(now);
+  return returned;
+}
+
+void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
+  // A returned frame was valid when it entered the line, so it parses.
+  std::span<std::uint8_t> mutable_view(const_cast<std::uint8_t*>(frame.data()), frame.size());
+  auto parsed = parse_frame(mutable_view);
+  if (!parsed) return;
+  stats_.datagrams += parsed->size();
+  for (std::size_t i = 0; i < parsed->size(); ++i) stats_.wkc_total += (*parsed)[i].wkc();
+}
+
+std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
+  std::optional<Nanoseconds> next;
+  for (auto& s : slaves_) {
+    const auto t = s->poll(now);
+    if (t && (!next || *t < *next)) next = t;
+  }
+  return next;
+}
+
+Expected<void, std::string> Chain::open_trace(const std::string& path) {
+  (void)path;
+  return fail(std::string("--trace is not wired yet"));
+}
+
+Expected<void, std::string> Chain::write_plot(const std::string& path) const {
+  for (const auto& s : slaves_) {
+    Application* app = s->firmware().application();
+    if (app && app->write_plot(path)) return {};
+  }
+  return fail(fmt::format("{}: no drive in the chain has a motion trace", path));
+}
+
+void Chain::shutdown() noexcept {
+  for (auto& s : slaves_) s->shutdown();
+}
+
+}  // namespace ecat::slave

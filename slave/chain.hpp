@@ -1,0 +1,59 @@
+// A line of virtual slaves in one process, wired port 0 -> port 1 as real
+// slaves are (esc::Segment), with the firmware of each run after every frame
+// that passed it. This is what ecat-slave serves on a wire and what tests
+// and the demo drive in-process.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "common/clock.hpp"
+#include "common/expected.hpp"
+#include "esc/segment.hpp"
+#include "slave/slave_stats.hpp"
+#include "slave/virtual_slave.hpp"
+
+namespace ecat::slave {
+
+class Chain {
+ public:
+  explicit Chain(const Clock& clock) : clock_(clock) {}
+  Chain(const Chain&) = delete;
+  Chain& operator=(const Chain&) = delete;
+
+  // Appends a slave at the end of the line (set-up only).
+  Expected<void, std::string> add(od::DeviceDescription device, const SlaveOptions& options);
+
+  // Carries `frame` (a whole Ethernet frame) through the line at `now`, in
+  // place, then lets each slave's firmware react. Returns true when the frame
+  // comes back to the master (send it), false when it is malformed or lost.
+  bool process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept;
+
+  // Timers and firmware of every slave; returns the earliest next deadline.
+  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+
+  std::size_t size() const noexcept { return slaves_.size(); }
+  VirtualSlave& operator[](std::size_t i) noexcept { return *slaves_[i]; }
+  const VirtualSlave& operator[](std::size_t i) const noexcept { return *slaves_[i]; }
+  esc::Segment& segment() noexcept { return segment_; }
+  const ChainStats& stats() const noexcept { return stats_; }
+
+  // VCD trace of every slave's SYNC pulses, SM events and ESM state.
+  Expected<void, std::string> open_trace(const std::string& path);
+  // SVG plot of the first drive's motion trace.
+  Expected<void, std::string> write_plot(const std::string& path) const;
+  void shutdown() noexcept;
+
+ private:
+  void count_returned(std::span<const std::uint8_t> frame) noexcept;
+
+  const Clock& clock_;
+  std::vector<std::unique_ptr<VirtualSlave>> slaves_;
+  esc::Segment segment_;
+  ChainStats stats_;
+};
+
+}  // namespace ecat::slave

@@ -1,0 +1,51 @@
+#include "slave/esc_setup.hpp"
+
+#include "esi/sii_writer.hpp"
+
+namespace ecat::slave {
+namespace {
+
+const od::SyncManagerConfig* find_sm(const od::DeviceDescription& device, od::SmType type) {
+  for (const auto& sm : device.sync_managers) {
+    if (sm.type == type) return &sm;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription& device) {
+  auto sii = esi::write_sii(device);
+  if (!sii) return fail(sii.error());
+
+  const od::EscProperties& p = device.esc;
+  esc::EscConfig c;
+  c.type = p.esc_type;
+  c.revision = p.revision;
+  c.build = p.build;
+  c.fmmu_count = p.fmmu_count;
+  c.sync_manager_count = p.sm_count;
+  c.process_ram_size = p.process_ram_bytes;
+  c.dc = p.dc_supported;
+  c.dc_64bit = p.dc_supported && p.dc_64bit;
+  c.lrw = !p.no_lrw;
+  c.read_write_commands = !p.no_read_write;
+  c.sii = std::move(*sii);
+  return c;
+}
+
+esc::EsmConfig esm_config_for(const od::DeviceDescription& device) {
+  esc::EsmConfig c;
+  const auto* out = find_sm(device, od::SmType::MailboxOut);
+  const auto* in = find_sm(device, od::SmType::MailboxIn);
+  c.has_mailbox = out != nullptr && in != nullptr;
+  if (out) c.mailbox_out = {out->start_address, out->default_size, out->control};
+  if (in) c.mailbox_in = {in->start_address, in->default_size, in->control};
+  c.bootstrap_supported = device.bootstrap_supported;
+  if (const auto* o = find_sm(device, od::SmType::Outputs)) c.outputs = {o->start_address, o->control};
+  if (const auto* i = find_sm(device, od::SmType::Inputs)) c.inputs = {i->start_address, i->control};
+  c.device_id = device.esc.configured_station_alias;
+  return c;
+}
+
+}  // namespace ecat::slave

@@ -1,0 +1,25 @@
+// From a device description to the configuration of the emulated silicon and
+// of the state machine: the one place where od:: facts become esc:: facts, so
+// the ESC, the ESM, the SII image and the ESI cannot disagree.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/expected.hpp"
+#include "esc/esc_config.hpp"
+#include "esc/esm_config.hpp"
+#include "od/device.hpp"
+
+namespace ecat::slave {
+
+// The ESC as the device file describes it, with its SII image made by
+// esi::write_sii from the same description.
+Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription& device);
+
+// What the ESM checks at Init->PreOp (mailbox SMs) and PreOp->SafeOp (SM2/SM3
+// start and control byte), from the device's sync-manager layout.
+esc::EsmConfig esm_config_for(const od::DeviceDescription& device);
+
+}  // namespace ecat::slave

@@ -1,0 +1,26 @@
+// How one virtual slave is set up beyond its device description.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+
+#include "common/clock.hpp"
+
+namespace ecat::slave {
+
+struct SlaveOptions {
+  // Where stored parameters (1010h) and FoE files live; empty: nothing is
+  // persisted (parameters are still kept for the life of the process).
+  std::filesystem::path state_dir;
+  // Name of this slave's files inside state_dir ("slave-1"); chains number them.
+  std::string name = "slave";
+  // Oscillator error of the DC local clock and its value at time 0.
+  double clock_ppm = 0.0;
+  std::uint64_t clock_start = 0;
+  // Application cycle in free run (1C32h sync mode 0) when the device file
+  // gives no cycle time.
+  Nanoseconds free_run_cycle = std::chrono::milliseconds(1);
+};
+
+}  // namespace ecat::slave

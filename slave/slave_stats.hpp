@@ -1,0 +1,28 @@
+// Counters that ecat-slave prints on SIGUSR1 / --stats.
+#pragma once
+
+#include <cstdint>
+
+#include "esc/al_status_code.hpp"
+
+namespace ecat::slave {
+
+struct SlaveStatus {
+  esc::AlState state = esc::AlState::Init;
+  bool error = false;
+  esc::AlStatusCode code = esc::AlStatusCode::NoError;
+  std::uint64_t application_cycles = 0;
+  std::uint64_t watchdog_expiries = 0;
+  std::uint32_t sync_errors = 0;  // 1C32h:0Bh SM-event-missed counter
+};
+
+struct ChainStats {
+  std::uint64_t frames_received = 0;   // handed to process_frame
+  std::uint64_t frames_returned = 0;   // processed and sent back
+  std::uint64_t frames_malformed = 0;  // dropped as malformed (counted in 0x0300)
+  std::uint64_t frames_lost = 0;       // destroyed in the line (circulating, open port)
+  std::uint64_t datagrams = 0;
+  std::uint64_t wkc_total = 0;         // sum of returned WKCs
+};
+
+}  // namespace ecat::slave

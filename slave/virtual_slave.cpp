@@ -1,0 +1,34 @@
+#include "slave/virtual_slave.hpp"
+
+#include "slave/esc_setup.hpp"
+#include "slave/firmware.hpp"
+
+namespace ecat::slave {
+
+Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(od::DeviceDescription device,
+                                                                         const Clock& clock,
+                                                                         const SlaveOptions& options) {
+  std::unique_ptr<VirtualSlave> s(new VirtualSlave());
+  s->device_ = std::make_unique<od::DeviceDescription>(std::move(device));
+  auto config = esc_config_for(*s->device_);
+  if (!config) return fail(config.error());
+  s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);
+  s->esc_->dc().set_clock(options.clock_ppm, options.clock_start);
+  s->firmware_ = std::make_unique<Firmware>(*s->esc_, *s->device_, options);
+  return s;
+}
+
+VirtualSlave::~VirtualSlave() = default;
+
+std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
+  std::optional<Nanoseconds> next = esc_->poll(now);
+  const std::optional<Nanoseconds> fw = firmware_->poll(now);
+  if (fw && (!next || *fw < *next)) next = fw;
+  return next;
+}
+
+SlaveStatus VirtualSlave::status() const noexcept { return firmware_->status(); }
+
+void VirtualSlave::shutdown() noexcept {}
+
+}  // namespace ecat::slave

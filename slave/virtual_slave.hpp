@@ -1,0 +1,57 @@
+// One virtual EtherCAT slave: the emulated ESC (silicon) and the firmware
+// above its PDI - the EtherCAT state machine, the mailbox with CoE, and, for
+// a CiA402 device, the drive with its simulated motor. Built from one device
+// description, which it owns, so the dictionary it serves is the one the
+// ESI and SII were made from (STYLE lesson 2: no globals, one object each).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "common/clock.hpp"
+#include "common/expected.hpp"
+#include "esc/esc.hpp"
+#include "od/device.hpp"
+#include "slave/slave_options.hpp"
+#include "slave/slave_stats.hpp"
+
+namespace ecat::slave {
+
+class Firmware;
+
+class VirtualSlave {
+ public:
+  // Fails with a message when the description cannot be served (e.g. its
+  // SII image does not fit the EEPROM, or the parameter file is unusable).
+  static Expected<std::unique_ptr<VirtualSlave>, std::string> create(od::DeviceDescription device,
+                                                                     const Clock& clock,
+                                                                     const SlaveOptions& options);
+  ~VirtualSlave();
+  VirtualSlave(const VirtualSlave&) = delete;
+  VirtualSlave& operator=(const VirtualSlave&) = delete;
+
+  esc::Esc& esc() noexcept { return *esc_; }
+  const od::DeviceDescription& device() const noexcept { return *device_; }
+  Firmware& firmware() noexcept { return *firmware_; }
+
+  // Runs the firmware (ESM, mailbox, process data, drive cycle) up to `now`.
+  // Called after every frame that reached this slave and at the deadline it
+  // returns. Returns when it next needs to run.
+  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+
+  SlaveStatus status() const noexcept;
+
+  // Clean shutdown: nothing is lost (stored parameters are already on disk;
+  // this flushes traces).
+  void shutdown() noexcept;
+
+ private:
+  VirtualSlave() = default;
+
+  std::unique_ptr<od::DeviceDescription> device_;
+  std::unique_ptr<esc::Esc> esc_;
+  std::unique_ptr<Firmware> firmware_;
+};
+
+}  // namespace ecat::slave
