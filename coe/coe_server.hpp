@@ -3,7 +3,10 @@
 // CoE (SDO, SDO information) and FoE services, emergency, PDO configuration,
 // process-data copy, store/restore, and the ESM hooks. See docs/coe.md.
 //
-//   coe::CoeServer coe(esc, device, {.parameter_file = "slave1.par", .foe_dir = "foe1"});
+//   coe::CoeOptions options;
+//   options.parameter_file = "slave1.par";
+//   options.foe_dir = "foe1";
+//   coe::CoeServer coe(esc, device, options);
 //   esm.add_hooks(coe.esm_hooks());
 //   for (;;) {               // one application cycle
 //     esm.poll();            // first: it consumes the SM-change event

@@ -22,7 +22,7 @@ struct PdoItem {
 
 class ProcessDataImage {
  public:
-  explicit ProcessDataImage(std::size_t capacity = 0) { items_.reserve(capacity); capacity_ = capacity; }
+  explicit ProcessDataImage(std::size_t capacity = 0) : capacity_(capacity) { items_.reserve(capacity); }
 
   void clear() noexcept {
     items_.clear();
