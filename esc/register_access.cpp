@@ -1,111 +1,17 @@
-// Register space 0x0000-0x0FFF: which bits each side may write and the side
-// effects of reads and writes (Beckhoff ESC datasheet Section II, per-register
-// "ECAT"/"PDI" access columns; shared/spec/esc-registers.md §3-§4, §11).
+// Register space 0x0000-0x0FFF: reads and writes from either side with their
+// side effects (Beckhoff ESC datasheet Section II; shared/spec/esc-registers.md
+// §4, §11). The per-side write masks are in esc/register_masks.cpp.
 #include <algorithm>
 
 #include "esc/esc.hpp"
+#include "esc/register_masks.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::esc {
 
+using namespace reg_layout;
+
 namespace {
-
-struct WriteMask {
-  std::uint8_t ecat = 0;
-  std::uint8_t pdi = 0;
-};
-
-constexpr std::uint16_t kMiiControl = 0x0510;
-constexpr std::uint16_t kMiiPhyAddress = 0x0512;
-constexpr std::uint16_t kMiiEcatAccess = 0x0516;
-constexpr std::uint16_t kMiiPdiAccess = 0x0517;
-constexpr std::uint16_t kMiiEnd = 0x0518;
-constexpr std::uint8_t kLedOverrideWritable = 0x1F;
-constexpr std::uint8_t kSmControlWritable = 0x7F;
-constexpr std::uint8_t kFmmuTypeWritable = 0x03;
-// The FMMU and SM blocks (0x0700-0x07FF and 0x0880-0x08FF are reserved).
-constexpr std::uint16_t kFmmuEnd = reg::kFmmuBase + kMaxFmmus * reg::kFmmuStride;
-constexpr std::uint16_t kSmEnd = reg::kSyncManagerBase + kMaxSyncManagers * reg::kSyncManagerStride;
-
-// Bits of register byte `a` each side may write (Section II). Registers
-// with side effects beyond storing are handled in after_register_write.
-WriteMask write_mask(std::uint16_t a, const EscConfig& cfg) noexcept {
-  using namespace reg;
-  constexpr WriteMask kEcat{0xFF, 0x00};
-  constexpr WriteMask kPdi{0x00, 0xFF};
-  constexpr WriteMask kBoth{0xFF, 0xFF};
-  if (a >= kFmmuBase && a < kFmmuEnd) {
-    const unsigned n = (a - kFmmuBase) / kFmmuStride;
-    const unsigned off = (a - kFmmuBase) % kFmmuStride;
-    if (n >= cfg.fmmu_count) return {};
-    switch (off) {
-      case fmmu_reg::kLogicalStartBit:
-      case fmmu_reg::kLogicalStopBit:
-      case fmmu_reg::kPhysicalStartBit: return {fmmu_reg::kBitMask, 0};
-      case fmmu_reg::kType: return {kFmmuTypeWritable, 0};
-      case fmmu_reg::kActivate: return {fmmu_reg::kActivateEnable, 0};
-      default: return off < fmmu_reg::kActivate ? kEcat : WriteMask{};
-    }
-  }
-  if (a >= kSyncManagerBase && a < kSmEnd) {
-    const unsigned n = (a - kSyncManagerBase) / kSyncManagerStride;
-    const unsigned off = (a - kSyncManagerBase) % kSyncManagerStride;
-    if (n >= cfg.sync_manager_count) return {};
-    switch (off) {
-      case sm::kControl: return {kSmControlWritable, 0};
-      case sm::kStatus: return {};
-      case sm::kActivate: return {sm_bits::kActivateWritable, 0};
-      case sm::kPdiControl: return {0, sm_bits::kPdiControlWritable};
-      default: return kEcat;
-    }
-  }
-  switch (a) {
-    case kConfiguredStationAddress:
-    case kConfiguredStationAddress + 1: return kEcat;
-    case kConfiguredStationAlias:
-    case kConfiguredStationAlias + 1: return kPdi;
-    case kRegisterWriteEnable:
-    case kRegisterWriteProtection:
-    case kEscWriteEnable:
-    case kEscWriteProtection: return {bits::kWriteEnable, 0};
-    case kEscResetEcat: return kEcat;
-    case kEscResetPdi: return kPdi;
-    case kDlControl: return {0x03, 0};
-    case kDlControl + 1: return kEcat;
-    case kDlControl + 2: return {0x0F, 0};
-    case kDlControl + 3: return {0x01, 0};
-    case kPhysicalRwOffset:
-    case kPhysicalRwOffset + 1: return kEcat;
-    case kAlControl: return {bits::kAlControlWritable, 0};
-    case kAlStatus: return {0, bits::kAlStatusWritable};
-    case kAlStatusCode:
-    case kAlStatusCode + 1: return kPdi;
-    case kRunLedOverride:
-    case kErrLedOverride: return {kLedOverrideWritable, 0};
-    case kEcatEventMask:
-    case kEcatEventMask + 1: return kEcat;
-    case kAlEventMask:
-    case kAlEventMask + 1:
-    case kAlEventMask + 2:
-    case kAlEventMask + 3: return kPdi;
-    case kWatchdogDivider:
-    case kWatchdogDivider + 1:
-    case kWatchdogTimePdi:
-    case kWatchdogTimePdi + 1:
-    case kWatchdogTimeProcessData:
-    case kWatchdogTimeProcessData + 1: return kEcat;
-    case kMiiPhyAddress:
-    case kMiiPhyAddress + 1:
-    case kMiiPhyAddress + 2:
-    case kMiiPhyAddress + 3: return kBoth;
-    case kMiiEcatAccess: return {0x01, 0};
-    case kMiiPdiAccess: return {0, 0x01};
-    default: break;
-  }
-  if (a >= kDigitalIoOutput && a < bits::kDigitalOutputEnd) return kEcat;
-  if (a >= bits::kUserRam && a < kProcessRam) return kBoth;
-  return {};
-}
 
 bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { return a >= first && a < end; }
 
@@ -227,7 +133,7 @@ bool Esc::reg_write_byte(std::uint16_t a, std::uint8_t value, Side side) noexcep
     const std::uint8_t activate = m[reg::sync_manager(n) + reg::sm::kActivate];
     if (off <= reg::sm::kControl && (activate & sm_bits::kActivateEnable)) return true;
   }
-  const WriteMask wm = write_mask(a, config_);
+  const RegisterWriteMask wm = register_write_mask(a, config_);
   const std::uint8_t mask = side == Side::Ecat ? wm.ecat : wm.pdi;
   const std::uint8_t old = m[a];
   m[a] = static_cast<std::uint8_t>((old & ~mask) | (value & mask));
@@ -294,9 +200,20 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
         }
       }
     }
-  } else if (in(a, kMiiControl, kMiiEnd)) {
-    // No PHY behind the MII management interface: commands are ignored,
-    // busy never sets (docs/esc.md).
+  } else if (ecat && a == kMiiControl + 1) {
+    // No PHY answers on the management interface: a command completes at
+    // once; a read reports "read error", a write without enable or an
+    // unknown command reports "command error", idle clears both.
+    const std::uint8_t cmd = m[a] & kMiiCommandMask;
+    std::uint8_t status = 0;
+    if (cmd == kMiiCommandRead) {
+      status = kMiiReadError;
+    } else if (cmd == kMiiCommandWrite) {
+      status = (m[kMiiControl] & kMiiWriteEnable) ? 0 : kMiiCommandError;
+    } else if (cmd != 0) {
+      status = kMiiCommandError;
+    }
+    m[a] = status;
   }
 }
 

@@ -189,8 +189,16 @@ TEST_F(RegTest, WatchdogCountersClearTogether) {
 
 TEST_F(RegTest, MiiHasNoPhy) {
   EXPECT_EQ(wr(0x0510, le16(0x0100)).wkc, 1);  // read command
-  EXPECT_EQ(rd(0x0510, 2).data, le16(0));       // never busy, nothing pending
+  EXPECT_EQ(rd(0x0510, 2).data, le16(0x2000));  // done at once, read error (no PHY)
   EXPECT_EQ(rd(0x0514, 2).data, le16(0));
+  wr(0x0510, le16(0x0000));                     // idle clears the errors
+  EXPECT_EQ(rd(0x0510, 2).data, le16(0));
+  wr(0x0510, le16(0x0200));                     // write without write enable
+  EXPECT_EQ(rd(0x0510, 2).data, le16(0x4000));
+  wr(0x0510, le16(0x0201));                     // write with enable: accepted, nobody listens
+  EXPECT_EQ(rd(0x0510, 2).data, le16(0x0001));
+  wr(0x0510, le16(0x0300));                     // invalid command
+  EXPECT_EQ(rd(0x0510, 2).data, le16(0x4000));
 }
 
 TEST_F(RegTest, BadSiiChecksum) {
