@@ -88,6 +88,26 @@ TEST_F(EndToEnd, SdoUploadThroughTheWire) {
   EXPECT_EQ(master_.fprd(test::kSm1, test::kMbxLen).wkc, 0);
 }
 
+TEST_F(EndToEnd, TwinCatStyleUsedPartPlusLastByte) {
+  to_preop();
+  // Write only the used bytes, then the last byte of the SM0 area (shared/spec/masters.md §3.4).
+  const Frame req = test::mbx(3, 0, test::sdo(0x40, 0x1018, 4));
+  ASSERT_EQ(master_.fpwr(test::kSm0, req), 1);
+  cycle();
+  EXPECT_FALSE(mailbox_read());  // not complete yet: nothing happened
+  ASSERT_EQ(master_.fpwr(test::kSm0 + test::kMbxLen - 1, {0}), 1);
+  cycle();
+  // Poll the length word (WKC 1 once full), read the used part, then the last byte.
+  auto head = master_.fprd(test::kSm1, 2);
+  ASSERT_EQ(head.wkc, 1);
+  const std::size_t len = 6 + (head.data[0] | (head.data[1] << 8));
+  auto body = master_.fprd(test::kSm1, len);
+  EXPECT_EQ(body.data, (Frame{0x0A, 0x00, 0x00, 0x00, 0x00, 0x13, 0x00, 0x30, 0x43, 0x18, 0x10, 0x04, 0xFE, 0xCA,
+                              0xAD, 0x0B}));
+  EXPECT_EQ(master_.fprd(test::kSm1 + test::kMbxLen - 1, 1).wkc, 1);
+  EXPECT_EQ(master_.fprd(test::kSm1, 2).wkc, 0);  // empty again
+}
+
 TEST_F(EndToEnd, MailboxClosedInInit) {
   master_.fpwr(esc::reg::sync_manager(0), {0x00, 0x10, 128, 0, 0x26, 0, 1, 0, 0x80, 0x10, 128, 0, 0x22, 0, 1, 0});
   cycle();
