@@ -144,13 +144,17 @@ class Master {
   // which the caller or CoeClient::read_pdo_sizes filled) and FMMU0/FMMU1.
   Expected<void, MasterError> configure_process_data();
   // One LRW over the whole image (+ FRMW 0x0910 to the reference clock when DC
-  // is on). Copies outputs in and inputs out; no allocation.
+  // is on). Copies outputs in and inputs out; no allocation. When a slave
+  // cannot take LRW (0x0008 bit 9, or SII GENERAL flag "not LRW") the frame
+  // carries LWR (outputs) + LRD (inputs) instead and the WKC is counted as
+  // 2 x LWR + LRD, so the expected value stays the same (SOEM).
   Expected<CyclicResult, MasterError> exchange_process_data();
   std::uint16_t expected_wkc() const noexcept { return expected_wkc_; }
   Bytes outputs(std::size_t slave);
   ConstBytes inputs(std::size_t slave) const;
   std::span<std::uint8_t> process_image() noexcept { return image_; }
   const CyclicStats& cyclic_stats() const noexcept { return cyclic_stats_; }
+  bool uses_lrw() const noexcept { return use_lrw_; }
 
   // --- distributed clocks (masters.md §1.3 DC, §4.3; esc-registers.md §10) ---------
   // BWR 0x0900 latch, read port times and 0x0918 per DC slave, compute line
@@ -184,6 +188,7 @@ class Master {
   CyclicStats cyclic_stats_{};
   std::optional<std::size_t> reference_clock_;
   bool dc_cyclic_ = false;
+  bool use_lrw_ = true;
   std::array<std::uint8_t, 8> dc_time_{};
 };
 

@@ -67,6 +67,12 @@ Expected<void, MasterError> Master::configure_process_data() {
   }
   if (output_bytes_ + input_bytes_ > kMaxDatagramData) return fail(MasterError::InvalidArgument);
   image_.assign(output_bytes_ + input_bytes_, 0);
+  use_lrw_ = true;
+  for (const auto& s : slaves_) {
+    const bool not_lrw = (s.esc.features & EscInfo::kFeatureNoLrw) != 0 ||
+                         (s.sii.general && (s.sii.general->flags & sii::kFlagNotLrw) != 0);
+    if (not_lrw) use_lrw_ = false;
+  }
 
   for (std::size_t i = 0; i < slaves_.size(); ++i) {
     SlaveInfo& s = slaves_[i];
@@ -127,15 +133,22 @@ Expected<CyclicResult, MasterError> Master::exchange_process_data() {
   if (image_.empty()) return fail(MasterError::NotConfigured);
   // The LRW carries the outputs and gets the inputs back; keep the outputs
   // region of the image intact (the reply data of output bytes equals them).
-  std::array<Datagram, 2> dgs{};
+  std::array<Datagram, 3> dgs{};
   std::size_t n = 0;
   if (dc_cyclic_ && reference_clock_) {
     std::fill(dc_time_.begin(), dc_time_.end(), 0);
     dgs[n++] = Datagram{Command::Frmw, device_address(slaves_[*reference_clock_].station_address, reg::kDcSystemTime),
                         Bytes(dc_time_), 0};
   }
-  const std::size_t lrw = n;
-  dgs[n++] = Datagram{Command::Lrw, 0, Bytes(image_), 0};
+  const std::size_t first = n;
+  if (use_lrw_) {
+    dgs[n++] = Datagram{Command::Lrw, 0, Bytes(image_), 0};
+  } else {
+    if (output_bytes_ > 0) dgs[n++] = Datagram{Command::Lwr, 0, Bytes(image_.data(), output_bytes_), 0};
+    if (input_bytes_ > 0) {
+      dgs[n++] = Datagram{Command::Lrd, output_bytes_, Bytes(image_.data() + output_bytes_, input_bytes_), 0};
+    }
+  }
   const Nanoseconds start = clock_.now();
   auto r = link_.exchange(std::span<Datagram>(dgs.data(), n));
   ++cyclic_stats_.cycles;
@@ -144,7 +157,9 @@ Expected<CyclicResult, MasterError> Master::exchange_process_data() {
     return fail(r.error());
   }
   CyclicResult res;
-  res.wkc = dgs[lrw].wkc;
+  for (std::size_t i = first; i < n; ++i) {
+    res.wkc = static_cast<std::uint16_t>(res.wkc + (dgs[i].command == Command::Lwr ? 2 * dgs[i].wkc : dgs[i].wkc));
+  }
   res.expected_wkc = expected_wkc_;
   res.round_trip = clock_.now() - start;
   if (!res.ok()) ++cyclic_stats_.wkc_errors;

@@ -62,6 +62,10 @@ inline constexpr std::uint8_t kCoePdoConfig = 0x08;
 inline constexpr std::uint8_t kCoeUploadAtStartup = 0x10;
 inline constexpr std::uint8_t kCoeCompleteAccess = 0x20;
 
+// GENERAL flags (byte 11).
+inline constexpr std::uint8_t kFlagEnableSafeOp = 0x01;
+inline constexpr std::uint8_t kFlagNotLrw = 0x02;
+
 // SYNCM types (byte 7).
 inline constexpr std::uint8_t kSmTypeUnused = 0;
 inline constexpr std::uint8_t kSmTypeMailboxOut = 1;

@@ -140,6 +140,9 @@ std::vector<Case> consistency_cases() {
   cases.push_back({"od.default_pdos_match_sii", "ETG.2010 TXPDO/RXPDO categories: default SM assignment equals 0x1C12/0x1C13",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
+                     if (ctx.info().sii.tx_pdos.empty() && ctx.info().sii.rx_pdos.empty()) {
+                       return CaseResult::skip("SII has no PDO categories (masters read 0x1C12/0x1C13)");
+                     }
                      CoeClient coe = ctx.coe();
                      std::string want, seen;
                      for (auto [assign, tx, sm] : {std::tuple{coe::kRxPdoAssign, false, std::uint8_t{2}},

@@ -132,7 +132,8 @@ class FakeEsc {
   void logical(DatagramView d) {
     const std::uint32_t start = d.logical_address();
     Bytes data = d.data();
-    std::uint16_t wkc = 0;
+    bool wrote = false;
+    bool read = false;
     for (unsigned f = 0; f < 2; ++f) {
       const std::uint16_t base = reg::fmmu(f);
       if (mem[base + 12] == 0) continue;
@@ -144,14 +145,15 @@ class FakeEsc {
       const std::size_t off = lstart - start;
       if ((type & 0x02) != 0 && (d.command() == Command::Lrw || d.command() == Command::Lwr)) {
         for (std::size_t i = 0; i < len; ++i) mem[phys + i] = data[off + i];
-        wkc = static_cast<std::uint16_t>(wkc | 2);
+        wrote = true;
       }
       if ((type & 0x01) != 0 && (d.command() == Command::Lrw || d.command() == Command::Lrd)) {
         for (std::size_t i = 0; i < len; ++i) data[off + i] = mem[phys + i];
-        wkc = static_cast<std::uint16_t>(wkc | 1);
+        read = true;
       }
     }
-    d.add_wkc(wkc);
+    // Per ESC per datagram: +1 read, +2 write for LRW, +1 write for LWR (ETG.1000.4 §5.4.3).
+    d.add_wkc(static_cast<std::uint16_t>((wrote ? (d.command() == Command::Lrw ? 2 : 1) : 0) + (read ? 1 : 0)));
   }
 
   std::vector<std::uint8_t> last_reply_;

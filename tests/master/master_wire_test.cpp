@@ -131,6 +131,34 @@ TEST_F(MasterFixture, ProcessDataSmFmmuAndLrw) {
   EXPECT_EQ(master.cyclic_stats().wkc_errors, 1u);
 }
 
+TEST_F(MasterFixture, LwrAndLrdWhenTheSlaveCannotTakeLrw) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  master.slave(0).esc.features = EscInfo::kFeatureNoLrw;  // 0x0008 bit 9
+  master.slave(0).pd.output_bytes = 2;
+  master.slave(0).pd.input_bytes = 4;
+  ASSERT_TRUE(master.configure_process_data().has_value());
+  EXPECT_FALSE(master.uses_lrw());
+  master.outputs(0)[0] = 0x5A;
+  fake.mem[0x1401] = 0x77;
+  clear_sent();
+  auto r = master.exchange_process_data();
+  ASSERT_TRUE(r.has_value());
+  auto dg = sent();
+  ASSERT_EQ(dg.size(), 2u);  // one frame, two datagrams
+  EXPECT_EQ(frames().size(), 1u);
+  EXPECT_EQ(dg[0].command, Command::Lwr);
+  EXPECT_EQ(dg[0].adp, 0);
+  EXPECT_EQ(dg[0].data, (Bytes8{0x5A, 0x00}));
+  EXPECT_EQ(dg[1].command, Command::Lrd);
+  EXPECT_EQ(dg[1].adp, 2);  // logical address 2 (low word)
+  EXPECT_EQ(dg[1].data.size(), 4u);
+  // 2 x LWR WKC + LRD WKC, so the expected value is the LRW one (SOEM).
+  EXPECT_EQ(r->wkc, 3);
+  EXPECT_TRUE(r->ok());
+  EXPECT_EQ(master.inputs(0)[1], 0x77);
+  EXPECT_EQ(fake.mem[0x1100], 0x5A);
+}
+
 TEST_F(MasterFixture, DcDelaysAndOffsetsFromPortTimes) {
   ASSERT_EQ(master.scan().value_or(0), 1u);
   master.slave(0).esc.features = EscInfo::kFeatureDc;
