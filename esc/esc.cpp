@@ -197,7 +197,10 @@ void Esc::run_timers(Nanoseconds now) noexcept {
 }
 
 void Esc::sii_action(SiiInterface::Action a) noexcept {
-  if (a == SiiInterface::Action::Reload) load_eeprom(false);
+  if (a == SiiInterface::Action::Reload) {
+    load_eeprom(false);
+    update_dl_status();  // bit 0 follows the checksum
+  }
 }
 
 // --- Ports and DL status ------------------------------------------------------------

@@ -135,6 +135,14 @@ TEST_F(SiiTest, ReloadKeepsAliasAndReportsChecksum) {
   wr(reg::kEepromControlStatus, Data{0x00, 0x04}, 10us);
   EXPECT_EQ(rd(reg::kEepromControlStatus, 2, 20us).data, le16(0x1840));
   EXPECT_EQ(line[0].register_u16(reg::kConfiguredStationAlias), 0x5555);
+  EXPECT_EQ(line[0].register_u16(reg::kDlStatus) & 0x0001, 0);  // EEPROM not loaded correctly
+  // Repair word 0 and reload again: loaded, and 0x0140 follows the image.
+  wr(reg::kEepromData, le16(0x0C05), 20us);
+  wr(reg::kEepromControlStatus, Data{0x01, 0x02, 0x00, 0x00}, 20us);
+  wr(reg::kEepromControlStatus, Data{0x00, 0x04}, 30us);
+  line[0].poll(40us);
+  EXPECT_EQ(line[0].register_u16(reg::kEepromControlStatus), 0x0040);
+  EXPECT_EQ(line[0].register_u16(reg::kDlStatus) & 0x0001, 1);
 }
 
 }  // namespace
