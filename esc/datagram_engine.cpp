@@ -121,19 +121,46 @@ void Esc::process_datagram(DatagramView d) noexcept {
 
 // Logical addressing through every active FMMU (Section I §6; ETG.1000.4
 // §5.4.3): +1 if any read FMMU hit accessible memory, +1 (LWR) / +2 (LRW)
-// if any write FMMU did, whatever the number of FMMUs involved.
+// if any write FMMU did, whatever the number of FMMUs involved. The cost
+// follows the bytes this ESC maps, never the datagram length.
 std::uint16_t Esc::process_logical(DatagramView d) noexcept {
   const Command cmd = d.command();
   Bytes data = d.data();
   if (data.empty()) return 0;
   const std::uint64_t dg_first = static_cast<std::uint64_t>(d.logical_address()) * 8;
   const std::uint64_t dg_last = dg_first + data.size() * 8 - 1;
-  // LRW writes the data as it arrived, reads replace it: keep the original.
+  // Which FMMUs overlap the datagram, and where (bit numbers).
+  struct Hit {
+    const Fmmu* fmmu;
+    std::uint64_t lo;
+    std::uint64_t hi;
+  };
+  std::array<Hit, kMaxFmmus> hits;
+  std::size_t count = 0;
+  std::size_t wlo = data.size();  // byte range of the datagram the write FMMUs take
+  std::size_t whi = 0;
+  for (unsigned k = 0; k < config_.fmmu_count; ++k) {
+    const Fmmu& f = fmmus_[k];
+    if (!f.active()) continue;
+    const std::uint64_t lo = std::max(dg_first, f.first_bit());
+    const std::uint64_t hi = std::min(dg_last, f.last_bit());
+    if (lo > hi) continue;
+    hits[count++] = Hit{&f, lo, hi};
+    if (f.write) {
+      wlo = std::min(wlo, static_cast<std::size_t>((lo - dg_first) / 8));
+      whi = std::max(whi, static_cast<std::size_t>((hi - dg_first) / 8) + 1);
+    }
+  }
+  if (count == 0) return 0;
+  // LRW writes the data as it arrived while reads replace it: keep the
+  // bytes the writes need. `wsrc[i - origin]` is incoming byte i.
   Scratch incoming;
   const std::uint8_t* wsrc = data.data();
-  if (cmd == Command::Lrw) {
-    std::memcpy(incoming.data(), data.data(), data.size());
+  std::size_t origin = 0;
+  if (cmd == Command::Lrw && wlo < whi) {
+    std::memcpy(incoming.data(), data.data() + wlo, whi - wlo);
     wsrc = incoming.data();
+    origin = wlo;
   }
   bool read_hit = false;
   bool write_hit = false;
@@ -143,43 +170,43 @@ std::uint16_t Esc::process_logical(DatagramView d) noexcept {
   for (int pass = 0; pass < 2; ++pass) {
     const bool reading = pass == 0;
     if (reading ? !reads(cmd) : !writes(cmd)) continue;
-    for (unsigned k = 0; k < config_.fmmu_count; ++k) {
-      const Fmmu& f = fmmus_[k];
-      if (!f.active() || (reading ? !f.read : !f.write)) continue;
-      const std::uint64_t lo = std::max(dg_first, f.first_bit());
-      const std::uint64_t hi = std::min(dg_last, f.last_bit());
-      if (lo > hi) continue;
-      const std::uint64_t count = hi - lo + 1;
+    for (std::size_t h = 0; h < count; ++h) {
+      const Fmmu& f = *hits[h].fmmu;
+      if (reading ? !f.read : !f.write) continue;
+      const std::uint64_t lo = hits[h].lo;
+      const std::uint64_t bits_n = hits[h].hi - lo + 1;
       const std::uint64_t pbit = static_cast<std::uint64_t>(f.physical_start) * 8 + f.physical_start_bit +
                                  (lo - f.first_bit());
       const std::uint64_t pbyte = pbit / 8;
-      const std::uint64_t pbytes = (pbit + count - 1) / 8 - pbyte + 1;
       if (pbyte >= kAddressSpace) continue;
       const auto paddr = static_cast<std::uint16_t>(pbyte);
       const std::size_t doff = static_cast<std::size_t>((lo - dg_first) / 8);
-      if ((lo % 8) == 0 && (pbit % 8) == 0 && (count % 8) == 0) {
+      if ((lo % 8) == 0 && (pbit % 8) == 0 && (bits_n % 8) == 0) {
         // Whole bytes on both sides: straight through the SM rules.
-        const std::size_t n = static_cast<std::size_t>(count / 8);
+        const std::size_t n = static_cast<std::size_t>(bits_n / 8);
         if (reading) {
           read_hit = mem_read(paddr, data.subspan(doff, n), Side::Ecat) || read_hit;
         } else {
-          write_hit = mem_write(paddr, std::span<const std::uint8_t>(wsrc + doff, n), Side::Ecat) || write_hit;
+          write_hit = mem_write(paddr, std::span<const std::uint8_t>(wsrc + (doff - origin), n), Side::Ecat) ||
+                      write_hit;
         }
         continue;
       }
       // Bit-granular: only mapped bits change in the frame (read) or in
       // memory (write; unmapped bits of touched bytes keep their value).
-      std::span<std::uint8_t> buf(phys.data(), static_cast<std::size_t>(pbytes));
+      const std::size_t pbytes = static_cast<std::size_t>((pbit + bits_n - 1) / 8 - pbyte + 1);
+      std::span<std::uint8_t> buf(phys.data(), pbytes);
       const std::uint64_t pshift = pbit - pbyte * 8;
       const std::uint64_t dshift = lo - dg_first;
       if (reading) {
         std::memset(buf.data(), 0, buf.size());
         if (!mem_read(paddr, buf, Side::Ecat)) continue;
         read_hit = true;
-        for (std::uint64_t b = 0; b < count; ++b) put_bit(data.data(), dshift + b, get_bit(buf.data(), pshift + b));
+        for (std::uint64_t b = 0; b < bits_n; ++b) put_bit(data.data(), dshift + b, get_bit(buf.data(), pshift + b));
       } else {
         peek(paddr, buf);
-        for (std::uint64_t b = 0; b < count; ++b) put_bit(buf.data(), pshift + b, get_bit(wsrc, dshift + b));
+        const std::uint64_t sshift = dshift - origin * 8;
+        for (std::uint64_t b = 0; b < bits_n; ++b) put_bit(buf.data(), pshift + b, get_bit(wsrc, sshift + b));
         write_hit = mem_write(paddr, buf, Side::Ecat) || write_hit;
       }
     }

@@ -44,6 +44,19 @@ TEST_F(FmmuTest, DatasheetBitMapping) {
   EXPECT_EQ(r.data, (Data{0xAA, 0x0A, 0x00, 0xAB}));
 }
 
+TEST_F(FmmuTest, LrwBitMappedWriteBehindAReadByte) {
+  // Read FMMU on logical byte 0x10010, bit-wise write FMMU from 0x10011.3:
+  // the write must use the data as it arrived, offset within the datagram.
+  config_fmmu(seg(), kStation, 0, 0x00010011, 3, 3, 0, 0x0F01, 1, kWrite);
+  config_fmmu(seg(), kStation, 1, 0x00010010, 1, 0, 7, 0x1000, 0, kRead);
+  transact(seg(), Command::Fpwr, fp(kStation, 0x1000), Data{0x3C});
+  auto r = transact(seg(), Command::Lrw, 0x00010010, Data{0x00, 0xF8, 0xFF, 0x01});
+  EXPECT_EQ(r.wkc, 3);
+  EXPECT_EQ(r.data, (Data{0x3C, 0xF8, 0xFF, 0x01}));
+  EXPECT_EQ(mem()[0x0F01], 0xFE);
+  EXPECT_EQ(mem()[0x0F02], 0x7F);
+}
+
 TEST_F(FmmuTest, ByteAlignedLogicalOntoOddPhysicalBit) {
   // 8 bits from logical 0x20000.0 onto physical 0x1000.4 .. 0x1001.3.
   config_fmmu(seg(), kStation, 0, 0x20000, 1, 0, 7, 0x1000, 4, kWrite);
