@@ -102,6 +102,7 @@ class Drive {
   // Interpolated position: the segment being interpolated (physical increments).
   double ip_from_ = 0, ip_to_ = 0, ip_elapsed_ = 0;
   bool ip_active_ = false;
+  bool homed_ = false;  // a homing completed (and none restarted since)
   std::uint16_t controlword_ = 0;
   std::uint16_t previous_controlword_ = 0;
   bool halted_ = false;

@@ -35,6 +35,7 @@ DriveConfig simtach() {
   c.disable_operation = OptionCode::range(0, 1, 1);
   c.halt = OptionCode::range(1, 2, 1);
   c.fault_reaction = OptionCode::range(0, 2, 1);
+  c.home_found_bit = 1u << 15;  // SW15 "home found"
   return c;
 }
 
@@ -124,6 +125,7 @@ DriveConfig leadshine() {
                     {0x8402, kDeviceProfile},
                     {0x8311, kCurrent},
                     {0x871A, kCommunication}}};
+  c.home_found_bit = 1u << 15;  // "origin found"
   return c;
 }
 

@@ -45,6 +45,9 @@ struct DriveConfig {
   // Some drives send every EMCY with one manufacturer code and put their
   // alarm number (603Fh) into the manufacturer bytes 4-5 (Yaskawa: FF00h).
   std::optional<std::uint16_t> emcy_code;
+  // Manufacturer statusword bit (14/15) that reads 1 once homing succeeded
+  // ("home found"/"origin found" of SIMTACH and Leadshine); 0 = none.
+  std::uint16_t home_found_bit = 0;
 
   bool supports_mode(std::int8_t mode) const noexcept {
     const std::uint32_t bit = supported_bit(mode);

@@ -111,6 +111,23 @@ TEST(Homing, UnsupportedMethodIsAHomingError) {
   EXPECT_FALSE(h.bit(sw::kHomingAttained));
 }
 
+TEST(Homing, SimtachReportsHomeFoundInBit15) {
+  Harness h(*drive_personality("simtach-rse"));
+  h.in.homing_method = 35;
+  h.enable(OperationMode::Homing);
+  EXPECT_FALSE(h.bit(0x8000));
+  h.command(kEnableOp | cw::kHomingStart);
+  EXPECT_TRUE(h.bit(sw::kHomingAttained));
+  h.in.modes_of_operation = 8;
+  h.command(kEnableOp);
+  EXPECT_TRUE(h.bit(0x8000));  // stays after leaving homing mode
+  Harness generic;
+  generic.in.homing_method = 35;
+  generic.enable(OperationMode::Homing);
+  generic.command(kEnableOp | cw::kHomingStart);
+  EXPECT_FALSE(generic.bit(0x8000));
+}
+
 TEST(Homing, MissingSwitchEndsInErrorAtTheLimit) {
   PlantParameters p = plant_for(Layout::Window, 0);
   p.home_switch_low = 3.0e6;  // beyond the positive limit switch: never found

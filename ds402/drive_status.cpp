@@ -1,0 +1,127 @@
+// Drive: statusword (6041h) mode bits and the output objects.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "ds402/controlword.hpp"
+#include "ds402/drive.hpp"
+#include "ds402/drive_constants.hpp"
+#include "ds402/statusword.hpp"
+
+namespace ecat::ds402 {
+
+using namespace detail;
+
+std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
+  const PdsState s = sm_.state();
+  if (s == PdsState::QuickStopActive) return stopped_ ? sw::kTargetReached : 0;
+  if (s != PdsState::OperationEnabled) return 0;
+  const double pos_user = position_to_user(plant_.position());
+  const double vel_user = to_user(plant_.velocity());
+  const bool gen_stopped = gen_.velocity() == 0.0;
+  auto position_reached = [&](double target_user, bool eligible = true) {
+    return position_window_.update(eligible && std::abs(target_user - pos_user) <= in.position_window, dt,
+                                   in.position_window_time / kMsPerS);
+  };
+  auto velocity_reached = [&](double target_user) {
+    return velocity_window_.update(std::abs(target_user - vel_user) <= in.velocity_window, dt,
+                                   in.velocity_window_time / kMsPerS);
+  };
+  const double torque_pm = torque_per_mille(plant_.torque());
+  std::uint16_t b = 0;
+  switch (mode_) {
+    case OperationMode::ProfilePosition:
+      if (pp_.acknowledge()) b |= sw::kSetPointAcknowledge;
+      if (following_error_) b |= sw::kFollowingError;
+      {
+        const bool reached = position_reached(position_to_user(pp_.last_target()), pp_.idle());
+        if (halted_ ? gen_stopped : reached) b |= sw::kTargetReached;
+      }
+      break;
+    case OperationMode::ProfileVelocity:
+      if (speed_zero_.update(std::abs(vel_user) <= in.velocity_threshold, dt, in.velocity_threshold_time / kMsPerS))
+        b |= sw::kSpeedZero;
+      {
+        const bool reached = velocity_reached(in.target_velocity);
+        if (halted_ ? gen_stopped : reached) b |= sw::kTargetReached;
+      }
+      break;
+    case OperationMode::ProfileTorque: {
+      const double target = halted_ ? 0.0 : in.target_torque;
+      if (torque_demand_pm_ == target && std::abs(torque_pm - target) <= kTorqueWindowPerMille) b |= sw::kTargetReached;
+      break;
+    }
+    case OperationMode::Homing:
+      switch (homing_.status()) {
+        case HomingStatus::NotStarted:
+          if (!homing_.stopping()) b |= sw::kTargetReached;
+          break;
+        case HomingStatus::InProgress: break;
+        case HomingStatus::Attained: b |= sw::kHomingAttained | sw::kTargetReached; break;
+        case HomingStatus::Error:
+          b |= sw::kHomingError;
+          if (!homing_.stopping()) b |= sw::kTargetReached;
+          break;
+      }
+      break;
+    case OperationMode::InterpolatedPosition:
+      if (ip_active_) b |= sw::kIpModeActive;
+      if (following_error_) b |= sw::kFollowingError;
+      if (halted_ ? gen_stopped : position_reached(position_to_user(ip_to_), ip_active_)) b |= sw::kTargetReached;
+      break;
+    case OperationMode::CyclicSyncPosition:
+      if (!halted_) b |= sw::kFollowsCommand;
+      if (following_error_) b |= sw::kFollowingError;
+      if (position_reached(static_cast<double>(in.target_position) + in.position_offset)) b |= sw::kTargetReached;
+      break;
+    case OperationMode::CyclicSyncVelocity:
+      if (!halted_) b |= sw::kFollowsCommand;
+      if (velocity_reached(static_cast<double>(in.target_velocity) + in.velocity_offset)) b |= sw::kTargetReached;
+      break;
+    case OperationMode::CyclicSyncTorque:
+      if (!halted_) b |= sw::kFollowsCommand;
+      if (std::abs(torque_pm - in.target_torque - in.torque_offset) <= kTorqueWindowPerMille) b |= sw::kTargetReached;
+      break;
+    default: break;
+  }
+  return b;
+}
+
+void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
+  const PdsState s = sm_.state();
+  std::uint16_t status = static_cast<std::uint16_t>(state_bits(s) | sw::kRemote | mode_bits(in, dt));
+  if (s != PdsState::NotReadyToSwitchOn) status |= sw::kVoltageEnabled;  // mains assumed present
+  if (warning_ || emcy_.dropped() != 0) status |= sw::kWarning;
+  if (internal_limit_ || plant_.torque_limited()) status |= sw::kInternalLimitActive;
+  if (homed_) status |= config_.home_found_bit;
+  out.statusword = status;
+  out.modes_of_operation_display = static_cast<std::int8_t>(mode_);
+  const double pos = plant_.position();
+  out.position_demand = UnitScaling::to_i32(position_to_user(demand_.position));
+  out.position_demand_internal = UnitScaling::to_i32(demand_.position + home_shift_);
+  out.position_actual_internal = UnitScaling::to_i32(pos + home_shift_);
+  out.position_actual = UnitScaling::to_i32(position_to_user(pos));
+  out.velocity_demand = UnitScaling::to_i32(to_user(demand_.velocity));
+  out.velocity_actual = UnitScaling::to_i32(to_user(plant_.velocity()));
+  out.torque_demand = UnitScaling::to_i16(torque_per_mille(plant_.torque_command()));
+  out.torque_actual = UnitScaling::to_i16(torque_per_mille(plant_.torque()));
+  out.following_error = UnitScaling::to_i32(to_user(demand_.position - pos));
+  out.error_code = error_code_;
+  out.error_register = error_register_;
+  out.touch_probe_status = probe_.status();
+  out.touch_probe_1_positive = probe_.value(0);
+  out.touch_probe_1_negative = probe_.value(1);
+  out.touch_probe_2_positive = probe_.value(2);
+  out.touch_probe_2_negative = probe_.value(3);
+  std::uint32_t di = 0;
+  if (axis_.active(AxisSignal::NegativeLimit, pos)) di |= kDiNegativeLimit;
+  if (axis_.active(AxisSignal::PositiveLimit, pos)) di |= kDiPositiveLimit;
+  if (axis_.active(AxisSignal::HomeSwitch, pos)) di |= kDiHomeSwitch;
+  if (axis_.active(AxisSignal::Probe1, pos)) di |= kDiProbe1;
+  if (axis_.active(AxisSignal::Probe2, pos)) di |= kDiProbe2;
+  out.digital_inputs = di;
+  out.supported_drive_modes = config_.supported_modes;
+}
+
+}  // namespace ecat::ds402
