@@ -87,7 +87,7 @@ Expected<std::size_t, TransportError> RawSocketTransport::receive(Bytes buffer, 
                                reinterpret_cast<sockaddr*>(&from), &from_len);
   if (n < 0) {
     last_errno_ = errno;
-    if (errno == EAGAIN || errno == EWOULDBLOCK) return fail(TransportError::Timeout);
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return fail(TransportError::Timeout);
     return fail(TransportError::ReceiveFailed);
   }
   if (!ignore_outgoing_ && from.sll_pkttype == PACKET_OUTGOING) return fail(TransportError::Timeout);

@@ -146,7 +146,7 @@ Expected<std::size_t, TransportError> UdpTransport::receive(Bytes buffer, Nanose
   if (n < 0) {
     last_errno_ = errno;
     // A connected UDP socket reports an ICMP "port unreachable" here: no slave yet.
-    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == ECONNREFUSED) {
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR || errno == ECONNREFUSED) {
       return fail(TransportError::Timeout);
     }
     return fail(TransportError::ReceiveFailed);

@@ -26,16 +26,15 @@ Expected<void, TransportError> wait_readable(int fd, Nanoseconds timeout) noexce
   pollfd p{};
   p.fd = fd;
   p.events = POLLIN;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    const int r = ::ppoll(&p, 1, &ts, nullptr);
-    if (r > 0) {
-      if ((p.revents & (POLLERR | POLLNVAL)) != 0) return fail(TransportError::ReceiveFailed);
-      return {};
-    }
-    if (r == 0) return fail(TransportError::Timeout);
-    if (errno != EINTR) return fail(TransportError::ReceiveFailed);
+  const int r = ::ppoll(&p, 1, &ts, nullptr);
+  if (r > 0) {
+    if ((p.revents & (POLLERR | POLLNVAL)) != 0) return fail(TransportError::ReceiveFailed);
+    return {};
   }
-  return fail(TransportError::Timeout);
+  // A signal ends the wait early like a timeout, so the caller's loop can
+  // look at its shutdown flag.
+  if (r == 0 || errno == EINTR) return fail(TransportError::Timeout);
+  return fail(TransportError::ReceiveFailed);
 }
 
 }  // namespace ecat::transport

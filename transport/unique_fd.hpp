@@ -34,8 +34,8 @@ class UniqueFd {
   int fd_ = -1;
 };
 
-// Waits until `fd` is readable: true = readable, Timeout error otherwise.
-// EINTR restarts the wait with the full timeout (bounded by the caller's loop).
+// Waits until `fd` is readable; Timeout when the time ran out or a signal
+// interrupted the wait (EINTR), ReceiveFailed on socket errors.
 Expected<void, TransportError> wait_readable(int fd, Nanoseconds timeout) noexcept;
 
 }  // namespace ecat::transport
