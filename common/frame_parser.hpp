@@ -98,7 +98,7 @@ class FrameView {
   std::size_t ecat_offset_ = 0;
   FrameHeader header_{};
   std::size_t count_ = 0;
-  std::array<std::uint16_t, kMaxDatagramsPerFrame> offsets_{};
+  std::array<std::uint32_t, kMaxDatagramsPerFrame> offsets_{};
 };
 
 // Parses the EtherCAT part starting at `ecat_offset` (the frame header) of
@@ -124,7 +124,7 @@ inline Expected<FrameView, FrameError> parse_ethercat(Bytes buffer, std::size_t 
     const std::size_t total = kDatagramOverhead + (word & kDatagramLengthMask);
     if (end - pos < total) return fail(FrameError::DatagramBeyondFrame);
     if (v.count_ == kMaxDatagramsPerFrame) return fail(FrameError::TooManyDatagrams);
-    v.offsets_[v.count_++] = static_cast<std::uint16_t>(pos);
+    v.offsets_[v.count_++] = static_cast<std::uint32_t>(pos);
     pos += total;
     if ((word & kDatagramMore) == 0) break;
   }
