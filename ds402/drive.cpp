@@ -14,7 +14,7 @@ namespace ecat::ds402 {
 using namespace detail;
 
 Drive::Drive(DriveConfig config, const PlantParameters& plant)
-    : config_(std::move(config)), plant_(plant), axis_(plant) {
+    : config_(std::move(config)), plant_(resolve_axis(plant)), axis_(plant_.parameters()) {
   gen_.reset(plant_.position(), 0.0);
   demand_.position = plant_.position();
 }

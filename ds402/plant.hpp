@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <utility>
@@ -19,6 +20,8 @@ namespace ecat::ds402 {
 // (docs/ds402.md lists them). Defaults: a 400 W, 3000 rpm servo with a
 // 17-bit encoder and a load of three times the rotor inertia.
 struct PlantParameters {
+  static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
   double rotor_inertia = 3.4e-5;          // kg·m²          "rotor_inertia"
   double load_inertia = 1.0e-4;           // kg·m²          "load_inertia"
   double viscous_friction = 1.0e-4;       // N·m/(rad/s)    "viscous_friction"
@@ -40,19 +43,25 @@ struct PlantParameters {
   double over_torque_time = 0.5;       // s at the torque limit  "over_torque_time"
 
   // The axis: switch and mark positions in encoder increments (motor side).
-  double negative_limit_switch = -2.0e6;  // active at or below  "negative_limit_switch"
-  double positive_limit_switch = 2.0e6;   // active at or above  "positive_limit_switch"
-  double home_switch_low = 300000;        // active in [low, high] "home_switch_low"
-  double home_switch_high = 500000;       //                       "home_switch_high"
+  // Left unset (NaN) they are placed by motor revolutions, whatever the
+  // encoder (resolve_axis): limit switches at -100/+100 rev, home switch
+  // over [3, 4] rev, probe 1 input over [6, 7] rev, probe 2 over [-7, -6] rev.
+  double negative_limit_switch = kUnset;  // active at or below  "negative_limit_switch"
+  double positive_limit_switch = kUnset;  // active at or above  "positive_limit_switch"
+  double home_switch_low = kUnset;        // active in [low, high] "home_switch_low"
+  double home_switch_high = kUnset;       //                       "home_switch_high"
   double index_offset = 1000;             // index pulse at k·resolution + offset "index_offset"
-  double probe1_low = 700000;             // touch probe 1 input active in [low, high] "probe1_low"
-  double probe1_high = 800000;            //                                       "probe1_high"
-  double probe2_low = -800000;            // "probe2_low"
-  double probe2_high = -700000;           // "probe2_high"
+  double probe1_low = kUnset;             // touch probe 1 input active in [low, high] "probe1_low"
+  double probe1_high = kUnset;            //                                       "probe1_high"
+  double probe2_low = kUnset;             // "probe2_low"
+  double probe2_high = kUnset;            // "probe2_high"
   double initial_position = 0;            // increments at power-on "initial_position"
 
   double total_inertia() const noexcept { return rotor_inertia + load_inertia; }
 };
+
+// Places every unset axis position by motor revolutions (see above).
+PlantParameters resolve_axis(PlantParameters p) noexcept;
 
 // Sets the named parameters; an unknown name or a value out of its sensible
 // range is an error naming it.

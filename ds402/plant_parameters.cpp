@@ -42,7 +42,27 @@ constexpr std::array<Field, 26> kFields{{
     {"probe2_high", &PlantParameters::probe2_high, -1},
     {"initial_position", &PlantParameters::initial_position, -1},
 }};
+constexpr double kLimitRevolutions = 100;
+constexpr double kHomeSwitchRevolutions[2] = {3, 4};
+constexpr double kProbe1Revolutions[2] = {6, 7};
+constexpr double kProbe2Revolutions[2] = {-7, -6};
 }  // namespace
+
+PlantParameters resolve_axis(PlantParameters p) noexcept {
+  const double rev = p.encoder_resolution;
+  auto place = [](double& v, double value) {
+    if (std::isnan(v)) v = value;
+  };
+  place(p.negative_limit_switch, -kLimitRevolutions * rev);
+  place(p.positive_limit_switch, kLimitRevolutions * rev);
+  place(p.home_switch_low, kHomeSwitchRevolutions[0] * rev);
+  place(p.home_switch_high, kHomeSwitchRevolutions[1] * rev);
+  place(p.probe1_low, kProbe1Revolutions[0] * rev);
+  place(p.probe1_high, kProbe1Revolutions[1] * rev);
+  place(p.probe2_low, kProbe2Revolutions[0] * rev);
+  place(p.probe2_high, kProbe2Revolutions[1] * rev);
+  return p;
+}
 
 Expected<PlantParameters, std::string> plant_parameters_from(
     std::span<const std::pair<std::string, double>> values, PlantParameters base) {
@@ -63,6 +83,7 @@ Expected<PlantParameters, std::string> plant_parameters_from(
     }
     if (!found) return fail("unknown plant parameter " + name);
   }
+  base = resolve_axis(base);
   if (base.peak_torque < base.rated_torque) return fail(std::string("plant: peak_torque below rated_torque"));
   if (base.velocity_feed_forward > 1.0) return fail(std::string("plant: velocity_feed_forward above 1"));
   if (base.home_switch_low > base.home_switch_high) return fail(std::string("plant: home_switch_low above home_switch_high"));

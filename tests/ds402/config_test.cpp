@@ -19,6 +19,14 @@ TEST(PlantParameters, NamesSetFieldsAndBadInputIsAnError) {
   EXPECT_EQ(p->encoder_resolution, 1048576u);
   EXPECT_DOUBLE_EQ(p->home_switch_low, -10);
 
+  // Unset axis positions follow the encoder: limits at +-100 revolutions.
+  EXPECT_DOUBLE_EQ(p->positive_limit_switch, 100.0 * 1048576);
+  EXPECT_DOUBLE_EQ(p->probe1_low, 6.0 * 1048576);
+  const PlantParameters d = resolve_axis(PlantParameters{});
+  EXPECT_DOUBLE_EQ(d.negative_limit_switch, -100.0 * 131072);
+  EXPECT_DOUBLE_EQ(d.home_switch_low, 3.0 * 131072);
+  EXPECT_DOUBLE_EQ(d.home_switch_high, 4.0 * 131072);
+
   std::vector<std::pair<std::string, double>> unknown{{"rotor_inertai", 1}};
   EXPECT_EQ(plant_parameters_from(unknown).error(), "unknown plant parameter rotor_inertai");
   std::vector<std::pair<std::string, double>> negative{{"rated_torque", -1}};

@@ -95,6 +95,7 @@ TEST(Faults, SoftwareLimitInVelocityMode) {
 TEST(Faults, HardwareLimitSwitchAndMovingAway) {
   PlantParameters p;
   p.initial_position = 1.9e6;
+  p.positive_limit_switch = 2.0e6;
   Harness h(generic_drive(), p);
   h.enable(OperationMode::ProfileVelocity);
   h.in.target_velocity = 100000;

@@ -12,8 +12,15 @@ namespace {
 
 constexpr std::uint16_t kEnableOp = 0x000F;
 
+PlantParameters probes() {
+  PlantParameters p;
+  p.probe1_low = 700000;
+  p.probe1_high = 800000;
+  return p;
+}
+
 struct Probe : ::testing::Test {
-  Harness h;
+  Harness h{generic_drive(), probes()};
   void SetUp() override {
     h.in.profile_velocity = 400000;
     h.in.profile_acceleration = 4000000;
@@ -28,7 +35,7 @@ struct Probe : ::testing::Test {
   }
 };
 
-// Probe 1 input is active over [700000, 800000] (default plant).
+// Probe 1 input is active over [700000, 800000].
 TEST_F(Probe, SingleTriggerOnBothEdgesOfTheInput) {
   h.in.touch_probe_function = tp::kEnable | tp::kPositiveEdge | tp::kNegativeEdge;
   h.step();
