@@ -176,3 +176,24 @@ TEST(Commands, SeveralDatagramsInOneFrame) {
 
 }  // namespace
 }  // namespace ecat::esc::test
+
+namespace ecat::esc::test {
+namespace {
+
+// masters.md §6 #6: the DC block answers (and counts) only when 0x0008 bit 2 says DC is there.
+TEST(Commands, DcBlockCountsOnlyWithDc) {
+  Line with(3);
+  EXPECT_EQ(with[0].register_u16(reg::kFeatures) & 0x000C, 0x000C);
+  EXPECT_EQ(transact(with.segment, Command::Bwr, device_address(0, reg::kDcBase), Data(4, 0)).wkc, 3);
+  EscConfig cfg = make_config();
+  cfg.dc = false;
+  Line without(3, cfg);
+  EXPECT_EQ(without[0].register_u16(reg::kFeatures) & 0x010C, 0);
+  EXPECT_EQ(transact(without.segment, Command::Bwr, device_address(0, reg::kDcBase), Data(4, 0)).wkc, 0);
+  auto r = transact(without.segment, Command::Brd, device_address(0, 0x0910), Data(8, 0x5A));
+  EXPECT_EQ(r.wkc, 0);
+  EXPECT_EQ(r.data, Data(8, 0x5A));
+}
+
+}  // namespace
+}  // namespace ecat::esc::test
