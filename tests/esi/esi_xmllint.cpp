@@ -9,6 +9,11 @@ namespace ecat::esi::test {
 
 bool have_xmllint() { return std::system("xmllint --version > /dev/null 2>&1") == 0; }
 
+bool can_validate_esi() {
+  return have_xmllint() && std::filesystem::exists(esi_schema_v114()) &&
+         std::filesystem::exists(esi_schema_v117());
+}
+
 std::string xmllint_schema(const std::string& file, const std::string& schema, bool& ok) {
   const std::string cmd = "xmllint --noout --schema '" + schema + "' '" + file + "' 2>&1";
   std::string out;

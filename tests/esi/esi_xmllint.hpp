@@ -7,6 +7,8 @@
 namespace ecat::esi::test {
 
 bool have_xmllint();
+// xmllint and both ETG schema copies (outside the repo, in ../shared) present.
+bool can_validate_esi();
 // Returns xmllint's combined output; `ok` is set when the file validates.
 std::string xmllint_schema(const std::string& file, const std::string& schema, bool& ok);
 // The two ESI schema entry points: 1.14 and 1.17.
