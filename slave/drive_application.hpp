@@ -4,6 +4,9 @@
 #pragma once
 
 #include <memory>
+#include <string>
+
+#include "common/expected.hpp"
 
 #include "coe/coe_server.hpp"
 #include "od/device.hpp"
@@ -11,8 +14,14 @@
 
 namespace ecat::slave {
 
+// Whether the device's drive can be simulated (its plant parameters are
+// known and in range); a message naming the parameter otherwise.
+Expected<void, std::string> check_drive(const od::DeviceDescription& device);
+
 // A drive application for a device with a Drive profile; nullptr for a
 // device without one (it then has no application, only its objects).
-std::unique_ptr<Application> make_drive_application(const od::DeviceDescription& device, coe::CoeServer& coe);
+// `motion_trace` keeps per-cycle rows for --plot.
+std::unique_ptr<Application> make_drive_application(const od::DeviceDescription& device, coe::CoeServer& coe,
+                                                    bool motion_trace);
 
 }  // namespace ecat::slave

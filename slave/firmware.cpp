@@ -35,7 +35,7 @@ Firmware::Firmware(esc::Esc& esc, const od::DeviceDescription& device, const Sla
   esm_.add_hooks(coe_.esm_hooks());
   sync_.install();
   sync_.attach(esm_);
-  app_ = make_drive_application(device, coe_);
+  app_ = make_drive_application(device, coe_, options.motion_trace);
   esm_.reset();
 }
 

@@ -18,9 +18,8 @@ struct SlaveOptions {
   // Oscillator error of the DC local clock and its value at time 0.
   double clock_ppm = 0.0;
   std::uint64_t clock_start = 0;
-  // Application cycle in free run (1C32h sync mode 0) when the device file
-  // gives no cycle time.
-  Nanoseconds free_run_cycle = std::chrono::milliseconds(1);
+  // Keep a per-cycle motion trace of the drive (for --plot).
+  bool motion_trace = false;
 };
 
 }  // namespace ecat::slave

@@ -1,5 +1,6 @@
 #include "slave/virtual_slave.hpp"
 
+#include "slave/drive_application.hpp"
 #include "slave/esc_setup.hpp"
 #include "slave/firmware.hpp"
 
@@ -9,6 +10,7 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(od::De
                                                                          const Clock& clock,
                                                                          const SlaveOptions& options) {
   std::unique_ptr<VirtualSlave> s(new VirtualSlave());
+  if (auto ok = check_drive(device); !ok) return fail(ok.error());
   s->device_ = std::make_unique<od::DeviceDescription>(std::move(device));
   auto config = esc_config_for(*s->device_);
   if (!config) return fail(config.error());

@@ -13,6 +13,7 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
     so.state_dir = options.state_dir;
     so.name = fmt::format("slave-{}", i + 1);
     if (i < options.ppm.size()) so.clock_ppm = options.ppm[i];
+    so.motion_trace = i == 0 && !options.plot_svg.empty();
     if (auto ok = chain->add(std::move(devices[i]), so); !ok) {
       return fail(fmt::format("slave {}: {}", i + 1, ok.error()));
     }
