@@ -79,7 +79,8 @@ DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency) n
   error_register_ = store_.slot(kErrorRegister, 0);
 }
 
-void DriveBinding::publish(const DriveConfig& config) noexcept {
+void DriveBinding::publish(const DriveConfig& config) {
+  hooks_.install(store_, config);
   if (auto* s = store_.slot(0x6502, 0)) store_.set(*s, config.supported_modes);
   const coe::ObjectStore::Slot* count = store_.slot(kSupportedHomingMethods, 0);
   if (!count) return;

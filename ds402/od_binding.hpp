@@ -15,6 +15,7 @@
 #include "ds402/drive_config.hpp"
 #include "ds402/faults.hpp"
 #include "ds402/objects.hpp"
+#include "ds402/od_hooks.hpp"
 
 namespace ecat::ds402 {
 
@@ -25,10 +26,14 @@ class DriveBinding {
 
   // `emergency` may be null (then 1001h is written from DriveOutputs instead).
   DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency = nullptr) noexcept;
+  // The store keeps a pointer to the hooks inside: the binding stays put.
+  DriveBinding(const DriveBinding&) = delete;
+  DriveBinding& operator=(const DriveBinding&) = delete;
 
   // Writes what the drive offers: 6502h supported modes and 60E3h supported
-  // homing methods (as many as the array has room for). Set-up only.
-  void publish(const DriveConfig& config) noexcept;
+  // homing methods (as many as the array has room for), and installs the
+  // SDO checks of DriveObjectHooks on 6060h, 6098h, 605Ah-605Eh. Set-up only.
+  void publish(const DriveConfig& config);
 
   // Store -> inputs, before Drive::step. `in.sync_lost` is not touched.
   void read(DriveInputs& in) const noexcept;
@@ -46,6 +51,7 @@ class DriveBinding {
   std::array<coe::ObjectStore::Slot*, kInputCount> in_{};
   std::array<coe::ObjectStore::Slot*, kOutputCount> out_{};
   coe::ObjectStore::Slot* error_register_ = nullptr;
+  DriveObjectHooks hooks_;
   std::uint32_t emergencies_lost_ = 0;
 };
 

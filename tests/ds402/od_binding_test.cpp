@@ -50,11 +50,13 @@ od::DeviceDescription servo() {
   var(d, 0x6041, T::Unsigned16, 16);
   var(d, 0x6060, T::Integer8, 8);
   var(d, 0x6061, T::Integer8, 8);
+  var(d, 0x605A, T::Integer16, 16, {0x02, 0x00});
   var(d, 0x6064, T::Integer32, 32);
   var(d, 0x6065, T::Unsigned32, 32, {0x10, 0x27, 0, 0});  // 10000
   var(d, 0x607A, T::Integer32, 32);
   array(d, 0x607D, T::Integer32, 32, 2);
   array(d, 0x6099, T::Unsigned32, 32, 2);
+  var(d, 0x6098, T::Integer8, 8);
   var(d, 0x60B9, T::Unsigned16, 16);
   array(d, 0x60E3, T::Integer16, 16, 4);
   var(d, 0x60FD, T::Unsigned32, 32);
@@ -65,7 +67,7 @@ od::DeviceDescription servo() {
 TEST(DriveBinding, CopiesObjectsBothWays) {
   coe::test::Rig rig(servo());
   DriveBinding b(rig.store);
-  EXPECT_EQ(b.bound_inputs(), 8u);  // 6040, 6060, 6065, 607A, 607D:1/2, 6099:1/2
+  EXPECT_EQ(b.bound_inputs(), 10u);  // 6040, 605A, 6060, 6065, 607A, 607D:1/2, 6098, 6099:1/2
   EXPECT_EQ(b.bound_outputs(), 7u);  // 6041, 6061, 6064, 603F, 60B9, 60FD, 6502
   ASSERT_TRUE(rig.store.set<std::uint16_t>(0x6040, 0, 0x000F));
   ASSERT_TRUE(rig.store.set<std::int8_t>(0x6060, 0, 8));
@@ -112,6 +114,27 @@ TEST(DriveBinding, PublishesModesAndHomingMethods) {
   EXPECT_EQ(rig.store.get<std::int16_t>(0x60E3, 2), 2);
   EXPECT_EQ(rig.store.get<std::int16_t>(0x60E3, 3), 7);
   EXPECT_EQ(rig.store.get<std::int16_t>(0x60E3, 4), 8);
+}
+
+coe::WriteRequest write(std::uint16_t index, const std::vector<std::uint8_t>& bytes) {
+  return coe::WriteRequest{index, 0, bytes, od::EsmState::PreOp};
+}
+
+TEST(DriveBinding, SdoWritesOutsideThePersonalityAreRefused) {
+  coe::test::Rig rig(servo());
+  DriveBinding b(rig.store);
+  b.publish(*drive_personality("welcon"));
+  const std::vector<std::uint8_t> csp{8}, ip{7}, none{0}, m1{1}, m36{36}, qs6{6, 0}, qs3{3, 0};
+  EXPECT_TRUE(rig.store.write(write(0x6060, csp)));
+  EXPECT_EQ(rig.store.get<std::int8_t>(0x6060, 0), 8);
+  EXPECT_EQ(rig.store.write(write(0x6060, ip)).error(), coe::SdoAbort::ValueRange);  // not in 0x3AF
+  EXPECT_EQ(rig.store.get<std::int8_t>(0x6060, 0), 8);
+  EXPECT_TRUE(rig.store.write(write(0x6060, none)));
+  EXPECT_TRUE(rig.store.write(write(0x6098, m1)));
+  EXPECT_EQ(rig.store.write(write(0x6098, m36)).error(), coe::SdoAbort::ValueRange);
+  EXPECT_TRUE(rig.store.write(write(0x605A, qs6)));
+  EXPECT_EQ(rig.store.write(write(0x605A, qs3)).error(), coe::SdoAbort::ValueRange);  // Welcon: 3 unsupported
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x605A, 0), 6);
 }
 
 TEST(DriveBinding, DriveFaultBecomesACoeEmergency) {

@@ -1,0 +1,29 @@
+// SDO-side checks of the drive's own settings (CiA 402-2 §8.4): a write of
+// 6060h with a mode 6502h does not list, of 6098h with a homing method the
+// drive does not offer, or of an option code 605Ah-605Eh outside the
+// personality's set is refused with abort 06090030h (value range exceeded)
+// and leaves the stored value unchanged. PDO writes bypass this; the drive
+// ignores such values there (and sets the warning bit for 6060h).
+#pragma once
+
+#include <cstddef>
+
+#include "coe/object_hooks.hpp"
+#include "coe/object_store.hpp"
+#include "ds402/drive_config.hpp"
+
+namespace ecat::ds402 {
+
+class DriveObjectHooks final : public coe::ObjectHooks {
+ public:
+  // Keeps a copy of `config`; registers for the objects the store has.
+  // Returns how many indices it now guards. Set-up only.
+  std::size_t install(coe::ObjectStore& store, const DriveConfig& config);
+
+  Expected<void, coe::SdoAbort> on_write(coe::ObjectStore& store, const coe::WriteRequest& request) noexcept override;
+
+ private:
+  DriveConfig config_;
+};
+
+}  // namespace ecat::ds402
