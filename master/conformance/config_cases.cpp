@@ -31,7 +31,7 @@ std::string shown(const Expected<AlStatus, MasterError>& st) {
 
 Case mailbox_case(const char* name, const char* what, void (*mutate)(MailboxLayout&, bool&)) {
   return Case{std::string("config.") + name,
-              std::string("ETG.1000.6 §6.4.1 Init->PreOp mailbox check, Table 11 0x0016 (") + what + ")",
+              std::string("ETG.1000.6 §6.4.1 Init->PreOp mailbox check, Table 11 0x0016 (") + what + "; esm-al-codes.md §3)",
               [mutate](Context& ctx) {
                 const SiiInfo& sii = ctx.info().sii;
                 if (!sii.has_mailbox()) return CaseResult::skip("no mailbox");
@@ -96,7 +96,7 @@ std::vector<Case> config_cases() {
                      return process_sm_case(ctx, kOutputSm, kInvalidOutputConfig,
                                             [](std::uint16_t& start, std::uint16_t&) { start = static_cast<std::uint16_t>(start + 8); });
                    }});
-  cases.push_back({"config.watchdog_expiry", "ETG.1000.6 Table 11 0x001B: no process data within the SM watchdog time -> SafeOp + ErrInd",
+  cases.push_back({"config.watchdog_expiry", "ETG.1000.6 Table 11 0x001B: no process data within the SM watchdog time -> SafeOp + ErrInd (esm-al-codes.md §5.6, esc-registers.md §8)",
                    [](Context& ctx) {
                      if (!ctx.options().wait) return CaseResult::skip("no way to let time pass");
                      if (auto r = ctx.go_to(AlState::Op); !r) return CaseResult::failed("reach Op", r.error());
@@ -115,7 +115,7 @@ std::vector<Case> config_cases() {
                      }
                      return CaseResult::compare(refused(AlState::SafeOp, kSmWatchdog), shown(st));
                    }});
-  cases.push_back({"config.sm2_disabled_in_safeop", "ETG.1000.6 §6.4.1 (SM change at run time), Table 11 0x001D -> PreOp + ErrInd",
+  cases.push_back({"config.sm2_disabled_in_safeop", "ETG.1000.6 §6.4.1 SM change at run time, Table 11 0x001D -> PreOp + ErrInd (esm-al-codes.md §3, SOES)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::SafeOp); !r) return CaseResult::failed("reach SafeOp", r.error());
                      if (ctx.info().pd.output_bytes == 0) return CaseResult::skip("no outputs");

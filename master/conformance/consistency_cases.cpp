@@ -44,7 +44,7 @@ std::string join(const std::vector<std::uint16_t>& v) {
 
 std::vector<Case> consistency_cases() {
   std::vector<Case> cases;
-  cases.push_back({"sii.checksum", "ETG.1000.6 §5.4 / ESC Section I §10.3: CRC-8 of SII words 0-6 in word 7",
+  cases.push_back({"sii.checksum", "ETG.1000.6 §5.4 / ESC Section I p.93: CRC-8 of SII words 0-6 in word 7 (sii-eeprom.md §2)",
                    [](Context& ctx) {
                      const auto& s = ctx.info().sii;
                      const std::uint8_t crc = sii::config_crc(ConstBytes(ctx.info().sii_image.data(), sii::kChecksumCoveredBytes));
@@ -64,7 +64,7 @@ std::vector<Case> consistency_cases() {
                              s.sync_managers[1].length));
                    }});
   cases.push_back({"sii.category_layout",
-                   "ETG.2010: GENERAL 16 words, SYNCM before TXPDO/RXPDO (IgH), mailbox SMs at >= 0x1000",
+                   "ETG.2010: GENERAL 16 words, SYNCM before TXPDO/RXPDO (IgH), mailbox SMs at >= 0x1000 (masters.md §2.2, §6 #19/#29)",
                    [](Context& ctx) {
                      const auto& s = ctx.info().sii;
                      std::string problems;
@@ -86,7 +86,7 @@ std::vector<Case> consistency_cases() {
                      }
                      return CaseResult::compare("consistent", problems.empty() ? "consistent" : problems);
                    }});
-  cases.push_back({"sii.identity_matches_device_file", "ETG.2000 Device/Type vs SII words 0x08-0x0D (ETG.2010)",
+  cases.push_back({"sii.identity_matches_device_file", "ETG.2000 Device/Type and Vendor/Id vs SII words 0x08-0x0D (sii-eeprom.md §4)",
                    [](Context& ctx) {
                      if (!ctx.options().identity) return CaseResult::skip("no device file given");
                      const auto& id = *ctx.options().identity;
@@ -94,7 +94,7 @@ std::vector<Case> consistency_cases() {
                      return CaseResult::compare(ident(id.vendor_id, id.product_code, id.revision),
                                                 ident(s.vendor_id, s.product_code, s.revision));
                    }});
-  cases.push_back({"od.identity_matches_sii", "ETG.1000.6 §5.4: SII words 0x08-0x0F equal CoE 0x1018:01-04",
+  cases.push_back({"od.identity_matches_sii", "ETG.1000.6 §5.4: SII words 0x08-0x0F equal CoE 0x1018:01-04 (sii-eeprom.md §1, §5 #2)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      CoeClient coe = ctx.coe();
@@ -108,7 +108,7 @@ std::vector<Case> consistency_cases() {
                                                     hex(s.revision, 8) + " " + hex(s.serial, 8),
                                                 seen);
                    }});
-  cases.push_back({"od.mandatory_objects", "CiA 301 / ETG.1000.6 §5.6.7: 0x1000, 0x1018 and 0x1C00 in the OD list",
+  cases.push_back({"od.mandatory_objects", "CiA 301 (0x1000, 0x1018) and ETG.1000.6 (0x1C00, needed by SOEM: masters.md §6 #24) in the OD list",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
@@ -122,7 +122,7 @@ std::vector<Case> consistency_cases() {
                      }
                      return CaseResult::compare("none missing", missing.empty() ? "none missing" : "missing " + join(missing));
                    }});
-  cases.push_back({"od.sm_types_match_sii", "ETG.1000.6 §5.6.7.2: 0x1C00:n equals the SII SYNCM type of SM n-1",
+  cases.push_back({"od.sm_types_match_sii", "ETG.1000.6 0x1C00:n equals the SII SYNCM type of SM n-1 (coe-mailbox.md §11.2, sii-eeprom.md §3.4)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      CoeClient coe = ctx.coe();
@@ -137,7 +137,7 @@ std::vector<Case> consistency_cases() {
                      }
                      return CaseResult::compare(want, seen);
                    }});
-  cases.push_back({"od.default_pdos_match_sii", "ETG.2010 TXPDO/RXPDO categories: default SM assignment equals 0x1C12/0x1C13",
+  cases.push_back({"od.default_pdos_match_sii", "ETG.2010 TXPDO/RXPDO categories: default SM assignment equals 0x1C12/0x1C13 (sii-eeprom.md §3.6)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      if (ctx.info().sii.tx_pdos.empty() && ctx.info().sii.rx_pdos.empty()) {
@@ -158,7 +158,7 @@ std::vector<Case> consistency_cases() {
                      return CaseResult::compare(want, seen);
                    }});
   cases.push_back({"od.sdo_info_matches_upload",
-                   "ETG.1000.6 §5.6.3.5: entry description bit length equals the size of the SDO upload",
+                   "ETG.1000.6 §5.6.3 SDO information: entry description bit length equals the size of the SDO upload (coe-mailbox.md §7.3)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
@@ -185,7 +185,7 @@ std::vector<Case> consistency_cases() {
                                                 mismatches.empty() ? "all consistent" : mismatches);
                    }});
   cases.push_back({"pdo.remap_roundtrip",
-                   "ETG.1000.6 §5.6.7.4 / CiA 301: a configurable PDO mapping and 0x1C12 rewritten (SI0=0, entries, SI0=n) read back unchanged, SafeOp accepted",
+                   "ETG.1000.6 PDO mapping/assignment (coe-mailbox.md §11.1/§11.2): a configurable mapping and 0x1C12 rewritten SI0=0, entries, SI0=n read back unchanged; SafeOp accepted",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
@@ -216,7 +216,7 @@ std::vector<Case> consistency_cases() {
                      return CaseResult::pass("read back unchanged, SafeOp", "read back unchanged, SafeOp");
                    }});
   cases.push_back({"pdo.remap_assign_configurable",
-                   "ETG.1000.6 §5.6.7.4: assigning a configurable RxPDO with a shorter mapping changes the SM2 size the slave checks in PreOp->SafeOp",
+                   "ETG.1000.6 PDO mapping (coe-mailbox.md §11.1) and §6.4.1 PreOp->SafeOp SM2 size check: a shorter configurable RxPDO changes the expected SM2 length",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
@@ -254,7 +254,7 @@ std::vector<Case> consistency_cases() {
                      return CaseResult::compare(want, seen);
                    }});
   cases.push_back({"pdo.remap_refused_in_safeop",
-                   "ETG.1000.6 §5.6.7.4: PDO assignment can only be changed in PreOp (SDO abort in SafeOp)",
+                   "ETG.1000.6 / CiA 301 PDO assignment is changed in PreOp only: SDO abort in SafeOp (coe-mailbox.md §11.1)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::SafeOp); !r) return CaseResult::failed("reach SafeOp", r.error());
                      if (!ctx.info().sii.has_coe()) return CaseResult::skip("no CoE");

@@ -64,7 +64,7 @@ std::string transition(Context& ctx, AlState from, AlState to, std::string& setu
 
 Case allowed(AlState from, AlState to, const char* code) {
   return Case{"esm." + name_of(from) + "_to_" + name_of(to),
-              std::string("ETG.1000.6 §6.4.1 transition ") + code + " (allowed)",
+              std::string("ETG.1000.6 §6.4.1 transition ") + code + " (allowed; esm-al-codes.md §2)",
               [from, to](Context& ctx) {
                 std::string setup;
                 std::string seen = transition(ctx, from, to, setup);
@@ -75,7 +75,7 @@ Case allowed(AlState from, AlState to, const char* code) {
 
 Case forbidden(AlState from, AlState to, std::uint16_t code) {
   return Case{"esm." + name_of(from) + "_to_" + name_of(to) + "_refused",
-              "ETG.1000.6 §6.4.1, Table 11: AL status code " + hex(code, 4) + ", current state + ErrInd",
+              "ETG.1000.6 §6.4.1, Table 11: AL status code " + hex(code, 4) + ", current state + ErrInd (esm-al-codes.md §2)",
               [from, to, code](Context& ctx) {
                 std::string setup;
                 std::string seen = transition(ctx, from, to, setup);
@@ -102,7 +102,7 @@ std::vector<Case> esm_cases() {
       forbidden(S::Op, S::Boot, kInvalidStateChange),
   };
 
-  cases.push_back({"esm.init_to_boot", "ETG.1000.6 §6.4.1 IB; Table 11 0x0013 when Boot is not supported",
+  cases.push_back({"esm.init_to_boot", "ETG.1000.6 §6.4.1 IB, Table 11 0x0013 when Boot is not supported (esm-al-codes.md §2/§4)",
                    [](Context& ctx) {
                      const auto& sii = ctx.info().sii;
                      if (sii.boot_rx_size != 0 && sii.boot_tx_size != 0) {
@@ -113,7 +113,7 @@ std::vector<Case> esm_cases() {
                                                 st ? format_status(*st) : std::string(describe(st.error())));
                    }});
 
-  cases.push_back({"esm.unknown_state", "ETG.1000.6 Table 11: 0x0012 unknown requested state, current + ErrInd",
+  cases.push_back({"esm.unknown_state", "ETG.1000.6 Table 11: 0x0012 unknown requested state, current + ErrInd (esm-al-codes.md §1)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
                      auto st = ctx.master().write_al_control(ctx.slave(), kUnknownStateCode);
@@ -121,7 +121,7 @@ std::vector<Case> esm_cases() {
                                                 st ? format_status(*st) : std::string(describe(st.error())));
                    }});
 
-  cases.push_back({"esm.error_acknowledge", "ETG.1000.6 §6.4.1.3: AL control bit 4 acknowledges ErrInd",
+  cases.push_back({"esm.error_acknowledge", "ETG.1000.6 §6.4.1: AL control bit 4 acknowledges ErrInd (esm-al-codes.md §5.3)",
                    [](Context& ctx) {
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::SafeOp);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal to acknowledge");
@@ -130,7 +130,7 @@ std::vector<Case> esm_cases() {
                    }});
 
   cases.push_back({"esm.request_ignored_while_error",
-                   "ETG.1000.6 §6.4.1.3: while ErrInd is set a request without acknowledge is not carried out",
+                   "ETG.1000.6 §6.4.1: while ErrInd is set a request without acknowledge is not carried out (esm-al-codes.md §5.2)",
                    [](Context& ctx) {
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::Op);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal");
@@ -140,7 +140,7 @@ std::vector<Case> esm_cases() {
                                                 st ? format_status(*st) : std::string(describe(st.error())));
                    }});
 
-  cases.push_back({"esm.ack_with_next_state", "ETG.1000.6 §6.4.1.3: acknowledge together with a valid request",
+  cases.push_back({"esm.ack_with_next_state", "ETG.1000.6 §6.4.1: acknowledge with a valid request performs it and clears 0x0134 (esm-al-codes.md §5.3)",
                    [](Context& ctx) {
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::Op);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal");
@@ -152,7 +152,7 @@ std::vector<Case> esm_cases() {
                      return CaseResult::compare("PreOp code 0x0000", seen);
                    }});
 
-  cases.push_back({"esm.status_reserved_bits", "ESC Section II 0x0130: bits 7:5 reserved 0 (IgH compares the whole byte)",
+  cases.push_back({"esm.status_reserved_bits", "ESC Section II p.34 (0x0130): bits 7:5 reserved 0; IgH compares the whole byte (masters.md §6 #10)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
                      auto st = ctx.master().read_al_status(ctx.slave());

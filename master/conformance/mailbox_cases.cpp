@@ -49,7 +49,7 @@ CaseResult bad_header(Context& ctx, std::uint16_t length, std::vector<std::strin
 std::vector<Case> mailbox_cases() {
   std::vector<Case> cases;
   cases.push_back({"mailbox.unsupported_protocol",
-                   "ETG.1000.6 §5.6.1 mailbox error reply, code 0x0002 (protocol not supported)",
+                   "ETG.1000.6 §5.6 mailbox error reply, code 0x0002 protocol not supported (coe-mailbox.md §2)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
                      if (!ctx.info().sii.has_mailbox()) return CaseResult::skip("no mailbox");
@@ -70,16 +70,16 @@ std::vector<Case> mailbox_cases() {
                      }
                      return CaseResult::skip("every mailbox protocol advertised");
                    }});
-  cases.push_back({"mailbox.zero_length", "ETG.1000.6 §5.6.1 mailbox error reply, code 0x0005 (invalid header: length 0)",
+  cases.push_back({"mailbox.zero_length", "ETG.1000.6 §5.6 mailbox error reply, code 0x0005 invalid header, length 0 (coe-mailbox.md §2)",
                    [](Context& ctx) { return bad_header(ctx, 0, {"mailbox error 0x0005"}); }});
   cases.push_back({"mailbox.length_beyond_sm",
-                   "ETG.1000.6 §5.6.1 mailbox error reply for length > SM0 size - 6: 0x0005 (SOES) or 0x0008 (invalid size)",
+                   "ETG.1000.6 §5.6 mailbox error reply for length > SM0 size - 6: 0x0005 (SOES) or 0x0008 invalid size (coe-mailbox.md §1/§2)",
                    [](Context& ctx) {
                      return bad_header(ctx, static_cast<std::uint16_t>(ctx.info().sii.rx_mailbox_size),
                                        {"mailbox error 0x0005", "mailbox error 0x0008"});
                    }});
   cases.push_back({"mailbox.counter_repeat",
-                   "ETG.1000.4 §5.6 mailbox counter: a request with the previous non-zero counter is a repeat and is not executed again",
+                   "ETG.1000.4 §5.6 mailbox counter: a request with the previous non-zero counter is a repeat and is not executed again (coe-mailbox.md §1)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
                      if (!ctx.info().sii.has_coe()) return CaseResult::skip("no CoE");
@@ -110,7 +110,7 @@ std::vector<Case> mailbox_cases() {
                                : CaseResult::failed("repeat not executed, next: executed", seen);
                    }});
   cases.push_back({"mailbox.repeat_request",
-                   "ESC Section I §8.2.3 / ETG.1000.4 §5.6: SM1 repeat request (0x080E bit 1) makes the slave resend its last reply",
+                   "ESC Section I p.65-66 / ETG.1000.4 §5.6: SM1 repeat request (0x080E bit 1) makes the slave resend its last reply (esc-registers.md §7.2)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
                      if (!ctx.info().sii.has_coe()) return CaseResult::skip("no CoE");

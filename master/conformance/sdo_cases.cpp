@@ -58,7 +58,7 @@ Expected<std::optional<WalkedEntry>, SdoError> writable_integer(Context& ctx, st
 
 std::vector<Case> sdo_cases() {
   std::vector<Case> cases;
-  cases.push_back({"sdo.abort_object_not_found", "CiA 301 / ETG.1000.6 §5.6.2.7 abort 0x06020000 (object does not exist)",
+  cases.push_back({"sdo.abort_object_not_found", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06020000 object does not exist (coe-mailbox.md §6)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      CoeClient coe = ctx.coe();
@@ -68,7 +68,7 @@ std::vector<Case> sdo_cases() {
                      }
                      return CaseResult::compare(abort_text(SdoAbortCode::ObjectNotFound), seen_of(coe.upload(index, 0)));
                    }});
-  cases.push_back({"sdo.abort_subindex_not_found", "CiA 301 / ETG.1000.6 §5.6.2.7 abort 0x06090011 (subindex does not exist)",
+  cases.push_back({"sdo.abort_subindex_not_found", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06090011 subindex does not exist (coe-mailbox.md §6)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      CoeClient coe = ctx.coe();
@@ -77,14 +77,14 @@ std::vector<Case> sdo_cases() {
                      const auto sub = static_cast<std::uint8_t>(*n + 1);
                      return CaseResult::compare(abort_text(SdoAbortCode::SubindexNotFound), seen_of(coe.upload(kIdentity, sub)));
                    }});
-  cases.push_back({"sdo.abort_write_read_only", "CiA 301 / ETG.1000.6 §5.6.2.7 abort 0x06010002 (write to read-only 0x1018:01)",
+  cases.push_back({"sdo.abort_write_read_only", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06010002 write to read-only 0x1018:01 (coe-mailbox.md §6)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      CoeClient coe = ctx.coe();
                      return CaseResult::compare(abort_text(SdoAbortCode::ReadOnly),
                                                 seen_of(coe.download_value(kIdentity, 1, 0x12345678, 4)));
                    }});
-  cases.push_back({"sdo.abort_length_too_high", "CiA 301 abort 0x06070012 (or 0x06070010): data longer than the entry",
+  cases.push_back({"sdo.abort_length_too_high", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06070012 (or 0x06070010): data longer than the entry (coe-mailbox.md §5.2)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      auto w = writable_integer(ctx, 1);
@@ -96,7 +96,7 @@ std::vector<Case> sdo_cases() {
                      return one_of({SdoAbortCode::LengthTooHigh, SdoAbortCode::LengthMismatch},
                                    seen_of(coe.download(e.index, e.subindex, data)));
                    }});
-  cases.push_back({"sdo.abort_length_too_low", "CiA 301 abort 0x06070013 (or 0x06070010): data shorter than the entry",
+  cases.push_back({"sdo.abort_length_too_low", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06070013 (or 0x06070010): data shorter than the entry (coe-mailbox.md §5.2)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      auto w = writable_integer(ctx, 2);
@@ -108,7 +108,7 @@ std::vector<Case> sdo_cases() {
                      return one_of({SdoAbortCode::LengthTooLow, SdoAbortCode::LengthMismatch},
                                    seen_of(coe.download(e.index, e.subindex, data)));
                    }});
-  cases.push_back({"sdo.abort_value_range", "CiA 301 abort 0x06090031 (or 0x06090030): value above the entry's maximum",
+  cases.push_back({"sdo.abort_value_range", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06090031 (or 0x06090030): value above the entry's maximum (coe-mailbox.md §6)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      auto w = writable_integer(ctx, 1, kValueInfoBasic | kValueInfoRange, true);
@@ -125,7 +125,7 @@ std::vector<Case> sdo_cases() {
                      return one_of({SdoAbortCode::ValueTooHigh, SdoAbortCode::ValueRange},
                                    seen_of(coe.download_value(e.index, e.subindex, static_cast<std::uint32_t>(max + 1), n)));
                    }});
-  cases.push_back({"sdo.write_read_back", "ETG.1000.6 §5.6.2.2/§5.6.2.4: download then upload returns the value written",
+  cases.push_back({"sdo.write_read_back", "ETG.1000.6 §5.6.2 SDO download then upload returns the value written (coe-mailbox.md §5)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      auto w = writable_integer(ctx, 1);
@@ -142,7 +142,7 @@ std::vector<Case> sdo_cases() {
                      return CaseResult::compare("same value", back && *back == *old ? "same value" : seen_of(back));
                    }});
   cases.push_back({"sdo.complete_access_identity",
-                   "ETG.1000.6 §5.6.2.1 complete access from subindex 0: SI0 in a 16-bit slot, then the entries",
+                   "ETG.1000.6 §5.6.2 complete access from subindex 0: SI0 in a 16-bit slot, then the entries (coe-mailbox.md §5.3)",
                    [](Context& ctx) {
                      if (auto c = need_coe(ctx)) return *c;
                      const auto& g = ctx.info().sii.general;
