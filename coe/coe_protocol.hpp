@@ -18,6 +18,7 @@ class CoeProtocol final : public MailboxService {
   MailboxType type() const noexcept override { return MailboxType::CoE; }
   Expected<std::size_t, MailboxError> handle(ConstBytes request, Bytes reply, od::EsmState state) noexcept override;
   std::size_t next_reply(Bytes reply) noexcept override { return info_ ? info_->next_fragment(reply) : 0; }
+  bool busy() const noexcept override { return sdo_.busy() || (info_ && info_->busy()); }
   void reset() noexcept override {
     sdo_.reset();
     if (info_) info_->reset();

@@ -66,6 +66,7 @@ class FoeServer final : public MailboxService {
     (void)reply_payload;
   }
   void reset() noexcept override;
+  bool busy() const noexcept override { return state_ != State::Idle; }
 
   bool safe_name(std::string_view name) const noexcept;
 

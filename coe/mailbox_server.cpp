@@ -27,6 +27,7 @@ MailboxServer::MailboxServer(esc::Pdi& pdi, std::size_t max_mailbox_bytes, std::
     : pdi_(pdi),
       max_bytes_(max_mailbox_bytes),
       queue_(std::max<std::size_t>(queue_capacity, kReserveSlots + 1), max_mailbox_bytes),
+      unsolicited_(std::max<std::size_t>(queue_capacity, 1), max_mailbox_bytes),
       request_(max_mailbox_bytes),
       reply_(max_mailbox_bytes),
       sm1_image_(max_mailbox_bytes),
@@ -68,6 +69,7 @@ bool MailboxServer::usable(const SmRegs& sm) const noexcept {
 void MailboxServer::close() noexcept {
   open_ = false;
   queue_.clear();
+  unsolicited_.clear();
   continuing_ = nullptr;
   last_request_counter_ = 0;
   last_reply_length_ = 0;
@@ -100,10 +102,11 @@ void MailboxServer::poll(Nanoseconds now) noexcept {
     handle_repeat_request(sm1);
     sm1 = read_sm(kReadMailboxSm);
   }
-  if (deliver(sm1)) sm1 = read_sm(kReadMailboxSm);
-  if ((sm0.status & bits::kSmStatusMailboxFull) && queue_.size() + kReserveSlots < queue_.capacity()) {
+  const bool request_waiting = sm0.status & bits::kSmStatusMailboxFull;
+  if (deliver(sm1, !request_waiting)) sm1 = read_sm(kReadMailboxSm);
+  if (request_waiting && queue_.size() + kReserveSlots < queue_.capacity()) {
     receive(sm0);
-    deliver(sm1);
+    deliver(sm1, false);
   }
 }
 
@@ -141,7 +144,14 @@ void MailboxServer::write_sm1(const SmRegs& sm1, ConstBytes frame) noexcept {
   pdi_.write(sm1.start, {sm1_image_.data(), sm1.length});
 }
 
-bool MailboxServer::deliver(const SmRegs& sm1) noexcept {
+bool MailboxServer::busy() const noexcept {
+  for (std::size_t i = 0; i < service_count_; ++i) {
+    if (services_[i]->busy()) return true;
+  }
+  return false;
+}
+
+bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcept {
   if (sm1.status & bits::kSmStatusMailboxFull) return false;
   const int slot = 1 - newest_;
   std::size_t length = 0;
@@ -151,27 +161,39 @@ bool MailboxServer::deliver(const SmRegs& sm1) noexcept {
     length = frame.size();
     queue_.pop_front();
   } else if (continuing_) {
-    const std::size_t n = continuing_->next_reply({written_[slot].data() + MailboxHeader::kSize,
-                                                   static_cast<std::size_t>(sm1.length - MailboxHeader::kSize)});
-    if (n == 0) {
-      continuing_ = nullptr;
-      return false;
-    }
-    reply_counter_ = MailboxHeader::next_counter(reply_counter_);
-    MailboxHeader h;
-    h.length = static_cast<std::uint16_t>(n);
-    h.type = static_cast<std::uint8_t>(continuing_->type());
-    h.counter = reply_counter_;
-    h.pack({written_[slot].data(), MailboxHeader::kSize});
-    length = MailboxHeader::kSize + n;
-  } else {
-    return false;
+    length = next_fragment(slot, sm1.length);
   }
+  if (length == 0 && unsolicited_allowed && !unsolicited_.empty() && !busy()) {
+    // Emergencies go out only while no request waits for its answer
+    // (shared/spec/masters.md §6 #26: ethercrab fails on an emergency
+    // in place of an SDO reply).
+    const ConstBytes frame = unsolicited_.front();
+    std::memcpy(written_[slot].data(), frame.data(), frame.size());
+    length = frame.size();
+    unsolicited_.pop_front();
+  }
+  if (length == 0) return false;
   written_length_[slot] = length;
   have_written_[slot] = true;
   newest_ = slot;
   write_sm1(sm1, {written_[slot].data(), length});
   return true;
+}
+
+std::size_t MailboxServer::next_fragment(int slot, std::uint16_t sm1_length) noexcept {
+  const std::size_t n = continuing_->next_reply(
+      {written_[slot].data() + MailboxHeader::kSize, static_cast<std::size_t>(sm1_length - MailboxHeader::kSize)});
+  if (n == 0) {
+    continuing_ = nullptr;
+    return 0;
+  }
+  reply_counter_ = MailboxHeader::next_counter(reply_counter_);
+  MailboxHeader h;
+  h.length = static_cast<std::uint16_t>(n);
+  h.type = static_cast<std::uint8_t>(continuing_->type());
+  h.counter = reply_counter_;
+  h.pack({written_[slot].data(), MailboxHeader::kSize});
+  return MailboxHeader::kSize + n;
 }
 
 void MailboxServer::receive(const SmRegs& sm0) noexcept {
@@ -228,7 +250,7 @@ void MailboxServer::queue_error(MailboxError error) noexcept {
 }
 
 Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes payload) noexcept {
-  if (!open_ || queue_.size() + kReserveSlots + 1 > queue_.capacity()) return fail(MailboxError::NoMoreMemory);
+  if (!open_ || unsolicited_.full()) return fail(MailboxError::NoMoreMemory);
   if (payload.size() + MailboxHeader::kSize > sm1_length_) return fail(MailboxError::InvalidSize);
   std::uint8_t header[MailboxHeader::kSize];
   reply_counter_ = MailboxHeader::next_counter(reply_counter_);
@@ -240,7 +262,7 @@ Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes pa
   // Build in SM1 image scratch: poll() is not running (single-threaded).
   std::memcpy(sm1_image_.data(), header, MailboxHeader::kSize);
   if (!payload.empty()) std::memcpy(sm1_image_.data() + MailboxHeader::kSize, payload.data(), payload.size());
-  (void)queue_.push_back({sm1_image_.data(), MailboxHeader::kSize + payload.size()});
+  (void)unsolicited_.push_back({sm1_image_.data(), MailboxHeader::kSize + payload.size()});
   return {};
 }
 

@@ -13,7 +13,9 @@
 //    is sent again.
 // Replies wait in a fixed-capacity FIFO; while it is full SM0 is not read,
 // so the master's next write is refused by the ESC instead of a reply being
-// dropped. The mailbox is open in PreOp, SafeOp and Op (and Bootstrap for
+// dropped. Unsolicited messages (emergencies) wait in their own FIFO and go
+// out only when no request is waiting for its reply and no segmented
+// transfer is in progress, so a master never finds one in place of a reply. The mailbox is open in PreOp, SafeOp and Op (and Bootstrap for
 // services that say so).
 #pragma once
 
@@ -50,13 +52,13 @@ class MailboxServer {
   void poll(Nanoseconds now) noexcept;
 
   // Queues an unsolicited message (CoE emergency). Fails with NoMoreMemory
-  // when the queue is full or the mailbox is closed (Init).
+  // when its queue is full or the mailbox is closed (Init).
   Expected<void, MailboxError> send(MailboxType type, ConstBytes payload) noexcept;
 
   // ESM state seen at the last poll.
   od::EsmState state() const noexcept { return state_; }
   bool open() const noexcept { return open_; }
-  std::size_t queued() const noexcept { return queue_.size(); }
+  std::size_t queued() const noexcept { return queue_.size() + unsolicited_.size(); }
 
  private:
   struct SmRegs {
@@ -70,7 +72,9 @@ class MailboxServer {
   bool usable(const SmRegs& sm) const noexcept;
   void close() noexcept;
   void handle_repeat_request(const SmRegs& sm1) noexcept;
-  bool deliver(const SmRegs& sm1) noexcept;
+  bool deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcept;
+  bool busy() const noexcept;
+  std::size_t next_fragment(int slot, std::uint16_t sm1_length) noexcept;
   void write_sm1(const SmRegs& sm1, ConstBytes frame) noexcept;
   void receive(const SmRegs& sm0) noexcept;
   void dispatch(const MailboxHeader& header, ConstBytes payload) noexcept;
@@ -80,7 +84,8 @@ class MailboxServer {
 
   esc::Pdi& pdi_;
   std::size_t max_bytes_;
-  MailboxQueue queue_;
+  MailboxQueue queue_;        // replies, in request order
+  MailboxQueue unsolicited_;  // emergencies, sent when no request waits for a reply
   std::array<MailboxService*, kMaxServices> services_{};
   std::size_t service_count_ = 0;
   MailboxService* continuing_ = nullptr;  // service with more replies to give

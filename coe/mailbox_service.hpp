@@ -38,6 +38,9 @@ class MailboxService {
     (void)request_payload;
     (void)reply_payload;
   }
+  // True while a multi-request transfer is in progress (SDO segments, SDO
+  // information fragments): unsolicited messages wait until it ends.
+  virtual bool busy() const noexcept { return false; }
   // The mailbox was closed (state fell back to Init): drop transfers.
   virtual void reset() noexcept {}
 };

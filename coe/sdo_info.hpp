@@ -54,6 +54,7 @@ class SdoInfo {
   // The next fragment of a long OD list, or 0.
   std::size_t next_fragment(Bytes reply) noexcept;
   void reset() noexcept { pending_ = false; }
+  bool busy() const noexcept { return pending_; }
 
   // Whether `object` belongs to list `type` (1..5).
   static bool in_list(const od::Object& object, info::ListType type) noexcept;

@@ -28,6 +28,7 @@ class SdoServer {
   // (CoE header included) into `reply`; returns its length (0 = no reply).
   Expected<std::size_t, MailboxError> handle(ConstBytes request, Bytes reply, od::EsmState state) noexcept;
   void reset() noexcept { transfer_ = Transfer::None; }
+  bool busy() const noexcept { return transfer_ != Transfer::None; }
 
   std::size_t transfer_capacity() const noexcept { return buffer_.size(); }
 

@@ -36,12 +36,50 @@ TEST(Emergency, FullQueueIsReportedNotOverwritten) {
   rig.mailbox.poll(Nanoseconds{0});
   ASSERT_TRUE(emcy.raise(0x1000, 1));
   ASSERT_TRUE(emcy.raise(0x1001, 1));
-  // SM1 empty until poll: the queue holds both; a third does not fit (one slot is reserved).
-  EXPECT_EQ(emcy.raise(0x1002, 1).error(), MailboxError::NoMoreMemory);
+  ASSERT_TRUE(emcy.raise(0x1002, 1));
+  // SM1 is written at the next poll: the queue holds three; a fourth does not fit.
+  EXPECT_EQ(emcy.raise(0x1003, 1).error(), MailboxError::NoMoreMemory);
   rig.mailbox.poll(Nanoseconds{0});
   EXPECT_EQ((*rig.fetch())[8], 0x00);
   EXPECT_EQ((*rig.fetch())[8], 0x01);
+  EXPECT_EQ((*rig.fetch())[8], 0x02);
   EXPECT_FALSE(rig.fetch());
+}
+
+// shared/spec/masters.md §6 #26: a master waiting for an SDO reply must not
+// find an emergency in its place.
+TEST(Emergency, NeverInPlaceOfAPendingReply) {
+  test::Rig rig;
+  Emergency emcy(rig.mailbox, rig.store);
+  rig.mailbox.poll(Nanoseconds{0});
+  // A request is waiting in SM0 when the emergency is raised: the reply goes first.
+  ASSERT_TRUE(rig.esc.master_write(test::mbx(3, 1, test::sdo(0x40, 0x1000, 0))));
+  ASSERT_TRUE(emcy.raise(0x5000, 1));
+  rig.mailbox.poll(Nanoseconds{0});
+  auto first = rig.fetch();
+  ASSERT_TRUE(first);
+  EXPECT_EQ((*first)[7], 0x30);  // SDO response
+  auto second = rig.fetch();
+  ASSERT_TRUE(second);
+  EXPECT_EQ((*second)[7], 0x10);  // then the emergency
+  // During a segmented upload it waits for the last segment.
+  ASSERT_TRUE(rig.store.assign(0x2002, 0, Frame(300, 0x11)));
+  auto init = rig.request(test::mbx(3, 2, test::sdo(0x40, 0x2002, 0)));
+  ASSERT_TRUE(init);
+  ASSERT_TRUE(emcy.raise(0x5001, 1));
+  bool toggle = false;
+  std::uint8_t counter = 3;
+  for (;;) {
+    auto seg = rig.request(test::mbx(3, counter, test::sdo(toggle ? 0x70 : 0x60, 0, 0)));
+    counter = MailboxHeader::next_counter(counter);
+    ASSERT_TRUE(seg);
+    ASSERT_EQ((*seg)[7], 0x30) << "an emergency came in place of a segment";
+    if ((*seg)[8] & 0x01) break;
+    toggle = !toggle;
+  }
+  auto after = rig.fetch();
+  ASSERT_TRUE(after);
+  EXPECT_EQ((*after)[7], 0x10);
 }
 
 TEST(Emergency, DiagnosisHistory) {
