@@ -1,0 +1,253 @@
+// N virtual CiA 402 drives (the built-in generic servo) in one slave::Chain,
+// brought to Op with CSP enabled by a minimal master that speaks datagrams
+// only: station addresses by APWR, identical SMs by BWR, per-slave FMMUs by
+// FPWR, AL control by BWR, default PDO assignment (1600h -> SM2,
+// 1A00h -> SM3). The process image is all outputs, then all inputs, in slave
+// order (as SOEM lays it out). Then cycle() runs one 1 kHz CSP cycle: the
+// LRW frames with every drive's process data (the first also carries ARMW
+// 0910h for DC and BRD 0130h for AL status), and one Chain::poll - so every
+// drive's firmware and application cycle runs as in ecat-slave's loop.
+// Set-up allocates freely; cycle() does not allocate in this file.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bench/mini_master.hpp"
+#include "esi/device_loader.hpp"
+#include "slave/chain.hpp"
+
+namespace ecat::bench {
+
+// CiA 402 (ETG.6010 / IEC 61800-7-201) values the cycle uses.
+inline constexpr std::uint16_t kCwShutdown = 0x0006;
+inline constexpr std::uint16_t kCwSwitchOn = 0x0007;
+inline constexpr std::uint16_t kCwEnableOperation = 0x000F;
+inline constexpr std::uint16_t kSwStateMask = 0x006F;
+inline constexpr std::uint16_t kSwOperationEnabled = 0x0027;
+inline constexpr std::uint8_t kModeCsp = 8;
+// Offsets in the generic servo's fixed PDOs 1600h / 1A00h.
+inline constexpr std::size_t kOutControlword = 0;
+inline constexpr std::size_t kOutTargetPosition = 2;
+inline constexpr std::size_t kOutMode = 12;
+inline constexpr std::size_t kInStatusword = 0;
+inline constexpr std::size_t kInActualPosition = 2;
+inline constexpr std::size_t kInErrorCode = 14;
+
+inline constexpr Nanoseconds kCyclePeriod{1'000'000};
+// The set-point holds the position where the drive was enabled and is
+// rewritten every cycle: the drive's position loop, plant simulation and
+// monitoring all run each cycle (their cost does not depend on the motion),
+// and no set-up of the user-unit scaling or limit switches is needed however
+// long the benchmark runs.
+
+class DriveLine {
+ public:
+  explicit DriveLine(std::size_t n) : chain_(clock_), n_(n) {
+    auto dev = esi::load_default_device();
+    if (!dev) throw std::runtime_error(dev.error().to_string());
+    for (const auto& p : dev->rx_pdos) if (p.sm == 2) out_ += p.bit_length() / 8;
+    for (const auto& p : dev->tx_pdos) if (p.sm == 3) in_ += p.bit_length() / 8;
+    const auto& sms = dev->sync_managers;
+    for (std::size_t i = 0; i < n; ++i) {
+      slave::SlaveOptions o;
+      o.name = "drive-" + std::to_string(i + 1);
+      if (auto r = chain_.add(*dev, o); !r) throw std::runtime_error(r.error());
+    }
+    // Station addresses, many APWRs per frame.
+    batch([&](Frame& f, std::size_t i) {
+      f.add(Command::Apwr,
+            device_address(auto_increment_adp(static_cast<std::uint16_t>(i)), esc::reg::kConfiguredStationAddress),
+            le16(station(i)));
+    });
+    broadcast_sm(0, sms.at(0).start_address, sms.at(0).default_size, sms.at(0).control);
+    broadcast_sm(1, sms.at(1).start_address, sms.at(1).default_size, sms.at(1).control);
+    request(od::EsmState::PreOp);
+    broadcast_sm(2, sms.at(2).start_address, static_cast<std::uint16_t>(out_), sms.at(2).control);
+    broadcast_sm(3, sms.at(3).start_address, static_cast<std::uint16_t>(in_), sms.at(3).control);
+    batch([&](Frame& f, std::size_t i) {
+      f.add(Command::Fpwr, device_address(station(i), esc::reg::fmmu(0)),
+            fmmu_block(static_cast<std::uint32_t>(i * out_), static_cast<std::uint16_t>(out_),
+                       sms[2].start_address, esc::fmmu_reg::kTypeWrite));
+      f.add(Command::Fpwr, device_address(station(i), esc::reg::fmmu(1)),
+            fmmu_block(static_cast<std::uint32_t>(n_ * out_ + i * in_), static_cast<std::uint16_t>(in_),
+                       sms[3].start_address, esc::fmmu_reg::kTypeRead));
+    });
+    build_cycle_frames();
+    request(od::EsmState::SafeOp);
+    for (int i = 0; i < 3; ++i) cycle();
+    request(od::EsmState::Op);
+    // Follow the actual position, set CSP, walk the power state machine.
+    for (std::size_t d = 0; d < n_; ++d) {
+      put_out(d, kOutMode, 1, kModeCsp);
+      put_out(d, kOutTargetPosition, 4, static_cast<std::uint32_t>(actual_position(d)));
+    }
+    for (std::uint16_t cw : {kCwShutdown, kCwSwitchOn, kCwEnableOperation}) {
+      for (std::size_t d = 0; d < n_; ++d) put_out(d, kOutControlword, 2, cw);
+      for (int i = 0; i < 5; ++i) cycle();
+    }
+    for (std::size_t d = 0; d < n_; ++d) {
+      if ((statusword(d) & kSwStateMask) != kSwOperationEnabled) {
+        throw std::runtime_error("drive " + std::to_string(d) + " not enabled, statusword " +
+                                 std::to_string(statusword(d)));
+      }
+      target_.push_back(actual_position(d));
+    }
+  }
+
+  // One CSP cycle: new set-points, the frames, one poll of every slave.
+  void cycle() noexcept {
+    now_ += kCyclePeriod;
+    clock_.set(now_);
+    for (std::size_t d = 0; d < target_.size(); ++d) {
+      put_out(d, kOutTargetPosition, 4, static_cast<std::uint32_t>(target_[d]));
+    }
+    Nanoseconds t = now_;
+    for (auto& f : frames_) {
+      for (std::size_t k = 0; k < f->datagrams; ++k) f->frame.dg(k).set_wkc(0);
+      (void)chain_.process_frame(f->frame.bytes(), t);
+      t += kFrameSpacing;
+    }
+    (void)chain_.poll(t);
+  }
+
+  std::size_t size() const noexcept { return n_; }
+  std::size_t frames() const noexcept { return frames_.size(); }
+  std::size_t image_bytes() const noexcept { return n_ * (out_ + in_); }
+  std::uint16_t statusword(std::size_t d) const noexcept {
+    return static_cast<std::uint16_t>(get_in(d, kInStatusword, 2));
+  }
+  std::int32_t actual_position(std::size_t d) const noexcept {
+    return static_cast<std::int32_t>(get_in(d, kInActualPosition, 4));
+  }
+  std::uint16_t error_code(std::size_t d) const noexcept {
+    return static_cast<std::uint16_t>(get_in(d, kInErrorCode, 2));
+  }
+  std::uint16_t al_status(std::size_t d) noexcept { return chain_[d].esc().register_u16(esc::reg::kAlStatus); }
+  slave::Chain& chain() noexcept { return chain_; }
+
+ private:
+  static constexpr Nanoseconds kFrameSpacing{10'000};
+  static constexpr std::uint16_t kArmwBytes = 8;
+  static constexpr std::uint16_t kAlStatusBytes = 2;
+  static constexpr std::uint16_t kSystemTime = esc::reg::kDcBase + 0x10;  // 0x0910
+  static constexpr int kMaxStatePolls = 200;
+
+  struct CycleFrame {
+    Frame frame;
+    std::size_t datagrams = 0;
+  };
+
+  static Data fmmu_block(std::uint32_t logical, std::uint16_t length, std::uint16_t physical, std::uint8_t type) {
+    Data d = le32(logical);
+    for (auto b : le16(length)) d.push_back(b);
+    d.push_back(0);
+    d.push_back(7);
+    for (auto b : le16(physical)) d.push_back(b);
+    d.push_back(0);
+    d.push_back(type);
+    d.push_back(esc::fmmu_reg::kActivateEnable);
+    d.resize(esc::reg::kFmmuStride, 0);
+    return d;
+  }
+
+  void send(Frame& f) {
+    now_ += kFrameSpacing;
+    clock_.set(now_);
+    if (!chain_.process_frame(f.finish(), now_)) throw std::runtime_error("set-up frame lost");
+  }
+
+  // Frames of per-slave datagrams, filled while they fit.
+  template <typename Add>
+  void batch(Add add) {
+    constexpr std::size_t kRoom = 64;  // bytes the largest per-slave group needs
+    auto f = std::make_unique<Frame>();
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (f->remaining() < kRoom) {
+        send(*f);
+        f = std::make_unique<Frame>();
+      }
+      add(*f, i);
+    }
+    send(*f);
+  }
+
+  void broadcast_sm(unsigned sm, std::uint16_t start, std::uint16_t length, std::uint8_t control) {
+    Frame f;
+    f.add(Command::Bwr, device_address(0, esc::reg::sync_manager(sm)),
+          Data{static_cast<std::uint8_t>(start), static_cast<std::uint8_t>(start >> 8),
+               static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8), control, 0, kSmActivate, 0});
+    send(f);
+    if (f.wkc(0) != n_) throw std::runtime_error("SM" + std::to_string(sm) + " not taken by every slave");
+  }
+
+  void request(od::EsmState state) {
+    const auto want = static_cast<std::uint8_t>(state);
+    Frame f;
+    f.add(Command::Bwr, device_address(0, esc::reg::kAlControl), le16(want));
+    send(f);
+    for (int i = 0; i < kMaxStatePolls; ++i) {
+      if (!frames_.empty()) {
+        cycle();
+      } else {
+        now_ += kCyclePeriod;
+        clock_.set(now_);
+        (void)chain_.poll(now_);
+      }
+      bool all = true;
+      for (std::size_t s = 0; s < n_ && all; ++s) {
+        all = (chain_[s].esc().register_u16(esc::reg::kAlStatus) & 0x0F) == want;
+      }
+      if (all) return;
+    }
+    const std::uint16_t st = chain_[0].esc().register_u16(esc::reg::kAlStatus);
+    const std::uint16_t code = chain_[0].esc().register_u16(esc::reg::kAlStatusCode);
+    throw std::runtime_error("state " + std::to_string(want) + " not reached: AL status " + std::to_string(st) +
+                             " code " + std::to_string(code));
+  }
+
+  void build_cycle_frames() {
+    const std::size_t total = image_bytes();
+    std::size_t at = 0;
+    byte_.assign(total, nullptr);
+    while (at < total || frames_.empty()) {
+      auto cf = std::make_unique<CycleFrame>();
+      if (frames_.empty()) {
+        cf->frame.add(Command::Armw, device_address(auto_increment_adp(0), kSystemTime), kArmwBytes);
+        cf->frame.add(Command::Brd, device_address(0, esc::reg::kAlStatus), kAlStatusBytes);
+        cf->datagrams = 2;
+      }
+      const auto len = static_cast<std::uint16_t>(std::min(total - at, cf->frame.remaining()));
+      const std::size_t k = cf->frame.add(Command::Lrw, static_cast<std::uint32_t>(at), len);
+      ++cf->datagrams;
+      cf->frame.finish();
+      auto data = cf->frame.dg(k).data();
+      for (std::size_t i = 0; i < len; ++i) byte_[at + i] = data.data() + i;
+      at += len;
+      frames_.push_back(std::move(cf));
+    }
+  }
+
+  void put_out(std::size_t d, std::size_t offset, std::size_t bytes, std::uint32_t v) noexcept {
+    for (std::size_t i = 0; i < bytes; ++i) *byte_[d * out_ + offset + i] = static_cast<std::uint8_t>(v >> (8 * i));
+  }
+  std::uint32_t get_in(std::size_t d, std::size_t offset, std::size_t bytes) const noexcept {
+    std::uint32_t v = 0;
+    for (std::size_t i = 0; i < bytes; ++i) v |= static_cast<std::uint32_t>(*byte_[n_ * out_ + d * in_ + offset + i]) << (8 * i);
+    return v;
+  }
+
+  ManualClock clock_;
+  slave::Chain chain_;
+  std::size_t n_;
+  std::size_t out_ = 0;
+  std::size_t in_ = 0;
+  Nanoseconds now_{0};
+  std::vector<std::unique_ptr<CycleFrame>> frames_;
+  std::vector<std::uint8_t*> byte_;  // logical image byte -> its place in a cycle frame
+  std::vector<std::int32_t> target_;  // where each drive was enabled
+};
+
+}  // namespace ecat::bench
