@@ -101,3 +101,34 @@ TEST_F(InProcessMaster, SdoTrafficAndProcessDataToOp) {
 
 }  // namespace
 }  // namespace ecat::master::test
+
+namespace ecat::master::test {
+namespace {
+
+// Propagation delays on a line of 3 emulated ESCs (esc::Segment hop delay):
+// the reference has delay 0 and each later slave a larger one.
+TEST(InProcessDc, DelaysGrowAlongTheLine) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 3));
+  Master master(bus.transport, bus.clock);
+  ASSERT_EQ(master.scan().value_or(0), 3u);
+  if (!master.slave(0).esc.has_dc()) GTEST_SKIP() << "device without DC";
+  auto n = master.configure_dc(Nanoseconds{1'000'000'000});
+  ASSERT_TRUE(n.has_value()) << describe(n.error());
+  ASSERT_EQ(*n, 3u);
+  EXPECT_EQ(master.reference_clock(), std::optional<std::size_t>(0));
+  EXPECT_EQ(master.slave(0).dc.delay_ns, 0u);
+  EXPECT_GT(master.slave(1).dc.delay_ns, 0u);
+  EXPECT_GT(master.slave(2).dc.delay_ns, master.slave(1).dc.delay_ns);
+  for (std::size_t i = 0; i < 3; ++i) {
+    // 0x0928 holds what the master computed (hop delay 1 µs per slave).
+    auto delay = master.fprd_u32(master.slave(i).station_address, 0x0928);
+    ASSERT_TRUE(delay.has_value());
+    EXPECT_EQ(*delay, master.slave(i).dc.delay_ns) << i;
+    EXPECT_EQ(master.slave(i).dc.delay_ns, i * 1000u);
+  }
+  ASSERT_TRUE(master.dc_static_drift_compensation(100).has_value());
+}
+
+}  // namespace
+}  // namespace ecat::master::test
