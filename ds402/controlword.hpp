@@ -25,6 +25,7 @@ inline constexpr std::uint16_t kHomingStart = kOpMode4;
 inline constexpr std::uint16_t kEnableIpMode = kOpMode4;
 inline constexpr std::uint16_t kChangeSetImmediately = kOpMode5;
 inline constexpr std::uint16_t kRelative = kOpMode6;
+inline constexpr std::uint16_t kChangeOnSetPoint = kOpMode9;
 
 // Commands as CiA 402-2 Table 30 writes them: value under mask.
 inline constexpr std::uint16_t kShutdownMask = 0x0087, kShutdownValue = 0x0006;

@@ -11,7 +11,8 @@ namespace {
 constexpr double kSnapSteps = 1.5;
 }  // namespace
 
-bool ProfileGenerator::move_to(double target, double vmax, double acc, double dec, double dt) noexcept {
+bool ProfileGenerator::move_to(double target, double vmax, double acc, double dec, double dt,
+                               double end_speed) noexcept {
   const double rem = target - position_;
   if (rem == 0.0 && velocity_ == 0.0) return true;
   const double dir = rem > 0 ? 1.0 : (rem < 0 ? -1.0 : (velocity_ > 0 ? -1.0 : 1.0));
@@ -21,15 +22,20 @@ bool ProfileGenerator::move_to(double target, double vmax, double acc, double de
   if (toward < 0) {
     next = std::min(toward + dec * dt, 0.0);  // brake the wrong-way motion first
   } else {
-    if (dist <= kSnapSteps * dec * dt * dt && toward <= 2.0 * dec * dt) {
+    if (end_speed > 0 && toward * dt >= dist) {  // passes the target this step: hand over
+      position_ = target;
+      velocity_ = std::min(toward, end_speed) * dir;
+      return true;
+    }
+    if (end_speed <= 0 && dist <= kSnapSteps * dec * dt * dt && toward <= 2.0 * dec * dt) {
       position_ = target;
       velocity_ = 0.0;
       return true;
     }
     next = toward > vmax ? std::max(toward - dec * dt, vmax) : std::min(toward + acc * dt, vmax);
-    // Largest speed from which a stop at `dec` still ends on the target after
-    // this step: v·dt + v²/(2·dec) = dist.
-    const double brake = -dec * dt + std::sqrt(dec * dt * dec * dt + 2.0 * dec * dist);
+    // Largest speed from which braking at `dec` still reaches the target at
+    // end_speed after this step: v·dt + (v² - end²)/(2·dec) = dist.
+    const double brake = -dec * dt + std::sqrt(dec * dt * dec * dt + 2.0 * dec * dist + end_speed * end_speed);
     next = std::min(next, brake);
     next = std::max(next, toward - dec * dt);  // cannot brake harder than dec (may overshoot)
   }

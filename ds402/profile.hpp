@@ -12,8 +12,9 @@ class ProfileGenerator {
     velocity_ = velocity;
   }
   // One step toward `target`: accelerate at `acc` up to `vmax`, brake at
-  // `dec` so as to stop on the target. True once at the target at rest.
-  bool move_to(double target, double vmax, double acc, double dec, double dt) noexcept;
+  // `dec` so as to pass the target at `end_speed` (>= 0; 0 = stop on it).
+  // True once at the target (at rest, or moving on at end_speed).
+  bool move_to(double target, double vmax, double acc, double dec, double dt, double end_speed = 0.0) noexcept;
   // One step of a velocity ramp: |v| grows at `acc`, shrinks at `dec`.
   void ramp_velocity(double target_velocity, double acc, double dec, double dt) noexcept;
   // One step of a ramp to standstill. True once stopped.

@@ -19,6 +19,7 @@ void ProfilePosition::enter(double base) noexcept {
 void ProfilePosition::handshake(std::uint16_t controlword, PpSetPoint sp, bool relative, double min,
                                 double max) noexcept {
   const bool new_setpoint = controlword & cw::kNewSetPoint;
+  change_on_setpoint_ = (controlword & cw::kChangeOnSetPoint) != 0;
   if (new_setpoint && !previous_new_setpoint_) {
     if (relative) sp.target += last_target_;
     clipped_ = false;
@@ -53,7 +54,15 @@ void ProfilePosition::move(ProfileGenerator& gen, double dt) noexcept {
     return;
   }
   const PpSetPoint& a = *active_;
-  if (gen.move_to(a.target, a.velocity, a.acceleration, a.deceleration, dt)) {
+  // Bit 9: carry the speed through the first target when the buffered move
+  // continues the same way (at the lower of the two profile velocities).
+  double end_speed = 0;
+  if (change_on_setpoint_ && buffered_) {
+    const double here_to_first = a.target - gen.position();
+    const double first_to_next = buffered_->target - a.target;
+    if (here_to_first * first_to_next > 0) end_speed = std::min(a.velocity, buffered_->velocity);
+  }
+  if (gen.move_to(a.target, a.velocity, a.acceleration, a.deceleration, dt, end_speed)) {
     active_ = buffered_;  // the buffered set-point starts when the first one is done
     buffered_.reset();
   }

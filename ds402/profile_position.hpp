@@ -1,7 +1,9 @@
 // Profile position mode (CiA 402-2 §12): the new-set-point / set-point
 // acknowledge handshake (controlword bit 4, statusword bit 12), "change set
 // immediately" (bit 5), absolute/relative targets (bit 6), a one-deep
-// set-point buffer, and a trapezoidal move with 6081h/6083h/6084h.
+// set-point buffer, "change on set-point" (bit 9: pass the first target
+// without stopping when the next move goes on in the same direction) and a
+// trapezoidal move with 6081h/6083h/6084h.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +44,7 @@ class ProfilePosition {
   std::optional<PpSetPoint> buffered_;
   double last_target_ = 0;
   bool previous_new_setpoint_ = false;
+  bool change_on_setpoint_ = false;
   bool acknowledge_ = false;
   bool clipped_ = false;
 };

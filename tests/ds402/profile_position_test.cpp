@@ -120,6 +120,42 @@ TEST_F(Pp, BufferedSetPointRunsAfterTheFirst) {
   EXPECT_FALSE(h.bit(sw::kSetPointAcknowledge));
 }
 
+TEST_F(Pp, ChangeOnSetPointPassesTheFirstTargetWithoutStopping) {
+  EXPECT_TRUE(send(50000, cw::kChangeOnSetPoint));
+  EXPECT_TRUE(send(120000, cw::kChangeOnSetPoint));
+  std::int32_t vmin_after_start = 1 << 30;
+  bool started = false;
+  std::int32_t at_first = -1;
+  ASSERT_GT(h.run_until(
+                [&] {
+                  if (h.out.velocity_demand == 100000) started = true;  // cruising
+                  if (started && h.out.position_demand < 110000)
+                    vmin_after_start = std::min(vmin_after_start, h.out.velocity_demand);
+                  if (at_first < 0 && h.out.position_demand >= 50000) at_first = h.out.velocity_demand;
+                  return h.bit(sw::kTargetReached);
+                },
+                5000),
+            0);
+  EXPECT_EQ(at_first, 100000);          // passes 50000 at the profile velocity
+  EXPECT_EQ(vmin_after_start, 100000);  // never slows before the last braking
+  EXPECT_EQ(h.out.position_demand, 120000);
+}
+
+TEST_F(Pp, ChangeOnSetPointStopsWhenTheNextMoveReverses) {
+  EXPECT_TRUE(send(50000, cw::kChangeOnSetPoint));
+  EXPECT_TRUE(send(10000, cw::kChangeOnSetPoint));
+  std::int32_t peak = 0;
+  ASSERT_GT(h.run_until(
+                [&] {
+                  peak = std::max(peak, h.out.position_demand);
+                  return h.bit(sw::kTargetReached);
+                },
+                5000),
+            0);
+  EXPECT_EQ(peak, 50000);
+  EXPECT_EQ(h.out.position_demand, 10000);
+}
+
 TEST_F(Pp, ChangeSetImmediatelyReplacesTheMove) {
   EXPECT_TRUE(send(200000));
   h.run(300);
