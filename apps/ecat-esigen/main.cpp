@@ -10,6 +10,7 @@
 // to its target and renamed only when all outputs are ready, so a failed run
 // leaves no file half-written. Errors: one line "file:line: message", exit 1;
 // bad options: exit 2.
+#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <optional>
@@ -43,6 +44,21 @@ struct Options {
   std::string cpp_namespace = "ecat_device";
   std::string device_xml_out;
 };
+
+// A C++ namespace name: identifiers joined by "::".
+bool valid_namespace(const std::string& ns) {
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t end = ns.find("::", start);
+    const std::string part = ns.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (part.empty() || std::isdigit(static_cast<unsigned char>(part[0]))) return false;
+    for (char c : part) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+    }
+    if (end == std::string::npos) return true;
+    start = end + 2;
+  }
+}
 
 int usage_error(const std::string& message) {
   std::fprintf(stderr, "ecat-esigen: %s\n", message.c_str());
@@ -139,6 +155,9 @@ int main(int argc, char** argv) {
   }
   if (o.from_esi.empty() && (!o.product_code.empty() || !o.revision.empty())) {
     return usage_error("--product-code and --revision need --from-esi");
+  }
+  if (!valid_namespace(o.cpp_namespace)) {
+    return usage_error(fmt::format("--cpp-namespace '{}' is not a C++ namespace name", o.cpp_namespace));
   }
   if (o.esi_out.empty() && o.sii_out.empty() && o.cpp_out.empty() && o.device_xml_out.empty()) {
     return usage_error("nothing to do: give --esi, --sii, --cpp or --device-xml");

@@ -71,6 +71,8 @@ expect_rc 2 "unknown option" "$gen" --bogus
 expect_rc 2 "no output" "$gen"
 expect_rc 2 "device and --from-esi" "$gen" "$src/xml/devices/generic-servo.xml" --from-esi "$vendor" --esi "$out/x.xml"
 expect_rc 2 "--revision without --from-esi" "$gen" --revision 1 --esi "$out/x.xml"
+expect_rc 2 "bad namespace" "$gen" --cpp "$out/x.hpp" --cpp-namespace "9bad::x"
+expect_rc 0 "nested namespace" "$gen" --cpp "$out/ns.hpp" --cpp-namespace "gen::servo_1"
 expect_rc 2 "bad product code" "$gen" --from-esi "$vendor" --product-code zz --esi "$out/x.xml"
 expect_rc 1 "missing device" "$gen" "$out/none.xml" --esi "$out/x.xml"
 grep -q "none.xml" "$out/stderr" || fail "missing-device error does not name the file"
