@@ -243,6 +243,12 @@ class DeviceReader {
           ctx_.warn(c, "not hexBinary; ignored");
           continue;
         }
+        for (std::size_t i = kConfigWords * 2; i < bytes->size(); ++i) {
+          if ((*bytes)[i] != 0) {
+            ctx_.warn(c, "bytes after word 4 (reserved words 5-6) are not modelled; written as 0");
+            break;
+          }
+        }
         bytes->resize(kConfigWords * 2, 0);
         std::uint16_t w[kConfigWords];
         for (std::size_t i = 0; i < kConfigWords; ++i) {

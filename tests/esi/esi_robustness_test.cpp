@@ -55,6 +55,24 @@ TEST(EsiRobustness, OutOfRangeNumbersWarn) {
   EXPECT_EQ(d->sync_managers.at(0).control, 0x26);
 }
 
+TEST(EsiRobustness, ReservedConfigWordsWarn) {
+  // LAN9252-style ConfigData with word 5 set: the model keeps words 0-4 only.
+  const std::string xml = R"(<EtherCATInfo><Vendor><Id>1</Id></Vendor><Descriptions><Devices>
+<Device Physics="YY"><Type ProductCode="1" RevisionNo="1">X</Type><Name>X</Name><GroupType>G</GroupType>
+<Eeprom><ByteSize>2048</ByteSize><ConfigData>8003006EFF00FF000000C0400000</ConfigData></Eeprom>
+</Device></Devices></Descriptions></EtherCATInfo>)";
+  std::vector<EsiWarning> w;
+  auto d = read_esi_string(xml, "cfg.xml", {}, &w);
+  ASSERT_TRUE(d);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].to_string("cfg.xml"), "cfg.xml:3: warning: ConfigData: bytes after word 4 (reserved "
+                                       "words 5-6) are not modelled; written as 0");
+  EXPECT_EQ(d->esc.pdi_control, 0x0380);
+  EXPECT_EQ(d->esc.pdi_configuration, 0x6E00);
+  EXPECT_EQ(d->esc.sync_impulse_length, 0x00FF);
+  EXPECT_EQ(d->esc.pdi_configuration2, 0x00FF);
+}
+
 TEST(SiiRobustness, RandomAndMutatedImages) {
   std::mt19937 rng(12345);  // fixed seed: reproducible
   std::uniform_int_distribution<int> byte(0, 255);
