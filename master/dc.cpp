@@ -4,6 +4,9 @@
 // the reference clock (first DC slave) along a line, writes the offset
 // 0x0920 = master time - 0x0918 and the delay 0x0928. Drift compensation is
 // FRMW 0x0910 from the reference clock; Sync0 via 0x0981/0x09A0/0x0990.
+#include <algorithm>
+#include <vector>
+
 #include "master/master.hpp"
 #include "master/registers.hpp"
 
@@ -59,12 +62,14 @@ Expected<std::size_t, MasterError> Master::configure_dc(Nanoseconds master_time)
   return dc.size();
 }
 
-Expected<void, MasterError> Master::dc_static_drift_compensation(unsigned iterations) {
+Expected<void, MasterError> Master::dc_static_drift_compensation(unsigned iterations, Command command) {
   if (!reference_clock_) return fail(MasterError::NotConfigured);
-  const std::uint16_t ref = slaves_[*reference_clock_].station_address;
+  if (command != Command::Frmw && command != Command::Armw) return fail(MasterError::InvalidArgument);
+  const SlaveInfo& ref = slaves_[*reference_clock_];
+  const std::uint16_t adp = command == Command::Frmw ? ref.station_address : auto_increment_adp(ref.position);
   for (unsigned i = 0; i < iterations; ++i) {
     std::fill(dc_time_.begin(), dc_time_.end(), 0);
-    auto wkc = link_.exchange(Command::Frmw, device_address(ref, reg::kDcSystemTime), Bytes(dc_time_));
+    auto wkc = link_.exchange(command, device_address(adp, reg::kDcSystemTime), Bytes(dc_time_));
     if (!wkc) return fail(wkc.error());
     if (*wkc == 0) return fail(MasterError::WorkingCounter);
   }

@@ -160,8 +160,9 @@ class Master {
   // BWR 0x0900 latch, read port times and 0x0918 per DC slave, compute line
   // delays, write 0x0920 offsets and 0x0928 delays. Returns the DC slave count.
   Expected<std::size_t, MasterError> configure_dc(Nanoseconds master_time);
-  // `iterations` x FRMW 0x0910:8 addressed at the reference clock.
-  Expected<void, MasterError> dc_static_drift_compensation(unsigned iterations);
+  // `iterations` x FRMW 0x0910:8 addressed at the reference clock (SOEM,
+  // ethercrab), or ARMW by its position (TwinCAT, masters.md §3.3).
+  Expected<void, MasterError> dc_static_drift_compensation(unsigned iterations, Command command = Command::Frmw);
   // 0x0981 = 0, 0x09A0 cycle, 0x0990 start (now + start_delay aligned to the cycle + shift), 0x0981 = 3.
   Expected<std::uint64_t, MasterError> configure_sync0(std::size_t slave, std::uint32_t cycle_ns,
                                                        std::uint32_t shift_ns, Nanoseconds start_delay);

@@ -128,6 +128,8 @@ TEST(InProcessDc, DelaysGrowAlongTheLine) {
     EXPECT_EQ(master.slave(i).dc.delay_ns, i * 1000u);
   }
   ASSERT_TRUE(master.dc_static_drift_compensation(100).has_value());
+  ASSERT_TRUE(master.dc_static_drift_compensation(100, Command::Armw).has_value());
+  EXPECT_EQ(master.dc_static_drift_compensation(1, Command::Lrw).error(), MasterError::InvalidArgument);
 }
 
 }  // namespace
