@@ -12,7 +12,6 @@ namespace {
 using namespace dcreg;
 
 constexpr std::uint16_t kU32 = 4;
-constexpr std::uint16_t kU64 = 8;
 constexpr unsigned kHighWordShift = 32;
 constexpr std::uint64_t kLowWordMask = 0xFFFFFFFFull;
 
