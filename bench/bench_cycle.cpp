@@ -4,6 +4,7 @@
 // Target: 100 drives <= 9 µs per cycle on one core, linear in N.
 #include <benchmark/benchmark.h>
 
+#include "bench/bench_options.hpp"
 #include "bench/drive_line.hpp"
 
 namespace ecat::bench {
@@ -30,7 +31,7 @@ void BM_Cycle_Csp(benchmark::State& state) {
   state.counters["ns_per_drive"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_Cycle_Csp)->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Cycle_Csp)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ecat::bench

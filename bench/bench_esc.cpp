@@ -6,6 +6,7 @@
 // time advancing 1 µs per frame so the timers run as in a live cycle.
 #include <benchmark/benchmark.h>
 
+#include "bench/bench_options.hpp"
 #include "bench/mini_master.hpp"
 
 namespace ecat::bench {
@@ -42,7 +43,7 @@ void BM_OneSlave_Fprd2_0130(benchmark::State& state) {
   f.add(Command::Fprd, device_address(station(0), esc::reg::kAlStatus), kAlStatusBytes);
   run_frames(state, line.segment, f, 1);
 }
-BENCHMARK(BM_OneSlave_Fprd2_0130);
+BENCHMARK(BM_OneSlave_Fprd2_0130)->Apply(iterations_from_env);
 
 void BM_OneSlave_Fpwr2(benchmark::State& state) {
   EscLine line(1);
@@ -50,7 +51,7 @@ void BM_OneSlave_Fpwr2(benchmark::State& state) {
   f.add(Command::Fpwr, device_address(station(0), kFreeRam), le16(0xBEEF));
   run_frames(state, line.segment, f, 1);
 }
-BENCHMARK(BM_OneSlave_Fpwr2);
+BENCHMARK(BM_OneSlave_Fpwr2)->Apply(iterations_from_env);
 
 void BM_OneSlave_Armw8_0910(benchmark::State& state) {
   EscLine line(1);
@@ -58,7 +59,7 @@ void BM_OneSlave_Armw8_0910(benchmark::State& state) {
   f.add(Command::Armw, device_address(auto_increment_adp(0), esc::reg::kDcBase + 0x10), kSystemTimeBytes);
   run_frames(state, line.segment, f, 1);
 }
-BENCHMARK(BM_OneSlave_Armw8_0910);
+BENCHMARK(BM_OneSlave_Armw8_0910)->Apply(iterations_from_env);
 
 // 1,486 bytes: the first half outputs (FMMU0 write -> SM2), the second half
 // inputs (FMMU1 read <- SM3).
@@ -71,7 +72,7 @@ void BM_OneSlave_Lrw1486(benchmark::State& state) {
   f.add(Command::Lrw, 0, kFullFrameData);
   run_frames(state, line.segment, f, kWkcLrwBoth);
 }
-BENCHMARK(BM_OneSlave_Lrw1486);
+BENCHMARK(BM_OneSlave_Lrw1486)->Apply(iterations_from_env);
 
 // Chains: one FPRD of AL status to the last slave (every ESC checks the address).
 void BM_Chain_FprdFrame(benchmark::State& state) {
@@ -83,7 +84,7 @@ void BM_Chain_FprdFrame(benchmark::State& state) {
   state.counters["ns_per_slave"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_Chain_FprdFrame)->Arg(1)->Arg(10)->Arg(100)->Arg(1000);
+BENCHMARK(BM_Chain_FprdFrame)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000);
 
 // Chains: one 1,486-byte LRW; the slaves share it evenly (half outputs, half
 // inputs each, at least 1 + 1 byte); past 743 slaves the shares lie beyond
@@ -106,7 +107,7 @@ void BM_Chain_LrwFrame(benchmark::State& state) {
   state.counters["ns_per_slave"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_Chain_LrwFrame)->Arg(1)->Arg(10)->Arg(100)->Arg(1000);
+BENCHMARK(BM_Chain_LrwFrame)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000);
 
 }  // namespace
 }  // namespace ecat::bench
