@@ -26,6 +26,9 @@ class FakeEsc {
   std::deque<std::vector<std::uint8_t>> replies;
   std::uint16_t sm0 = 0x1000, sm1 = 0x1080, mbx_size = 128;
   bool lose_next_sm1_read = false;
+  bool sii_read_8 = true;      // 0x0502 bit 6
+  int sii_busy_reads = 0;      // reads of 0x0502 that still show busy after a command
+  int busy_left_ = 0;
 
   std::uint16_t u16(std::uint16_t a) const { return load_le<std::uint16_t>(mem.data() + a); }
 
@@ -77,6 +80,12 @@ class FakeEsc {
         return;  // as if the frame was lost on the way back: WKC 0
       }
     }
+    if (ado == reg::kEepromControlStatus && busy_left_ > 0) {
+      --busy_left_;
+      store_le(mem.data() + reg::kEepromControlStatus, static_cast<std::uint16_t>(u16(reg::kEepromControlStatus) | 0x8000));
+    } else if (ado == reg::kEepromControlStatus) {
+      store_le(mem.data() + reg::kEepromControlStatus, static_cast<std::uint16_t>(u16(reg::kEepromControlStatus) & 0x7FFF));
+    }
     for (std::size_t i = 0; i < data.size(); ++i) {
       const std::uint8_t v = mem[static_cast<std::uint16_t>(ado + i)];
       data[i] = d.command() == Command::Brd ? static_cast<std::uint8_t>(data[i] | v) : v;
@@ -99,11 +108,13 @@ class FakeEsc {
     }
     if (ado == reg::kEepromControlStatus && data.size() >= 6 && (u16(reg::kEepromControlStatus) & 0x0700) == 0x0100) {
       const std::uint32_t word = load_le<std::uint32_t>(mem.data() + reg::kEepromAddress);
+      const std::size_t n = sii_read_8 ? 8 : 4;
       for (std::size_t i = 0; i < 8; ++i) {
         const std::size_t at = 2 * word + i;
-        mem[reg::kEepromData + i] = at < sii.size() ? sii[at] : 0xFF;
+        mem[reg::kEepromData + i] = i < n && at < sii.size() ? sii[at] : 0xEE;
       }
-      store_le(mem.data() + reg::kEepromControlStatus, std::uint16_t{0x0040});  // idle, 8-byte reads
+      store_le(mem.data() + reg::kEepromControlStatus, static_cast<std::uint16_t>(sii_read_8 ? 0x0040 : 0x0000));
+      busy_left_ = sii_busy_reads;
     }
     if (ado == 0x080E && data.size() == 1) {
       // Repeat request toggled: put the last reply back and acknowledge.

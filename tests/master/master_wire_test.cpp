@@ -52,6 +52,30 @@ TEST_F(MasterFixture, ScanAssignsStationAddressAndReadsSii) {
   EXPECT_EQ(s.sii_image.size(), test_sii_image().size() - 2);  // up to the end marker word
 }
 
+TEST_F(MasterFixture, SiiFourByteReadsAndBusyPolling) {
+  fake.sii_read_8 = false;
+  fake.sii_busy_reads = 3;
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  const auto image = test_sii_image();
+  EXPECT_EQ(master.slave(0).sii_image, Bytes8(image.begin(), image.end() - 2));
+  auto reads = sent(Command::Fprd, 0x0508);
+  ASSERT_FALSE(reads.empty());
+  EXPECT_EQ(reads[0].data.size(), 4u);
+  // 4 bytes per command: word addresses step by 2.
+  auto cmds = sent(Command::Fpwr, 0x0502);
+  ASSERT_GE(cmds.size(), 2u);
+  EXPECT_EQ(cmds[1].data, (Bytes8{0x00, 0x01, 0x02, 0x00, 0x00, 0x00}));
+  // Busy polled: at least 1 (idle check) + 1 + 3 (busy) status reads per command.
+  EXPECT_GE(sent(Command::Fprd, 0x0502).size(), 5 * cmds.size());
+}
+
+TEST_F(MasterFixture, SiiStuckBusyIsATimeout) {
+  fake.sii_busy_reads = 1'000'000;
+  auto r = master.scan();
+  ASSERT_FALSE(r.has_value());
+  EXPECT_EQ(r.error(), MasterError::SiiTimeout);
+}
+
 TEST_F(MasterFixture, StateRequestWritesAlControlAndPollsStatusWithCode) {
   ASSERT_EQ(master.scan().value_or(0), 1u);
   clear_sent();
