@@ -54,7 +54,7 @@ void SyncController::load_modes() noexcept {
 
 bool SyncController::attach(esc::Esm& esm) noexcept {
   esm_ = &esm;
-  return esm.add_hooks(*this);
+  return esm.add_hooks(*this) && esm.add_deferral(*this);
 }
 
 Expected<void, SdoAbort> SyncController::on_write(ObjectStore& store, const WriteRequest& request) noexcept {
@@ -111,14 +111,24 @@ AlStatusCode SyncController::check_transition(AlState from, AlState to) noexcept
   }
   if (from == AlState::SafeOp && to == AlState::Op && is_dc(trigger_mode()) &&
       syncs_in_safeop_ < kSyncPulsesBeforeOp) {
-    return AlStatusCode::NoSyncError;  // not synchronised yet (0x002D)
+    if (!op_wait_start_) op_wait_start_ = last_now_;
+    if (last_now_ - *op_wait_start_ >= kSyncWaitTimeout) {
+      op_wait_start_.reset();
+      return AlStatusCode::NoSyncError;  // never synchronised (0x002D)
+    }
   }
   return AlStatusCode::NoError;
+}
+
+bool SyncController::transition_ready(AlState from, AlState to) noexcept {
+  if (from != AlState::SafeOp || to != AlState::Op || !is_dc(trigger_mode())) return true;
+  return syncs_in_safeop_ >= kSyncPulsesBeforeOp;
 }
 
 void SyncController::on_state_changed(AlState from, AlState to, AlStatusCode code) noexcept {
   (void)code;
   state_ = to;
+  op_wait_start_.reset();
   if (from == AlState::PreOp && to == AlState::SafeOp) {
     reset_counters();
     syncs_in_safeop_ = 0;
@@ -133,6 +143,7 @@ void SyncController::on_state_changed(AlState from, AlState to, AlStatusCode cod
 }
 
 SyncPoll SyncController::poll(Nanoseconds now) noexcept {
+  last_now_ = now;
   if (!at_least_safeop(state_)) return poll_free_run(now);
   switch (trigger_mode()) {
     case SyncMode::FreeRun: return poll_free_run(now);

@@ -26,6 +26,7 @@
 #include "common/clock.hpp"
 #include "esc/dc/vcd_trace.hpp"
 #include "esc/esm.hpp"
+#include "esc/esm_deferral.hpp"
 #include "esc/pdi.hpp"
 #include "od/device.hpp"
 
@@ -36,10 +37,13 @@ struct SyncPoll {
   std::optional<Nanoseconds> next;   // when poll() next has something to do by time alone
 };
 
-class SyncController final : public esc::EsmHooks, public ObjectHooks {
+class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, public ObjectHooks {
  public:
-  // SYNC0 pulses the application must have seen in SafeOp before Op (else 0x002D).
+  // SYNC0 pulses the application must have seen in SafeOp before Op; the
+  // SafeOp->Op request stays pending until then, and is refused with 0x002D
+  // if they do not come within kSyncWaitTimeout.
   static constexpr unsigned kSyncPulsesBeforeOp = 2;
+  static constexpr Nanoseconds kSyncWaitTimeout{2'000'000'000};
   // SYNC missing for this many cycles in SafeOp/Op: 0x0034 (or 0x002C if switched off).
   static constexpr unsigned kSyncTimeoutCycles = 3;
   // Sync error counter (ETG.1020): +3 per missed SM event, -1 per good cycle;
@@ -54,7 +58,7 @@ class SyncController final : public esc::EsmHooks, public ObjectHooks {
   // Start-up: hooks for 1C32h/1C33h; sub 4 (modes supported) and 5 (minimum
   // cycle) from the limits where the dictionary left them 0.
   void install() noexcept;
-  // Registers with the ESM (checks, state changes) and keeps it for raise_error.
+  // Registers with the ESM (checks, deferral, state changes) and keeps it for raise_error.
   bool attach(esc::Esm& esm) noexcept;
   void set_trace(esc::VcdProbe* probe) noexcept { trace_ = probe; }
 
@@ -72,6 +76,8 @@ class SyncController final : public esc::EsmHooks, public ObjectHooks {
   // esc::EsmHooks
   esc::AlStatusCode check_transition(esc::AlState from, esc::AlState to) noexcept override;
   void on_state_changed(esc::AlState from, esc::AlState to, esc::AlStatusCode code) noexcept override;
+  // esc::EsmDeferral
+  bool transition_ready(esc::AlState from, esc::AlState to) noexcept override;
   // ObjectHooks (1C32h/1C33h)
   Expected<void, SdoAbort> on_write(ObjectStore& store, const WriteRequest& request) noexcept override;
   void after_write(ObjectStore& store, std::uint16_t index, std::uint8_t subindex) noexcept override;
@@ -115,6 +121,8 @@ class SyncController final : public esc::EsmHooks, public ObjectHooks {
   std::uint16_t too_short_ = 0;
   bool sync_error_ = false;
   bool timeout_reported_ = false;
+  Nanoseconds last_now_{0};
+  std::optional<Nanoseconds> op_wait_start_;
 };
 
 }  // namespace ecat::coe

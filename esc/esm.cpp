@@ -34,7 +34,21 @@ bool Esm::add_hooks(EsmHooks& hooks) noexcept {
   return true;
 }
 
+bool Esm::add_deferral(EsmDeferral& deferral) noexcept {
+  if (deferral_count_ == kMaxHooks) return false;
+  deferrals_[deferral_count_++] = &deferral;
+  return true;
+}
+
+bool Esm::deferrals_ready(AlState from, AlState to) noexcept {
+  for (std::size_t i = 0; i < deferral_count_; ++i) {
+    if (!deferrals_[i]->transition_ready(from, to)) return false;
+  }
+  return true;
+}
+
 void Esm::reset() noexcept {
+  pending_.reset();
   state_ = AlState::Init;
   error_ = false;
   code_ = AlStatusCode::NoError;
@@ -45,16 +59,33 @@ void Esm::reset() noexcept {
 
 void Esm::poll() noexcept {
   const std::uint32_t events = pdi_.read_u32(reg::kAlEventRequest);
-  if ((events & kAlEventAlControl) != 0) {
-    handle_request(pdi_.read_u16(reg::kAlControl));  // the read clears the event
-  }
+  const bool requested = (events & kAlEventAlControl) != 0;
+  if (requested) handle_request(pdi_.read_u16(reg::kAlControl));  // the read clears the event
   if ((events & kAlEventSmActivation) != 0) handle_sm_change();
   handle_watchdog(events);
+  if (!requested) retry_pending();
+}
+
+// A transition held by a deferral: the checks run again (a hook may give up
+// with its code), then it completes once every deferral is ready.
+void Esm::retry_pending() noexcept {
+  if (!pending_) return;
+  const AlState target = *pending_;
+  const AlStatusCode code = check(lookup_transition(state_, target), state_, target);
+  if (code != AlStatusCode::NoError) {
+    pending_.reset();
+    refuse(code);
+    return;
+  }
+  if (!deferrals_ready(state_, target)) return;
+  pending_.reset();
+  carry_out(target, pending_control_);
 }
 
 // ETG.1000.6 §6.4.1.2 and SOES ESC_state: while ErrInd is set a request is
 // ignored unless it carries the acknowledge bit or asks for Init.
 void Esm::handle_request(std::uint16_t control) noexcept {
+  pending_.reset();  // a new request replaces one still waiting
   const bool ack = (control & kAlErrorAck) != 0;
   const auto requested = static_cast<std::uint8_t>(control & kAlStateMask);
   if (error_ && !ack && requested != static_cast<std::uint8_t>(AlState::Init)) return;
@@ -76,15 +107,28 @@ void Esm::handle_request(std::uint16_t control) noexcept {
       code_ = AlStatusCode::NoError;
     }
   } else {
-    const AlStatusCode code = is_downward(t) ? AlStatusCode::NoError : check(t, state_, *target);
+    const bool down = is_downward(t);
+    const AlStatusCode code = down ? AlStatusCode::NoError : check(t, state_, *target);
     if (code != AlStatusCode::NoError) {
       refuse(code);
       return;
     }
-    id_value_ = 0;
-    enter(*target, AlStatusCode::NoError, false);
+    if (!down && !deferrals_ready(state_, *target)) {
+      pending_ = *target;  // AL status stays as it is until ready
+      pending_control_ = control;
+      return;
+    }
+    carry_out(*target, control);
+    return;
   }
   update_identification(control, *target);
+  write_status();
+}
+
+void Esm::carry_out(AlState target, std::uint16_t control) noexcept {
+  id_value_ = 0;
+  enter(target, AlStatusCode::NoError, false);
+  update_identification(control, target);
   write_status();
 }
 
@@ -161,6 +205,7 @@ void Esm::handle_watchdog(std::uint32_t events) noexcept {
 }
 
 void Esm::raise_error(AlStatusCode code, AlState target) noexcept {
+  pending_.reset();
   if (rank(target) >= rank(state_)) target = state_;
   id_value_ = 0;
   enter(target, code, true);

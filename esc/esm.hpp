@@ -14,9 +14,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "esc/al_status_code.hpp"
 #include "esc/esm_config.hpp"
+#include "esc/esm_deferral.hpp"
 #include "esc/esm_hooks.hpp"
 #include "esc/esm_transition.hpp"
 #include "esc/pdi.hpp"
@@ -45,6 +47,9 @@ class Esm {
   // Registers a participant; false if kMaxHooks are already registered.
   // Hooks are asked in registration order; the first refusal wins.
   bool add_hooks(EsmHooks& hooks) noexcept;
+  // Registers a participant that can hold an upward transition pending;
+  // false if kMaxHooks are already registered.
+  bool add_deferral(EsmDeferral& deferral) noexcept;
 
   // Power-on state: Init, code 0, all four SMs deactivated from the PDI.
   void reset() noexcept;
@@ -60,9 +65,14 @@ class Esm {
   AlState state() const noexcept { return state_; }
   bool error_indicated() const noexcept { return error_; }
   AlStatusCode status_code() const noexcept { return code_; }
+  // The requested state while a transition waits for a deferral.
+  std::optional<AlState> pending() const noexcept { return pending_; }
 
  private:
   void handle_request(std::uint16_t control) noexcept;
+  void carry_out(AlState target, std::uint16_t control) noexcept;
+  void retry_pending() noexcept;
+  bool deferrals_ready(AlState from, AlState to) noexcept;
   void handle_sm_change() noexcept;
   void handle_watchdog(std::uint32_t events) noexcept;
   AlStatusCode check(EsmTransition t, AlState from, AlState to) noexcept;
@@ -77,6 +87,10 @@ class Esm {
   EsmConfig config_;
   std::array<EsmHooks*, kMaxHooks> hooks_{};
   std::size_t hook_count_ = 0;
+  std::array<EsmDeferral*, kMaxHooks> deferrals_{};
+  std::size_t deferral_count_ = 0;
+  std::optional<AlState> pending_;
+  std::uint16_t pending_control_ = 0;
   AlState state_ = AlState::Init;
   bool error_ = false;
   AlStatusCode code_ = AlStatusCode::NoError;

@@ -48,19 +48,38 @@ TEST_F(SyncTest, ModeDerivedFromSyncActivationWhenNotWritten) {
   EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSyncMode), 2u);
 }
 
-TEST_F(SyncTest, OpOnlyOnceSynchronised0x002D) {
+TEST_F(SyncTest, OpWaitsUntilSynchronised) {
   go_preop();
   ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
   dc_registers(0x03, 1'000'000);
   request(0x0004);
   request(0x0008);
-  EXPECT_EQ(status(), 0x0014);
-  EXPECT_EQ(code(), 0x002D);
+  EXPECT_EQ(status(), 0x0004);  // pending: no ErrInd, the master keeps polling
+  EXPECT_EQ(code(), 0x0000);
+  EXPECT_EQ(esm.pending(), esc::AlState::Op);
   EXPECT_TRUE(sync0(t += kCycle).run);
+  esm.poll();
+  EXPECT_EQ(status(), 0x0004);
   EXPECT_TRUE(sync0(t += kCycle).run);
-  request(0x0018);
+  esm.poll();
   EXPECT_EQ(status(), 0x0008);
   EXPECT_EQ(code(), 0x0000);
+}
+
+TEST_F(SyncTest, NeverSynchronised0x002D) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
+  dc_registers(0x03, 1'000'000);
+  request(0x0004);
+  sync.poll(t);
+  request(0x0008);
+  sync.poll(t += SyncController::kSyncWaitTimeout - Nanoseconds{1});
+  esm.poll();
+  EXPECT_EQ(status(), 0x0004);
+  sync.poll(t += Nanoseconds{1});
+  esm.poll();
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x002D);
 }
 
 TEST_F(SyncTest, DcCycleRunsOnSync0Only) {

@@ -211,3 +211,66 @@ TEST_F(EsmStrictOpTest, OpNeedsOutputsFirst) {
 
 }  // namespace
 }  // namespace ecat::esc::test
+
+namespace ecat::esc::test {
+namespace {
+
+struct Gate : EsmDeferral {
+  bool open = false;
+  bool transition_ready(AlState from, AlState to) noexcept override {
+    (void)from;
+    return open || to != AlState::Op;
+  }
+};
+
+class EsmDeferralTest : public EsmTest {
+ protected:
+  EsmDeferralTest() { esm.add_deferral(gate); }
+  Gate gate;
+};
+
+TEST_F(EsmDeferralTest, UpwardTransitionWaitsWithoutErrInd) {
+  go_safeop();
+  request(0x0008);
+  EXPECT_EQ(status(), 0x0004);
+  EXPECT_EQ(code(), 0x0000);
+  EXPECT_EQ(esm.pending(), AlState::Op);
+  esm.poll();
+  EXPECT_EQ(status(), 0x0004);
+  gate.open = true;
+  esm.poll();
+  EXPECT_EQ(status(), 0x0008);
+  EXPECT_FALSE(esm.pending().has_value());
+}
+
+TEST_F(EsmDeferralTest, NewRequestReplacesThePendingOne) {
+  go_safeop();
+  request(0x0008);
+  request(0x0002);
+  EXPECT_EQ(status(), 0x0002);
+  gate.open = true;
+  esm.poll();
+  EXPECT_EQ(status(), 0x0002);
+}
+
+TEST_F(EsmDeferralTest, HookGivingUpWhilePendingRefuses) {
+  go_safeop();
+  request(0x0008);
+  hooks.refuse_to = AlState::Op;
+  hooks.refusal = AlStatusCode::NoSyncError;
+  esm.poll();
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x002D);
+  EXPECT_FALSE(esm.pending().has_value());
+}
+
+TEST_F(EsmDeferralTest, DownwardTransitionsNeverWait) {
+  gate.open = true;
+  go_op();
+  gate.open = false;
+  request(0x0004);
+  EXPECT_EQ(status(), 0x0004);
+}
+
+}  // namespace
+}  // namespace ecat::esc::test
