@@ -2,6 +2,7 @@
 // write AL control 0x0120, poll 0x0130 (6 bytes, status + code 0x0134) until
 // the requested state without ErrInd (reached) or ErrInd set (refused).
 #include "master/master.hpp"
+#include "master/poll_budget.hpp"
 #include "master/registers.hpp"
 
 namespace ecat::master {
@@ -18,15 +19,13 @@ Expected<AlStatus, MasterError> Master::read_al_status(std::size_t slave) {
 }
 
 Expected<AlStatus, MasterError> Master::poll_state(std::size_t slave, std::uint8_t wanted) {
-  const Nanoseconds deadline = clock_.now() + config_.state_timeout;
   AlStatus last;
-  for (unsigned n = 0; n < config_.max_polls; ++n) {
+  for (PollBudget budget(clock_, config_.state_timeout, config_.max_polls); budget.next();) {
     auto s = read_al_status(slave);
     if (!s) return fail(s.error());
     last = *s;
     if (last.error()) return last;  // refused (or an earlier error not acknowledged)
     if (last.state() == wanted) return last;
-    if (clock_.now() > deadline) break;
   }
   return fail(MasterError::StateTimeout);
 }
@@ -48,12 +47,10 @@ Expected<AlStatus, MasterError> Master::acknowledge_error(std::size_t slave) {
   if (!s->error()) return *s;
   const auto value = static_cast<std::uint16_t>(s->state() | kAlErrorBit);
   if (auto r = fpwr_u16(slaves_[slave].station_address, reg::kAlControl, value); !r) return fail(r.error());
-  const Nanoseconds deadline = clock_.now() + config_.state_timeout;
-  for (unsigned n = 0; n < config_.max_polls; ++n) {
+  for (PollBudget budget(clock_, config_.state_timeout, config_.max_polls); budget.next();) {
     auto now = read_al_status(slave);
     if (!now) return fail(now.error());
     if (!now->error()) return *now;
-    if (clock_.now() > deadline) break;
   }
   return fail(MasterError::StateTimeout);
 }

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "master/master.hpp"
+#include "master/poll_budget.hpp"
 #include "master/registers.hpp"
 
 namespace ecat::master {
@@ -83,8 +84,7 @@ Expected<void, MasterError> Master::mailbox_send_raw(std::size_t slave, std::uin
     w.u8(static_cast<std::uint8_t>((type & mbx::kTypeMask) | ((counter & mbx::kCounterMask) << mbx::kCounterShift)));
     w.bytes(payload);
   };
-  const Nanoseconds deadline = clock_.now() + config_.mailbox_timeout;
-  for (unsigned n = 0; n < config_.max_polls; ++n) {
+  for (PollBudget budget(clock_, config_.mailbox_timeout, config_.max_polls); budget.next();) {
     fill();
     // The whole SM0 area in one datagram, so its last byte completes the buffer.
     auto wkc = link_.exchange(Command::Fpwr, device_address(s.station_address, s.mailbox.rx_start),
@@ -92,7 +92,6 @@ Expected<void, MasterError> Master::mailbox_send_raw(std::size_t slave, std::uin
     if (!wkc) return fail(wkc.error());
     if (*wkc == 1) return {};
     // WKC 0: mailbox still full (the slave has not read the last request).
-    if (clock_.now() > deadline) break;
   }
   return fail(MasterError::MailboxFull);
 }
@@ -132,12 +131,10 @@ Expected<void, MasterError> Master::mailbox_repeat_request(std::size_t slave) {
   if (!a) return fail(a.error());
   const auto toggled = static_cast<std::uint8_t>(*a ^ reg::kSmActivateRepeat);
   if (auto r = fpwr_u8(station, activate, toggled); !r) return fail(r.error());
-  const Nanoseconds deadline = clock_.now() + config_.mailbox_timeout;
-  for (unsigned n = 0; n < config_.max_polls; ++n) {
+  for (PollBudget budget(clock_, config_.mailbox_timeout, config_.max_polls); budget.next();) {
     auto p = fprd_u8(station, pdi_control);
     if (!p) return fail(p.error());
     if ((*p & reg::kSmPdiRepeatAck) == (toggled & reg::kSmActivateRepeat)) return {};
-    if (clock_.now() > deadline) break;
   }
   return fail(MasterError::MailboxTimeout);
 }
@@ -146,9 +143,8 @@ Expected<MailboxMessage, MasterError> Master::mailbox_receive(std::size_t slave,
   if (auto c = check_slave(slave); !c) return fail(c.error());
   const SlaveInfo& s = slaves_[slave];
   if (!s.mailbox.configured) return fail(MasterError::NotConfigured);
-  const Nanoseconds deadline = clock_.now() + timeout;
   bool repeated = false;
-  for (unsigned n = 0; n < config_.max_polls; ++n) {
+  for (PollBudget budget(clock_, timeout, config_.max_polls); budget.next();) {
     auto full = mailbox_has_reply(slave);
     if (!full) return fail(full.error());
     if (*full) {
@@ -179,7 +175,6 @@ Expected<MailboxMessage, MasterError> Master::mailbox_receive(std::size_t slave,
       }
       return m;
     }
-    if (clock_.now() > deadline) break;
   }
   return fail(MasterError::MailboxTimeout);
 }

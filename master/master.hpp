@@ -6,7 +6,7 @@
 // cyclic LRW exchange, and set up distributed clocks. One object holds all
 // state (no globals); buffers are sized at set-up, the cyclic exchange does
 // not allocate. Time comes from the injected Clock; nothing sleeps — polling
-// loops are bounded by a deadline and by a poll count.
+// loops end at a deadline (see PollBudget).
 #pragma once
 
 #include <cstdint>
@@ -30,8 +30,8 @@ struct MasterConfig {
   Nanoseconds sii_timeout = std::chrono::milliseconds(20);
   Nanoseconds state_timeout = std::chrono::seconds(5);
   Nanoseconds mailbox_timeout = std::chrono::seconds(1);
-  // Upper bound on polls of one register in a wait loop, so a loop ends even
-  // when the clock does not move (in-process runs on a ManualClock).
+  // Wait loops end at their timeout; only when the clock does not move at
+  // all (a ManualClock nobody advances) do they end after this many polls.
   unsigned max_polls = 5000;
 };
 

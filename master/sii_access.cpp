@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "master/master.hpp"
+#include "master/poll_budget.hpp"
 #include "master/registers.hpp"
 
 namespace ecat::master {
@@ -16,13 +17,11 @@ constexpr unsigned kSiiCommandTries = 3;
 }  // namespace
 
 Expected<void, MasterError> Master::sii_wait_idle(std::uint16_t station, std::uint16_t& status) {
-  const Nanoseconds deadline = clock_.now() + config_.sii_timeout;
-  for (unsigned n = 0; n < config_.max_polls; ++n) {
+  for (PollBudget budget(clock_, config_.sii_timeout, config_.max_polls); budget.next();) {
     auto s = fprd_u16(station, reg::kEepromControlStatus);
     if (!s) return fail(s.error());
     status = *s;
     if ((status & reg::kEepromBusy) == 0) return {};
-    if (clock_.now() > deadline) break;
   }
   return fail(MasterError::SiiTimeout);
 }
