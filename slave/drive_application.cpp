@@ -16,6 +16,8 @@ namespace {
 
 // Rows kept for --plot: one minute of a 1 kHz cycle.
 constexpr std::size_t kTraceRows = 60000;
+// Length of the step that fills the inputs before the first cycle.
+constexpr Nanoseconds kFirstStep = std::chrono::milliseconds(1);
 
 // The seed drive a device file describes, by its file name
 // ("welcon-servo.xml" -> "welcon"); the generic drive otherwise.
@@ -38,7 +40,7 @@ class DriveApplication final : public Application {
     binding_.publish(drive_.config());
     // Inputs are valid from the first SafeOp cycle: fill them once now.
     binding_.read(in_);
-    drive_.step(in_, out_, Nanoseconds{0});
+    drive_.step(in_, out_, kFirstStep);
     binding_.write(out_, drive_.emergencies());
   }
 

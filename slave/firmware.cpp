@@ -22,6 +22,9 @@ coe::CoeOptions coe_options(const SlaveOptions& o) {
   return c;
 }
 
+// Time step of an application cycle that has no previous cycle to measure from.
+constexpr Nanoseconds kNominalCycle = std::chrono::milliseconds(1);
+
 bool is_operational(esc::AlState s) { return s == esc::AlState::SafeOp || s == esc::AlState::Op; }
 
 }  // namespace
@@ -68,7 +71,9 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
 void Firmware::application_cycle(Nanoseconds now) noexcept {
   const bool op = esm_.state() == esc::AlState::Op;
   if (op) coe_.process_data().read_outputs(esc_);
-  const Nanoseconds dt = last_cycle_ ? now - *last_cycle_ : Nanoseconds{0};
+  // The first cycle after entering SafeOp has no predecessor: it counts as
+  // one nominal cycle, so the application never sees a zero time step.
+  const Nanoseconds dt = last_cycle_ && now > *last_cycle_ ? now - *last_cycle_ : kNominalCycle;
   last_cycle_ = now;
   if (app_) app_->cycle(dt, op);
   coe_.process_data().write_inputs(esc_);
