@@ -91,8 +91,13 @@ SyncSettings SyncController::settings() noexcept {
   s.outputs_three_buffer = (control & kSmControlModeMask) == 0;
   s.cycle_time = store_.get<std::uint32_t>(kSmOutputParameter, syncsub::kCycleTime);
   mode_[0] = derive_sync_mode(mode_written_[0], mode_[0], s.dc_activation, limits_, SyncMode::SmSynchronous);
-  mode_[1] = derive_sync_mode(mode_written_[1], mode_[1], s.dc_activation, limits_,
-                              has_outputs_ ? SyncMode::SmSynchronousSm2 : SyncMode::SmSynchronous);
+  if (!mode_written_[1] && mode_written_[0] && has_outputs_) {
+    // Only 1C32h:01 written: the inputs follow the outputs (ETG.1020).
+    mode_[1] = mode_[0] == SyncMode::SmSynchronous ? SyncMode::SmSynchronousSm2 : mode_[0];
+  } else {
+    mode_[1] = derive_sync_mode(mode_written_[1], mode_[1], s.dc_activation, limits_,
+                                has_outputs_ ? SyncMode::SmSynchronousSm2 : SyncMode::SmSynchronous);
+  }
   (void)store_.set(kSmOutputParameter, syncsub::kSyncMode, static_cast<std::uint16_t>(mode_[0]));
   (void)store_.set(kSmInputParameter, syncsub::kSyncMode, static_cast<std::uint16_t>(mode_[1]));
   s.output_mode = mode_[0];

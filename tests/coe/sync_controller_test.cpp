@@ -48,6 +48,14 @@ TEST_F(SyncTest, ModeDerivedFromSyncActivationWhenNotWritten) {
   EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSyncMode), 2u);
 }
 
+TEST_F(SyncTest, InputsFollowWrittenOutputMode) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 1, 2).has_value());
+  request(0x0004);
+  EXPECT_EQ(status(), 0x0004);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSyncMode), 0x22u);
+}
+
 TEST_F(SyncTest, OpWaitsUntilSynchronised) {
   go_preop();
   ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
