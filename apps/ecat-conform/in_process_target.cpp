@@ -22,10 +22,12 @@ class InProcessTarget final : public Target {
   Expected<void, std::string> add(od::DeviceDescription device) {
     identity_ = master::conformance::ExpectedIdentity{device.identity.vendor_id, device.identity.product_code,
                                                       device.identity.revision};
+    device_ = device;
     slave::SlaveOptions options;
     options.name = "conform";
     return chain_.add(std::move(device), options);
   }
+  const od::DeviceDescription* device() const override { return &device_; }
 
   transport::Transport& transport() override { return transport_; }
   const Clock& clock() const override { return clock_; }
@@ -54,6 +56,7 @@ class InProcessTarget final : public Target {
   transport::InMemoryTransport transport_;
   std::string description_;
   std::optional<master::conformance::ExpectedIdentity> identity_;
+  od::DeviceDescription device_;
 };
 
 }  // namespace

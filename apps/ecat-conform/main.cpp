@@ -39,7 +39,15 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (list) {
-    for (const auto& c : master::conformance::all_cases()) {
+    auto cases = master::conformance::all_cases();
+    if (!device.empty()) {
+      auto target = conform::make_in_process_target(device);
+      if (target && (*target)->device()) {
+        auto extra = conform::device_file_cases(*(*target)->device());
+        cases.insert(cases.end(), extra.begin(), extra.end());
+      }
+    }
+    for (const auto& c : cases) {
       if (master::conformance::matches_filter(c.name, filter)) fmt::print("{:<40} {}\n", c.name, c.clause);
     }
     return 0;
@@ -78,7 +86,9 @@ int main(int argc, char** argv) {
     options.identity = t.identity();
     options.wait = [&t](Nanoseconds d) { t.wait(d); };
     fmt::print("ecat-conform: {}\n", t.description());
-    const auto reports = master::conformance::run_suite(m, options);
+    std::vector<master::conformance::Case> extra;
+    if (const od::DeviceDescription* d = t.device()) extra = conform::device_file_cases(*d);
+    const auto reports = master::conformance::run_suite(m, options, extra);
     fmt::print("{}", master::conformance::format_table(reports));
     if (!junit.empty()) {
       std::ofstream out(junit);

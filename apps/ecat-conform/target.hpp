@@ -11,6 +11,7 @@
 #include "common/clock.hpp"
 #include "common/expected.hpp"
 #include "master/conformance/suite.hpp"
+#include "od/device.hpp"
 #include "transport/transport.hpp"
 
 namespace ecat::conform {
@@ -25,6 +26,8 @@ class Target {
   virtual void wait(Nanoseconds d) = 0;
   // Identity from the device file, when the target was made from one.
   virtual std::optional<master::conformance::ExpectedIdentity> identity() const { return std::nullopt; }
+  // The device file the target was made from (the ESI source), if any.
+  virtual const od::DeviceDescription* device() const { return nullptr; }
   virtual std::string description() const = 0;
 };
 
@@ -33,5 +36,9 @@ class Target {
 Expected<std::unique_ptr<Target>, std::string> make_in_process_target(const std::string& device_file);
 Expected<std::unique_ptr<Target>, std::string> make_raw_socket_target(const std::string& interface_name);
 Expected<std::unique_ptr<Target>, std::string> make_udp_target(const std::string& address);
+
+// Cases that compare a device file (what the ESI is generated from) with
+// what the slave reports over the bus: SII and object dictionary.
+std::vector<master::conformance::Case> device_file_cases(const od::DeviceDescription& device);
 
 }  // namespace ecat::conform

@@ -171,7 +171,7 @@ std::vector<Report> run_cases(Master& master, const std::vector<Case>& cases, co
   return reports;
 }
 
-std::vector<Report> run_suite(Master& master, const SuiteOptions& options) {
+std::vector<Report> run_suite(Master& master, const SuiteOptions& options, const std::vector<Case>& extra) {
   auto n = master.scan();
   if (!n || options.slave >= *n) {
     Report r{"scan", "ETG.1000.4 §5.4 (BRD WKC), ETG.1000.6 §5.4 (SII)", {}};
@@ -179,7 +179,9 @@ std::vector<Report> run_suite(Master& master, const SuiteOptions& options) {
                                   n ? std::to_string(*n) + " slave(s)" : describe_error(n.error()));
     return {r};
   }
-  return run_cases(master, all_cases(), options);
+  auto cases = all_cases();
+  cases.insert(cases.end(), extra.begin(), extra.end());
+  return run_cases(master, cases, options);
 }
 
 std::size_t failures(const std::vector<Report>& reports) {

@@ -97,7 +97,8 @@ bool matches_filter(const std::string& name, const std::string& filter);
 
 // Scans the bus first (failure -> one failed "scan" case) and runs every
 // selected case in order, each from a fresh Init.
-std::vector<Report> run_suite(Master& master, const SuiteOptions& options);
+// `extra` cases (e.g. checks against a device file the caller knows) run after the standard ones.
+std::vector<Report> run_suite(Master& master, const SuiteOptions& options, const std::vector<Case>& extra = {});
 std::vector<Report> run_cases(Master& master, const std::vector<Case>& cases, const SuiteOptions& options);
 
 std::size_t failures(const std::vector<Report>& reports);
