@@ -225,3 +225,21 @@ TEST(SdoServerOptions, CompleteAccessRefusedWhenNotOffered) {
 
 }  // namespace
 }  // namespace ecat::coe
+
+namespace ecat::coe {
+namespace {
+
+TEST(SdoServerOptions, CompleteAccessOverAVariableLengthEntry) {
+  od::DeviceDescription d = test::make_device();
+  (void)d.dictionary.put(test::composite(0x2100, "With blob", od::ObjectCode::Record, od::DataType::Record, test::kRo,
+                                         {test::entry(1, "Word", od::DataType::Unsigned16, 16, test::kRw),
+                                          test::entry(2, "Blob", od::DataType::OctetString, 0, test::kRw)}));
+  test::Rig rig(std::move(d));
+  EXPECT_EQ(rig.sdo_request(test::sdo(0x50, 0x2100, 0)),
+            (test::Frame{0x00, 0x20, 0x80, 0x00, 0x21, 0x00, 0x04, 0x00, 0x01, 0x06}));
+  EXPECT_EQ(rig.sdo_request(test::sdo(0x31, 0x2100, 0, 4, {2, 0, 1, 2})),
+            (test::Frame{0x00, 0x20, 0x80, 0x00, 0x21, 0x00, 0x04, 0x00, 0x01, 0x06}));
+}
+
+}  // namespace
+}  // namespace ecat::coe
