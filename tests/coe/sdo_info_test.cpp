@@ -101,3 +101,49 @@ TEST(SdoInfo, EntryDescriptionWithValueInfo) {
 
 }  // namespace
 }  // namespace ecat::coe
+
+namespace ecat::coe {
+namespace {
+
+// What SOEM's "slaveinfo -sdo" does (shared/spec/masters.md §1.5): OD list,
+// then per object its description, per subindex 0..max its entry description
+// (value info 7) and an upload. Every existing entry must answer.
+TEST(SdoInfo, SlaveinfoWalkOverTheWholeDictionary) {
+  test::Rig rig;
+  std::vector<std::uint16_t> all;
+  Frame reply = rig.sdo_request(info_request(0x01, {0x01, 0x00}));
+  all = indices(reply, 8);
+  while (reply[2] & 0x80) {
+    auto next = rig.fetch();
+    ASSERT_TRUE(next);
+    reply = Frame(next->begin() + 6, next->end());
+    auto more = indices(reply, 6);
+    all.insert(all.end(), more.begin(), more.end());
+  }
+  ASSERT_EQ(all.size(), rig.device.dictionary.size());
+  for (std::uint16_t index : all) {
+    Frame od = rig.sdo_request(info_request(0x03, {static_cast<std::uint8_t>(index), static_cast<std::uint8_t>(index >> 8)}));
+    ASSERT_EQ(od[2], 0x04) << std::hex << index;
+    const std::uint8_t max_sub = od[10];
+    for (unsigned sub = 0; sub <= max_sub; ++sub) {
+      const auto lo = static_cast<std::uint8_t>(index);
+      const auto hi = static_cast<std::uint8_t>(index >> 8);
+      Frame oe = rig.sdo_request(info_request(0x05, {lo, hi, static_cast<std::uint8_t>(sub), 0x07}));
+      const bool exists = rig.store.slot(index, static_cast<std::uint8_t>(sub)) != nullptr;
+      ASSERT_EQ(oe[2], exists ? 0x06 : 0x07) << std::hex << index << ":" << sub;
+      if (!exists) continue;
+      Frame up = rig.sdo_request(test::sdo(0x40, index, static_cast<std::uint8_t>(sub)));
+      const bool write_only = !rig.store.slot(index, static_cast<std::uint8_t>(sub))->entry->access.readable();
+      if (write_only) {
+        EXPECT_EQ(up[2], 0x80);
+        EXPECT_EQ(up[9], 0x06);
+      } else {
+        EXPECT_EQ(up[1], 0x30) << std::hex << index << ":" << sub;
+        EXPECT_EQ(up[2] & 0xE0, 0x40);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ecat::coe
