@@ -53,8 +53,13 @@ std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
 }
 
 Expected<void, std::string> Chain::open_trace(const std::string& path) {
-  (void)path;
-  return fail(std::string("--trace is not wired yet"));
+  trace_file_.reset(std::fopen(path.c_str(), "w"));
+  if (!trace_file_) return fail(fmt::format("{}: cannot open for writing", path));
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < slaves_.size(); ++i) names.push_back(fmt::format("slave{}", i + 1));
+  trace_ = std::make_unique<esc::VcdTrace>(trace_file_.get(), names, clock_);
+  for (std::size_t i = 0; i < slaves_.size(); ++i) slaves_[i]->firmware().attach_trace(trace_->probe(i));
+  return {};
 }
 
 Expected<void, std::string> Chain::write_plot(const std::string& path) const {
@@ -67,6 +72,8 @@ Expected<void, std::string> Chain::write_plot(const std::string& path) const {
 
 void Chain::shutdown() noexcept {
   for (auto& s : slaves_) s->shutdown();
+  if (trace_) trace_->flush();
+  if (trace_file_) std::fflush(trace_file_.get());
 }
 
 }  // namespace ecat::slave

@@ -4,6 +4,7 @@
 // and the demo drive in-process.
 #pragma once
 
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <span>
@@ -12,6 +13,7 @@
 
 #include "common/clock.hpp"
 #include "common/expected.hpp"
+#include "esc/dc/vcd_trace.hpp"
 #include "esc/segment.hpp"
 #include "slave/slave_stats.hpp"
 #include "slave/virtual_slave.hpp"
@@ -41,7 +43,8 @@ class Chain {
   esc::Segment& segment() noexcept { return segment_; }
   const ChainStats& stats() const noexcept { return stats_; }
 
-  // VCD trace of every slave's SYNC pulses, SM events and ESM state.
+  // VCD trace of every slave's SYNC pulses, SM events, application cycle and
+  // ESM state (set-up, after the last add()).
   Expected<void, std::string> open_trace(const std::string& path);
   // SVG plot of the first drive's motion trace.
   Expected<void, std::string> write_plot(const std::string& path) const;
@@ -52,6 +55,11 @@ class Chain {
 
   const Clock& clock_;
   std::vector<std::unique_ptr<VirtualSlave>> slaves_;
+  struct FileCloser {
+    void operator()(std::FILE* f) const noexcept { std::fclose(f); }
+  };
+  std::unique_ptr<std::FILE, FileCloser> trace_file_;
+  std::unique_ptr<esc::VcdTrace> trace_;
   esc::Segment segment_;
   ChainStats stats_;
 };

@@ -1,5 +1,6 @@
 #include "slave/firmware.hpp"
 
+#include "esc/registers.hpp"
 #include "slave/drive_application.hpp"
 #include "slave/esc_setup.hpp"
 
@@ -51,15 +52,10 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
 
 std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
   const esc::AlState before = esm_.state();
-  const bool error_before = esm_.error_indicated();
   esm_.poll();
   const esc::AlState after = esm_.state();
   if (after != before) {
     if (app_) app_->on_state(after);
-    if (before == esc::AlState::Op && after == esc::AlState::SafeOp && esm_.error_indicated() && !error_before &&
-        esm_.status_code() == esc::AlStatusCode::SyncManagerWatchdog) {
-      ++watchdog_expiries_;
-    }
     if (!is_operational(after)) last_cycle_.reset();
   }
   coe_.poll(now);
@@ -87,7 +83,8 @@ SlaveStatus Firmware::status() const noexcept {
   s.error = esm_.error_indicated();
   s.code = esm_.status_code();
   s.application_cycles = cycles_;
-  s.watchdog_expiries = watchdog_expiries_;
+  // The ESC counts process-data watchdog expiries itself (0x0442, saturating).
+  s.watchdog_expiries = esc_.memory()[esc::reg::kWatchdogCounterProcessData];
   s.sync_errors = sync_.sm_events_missed();
   return s;
 }

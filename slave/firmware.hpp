@@ -52,7 +52,6 @@ class Firmware {
   esc::VcdProbe* trace_ = nullptr;
   std::optional<Nanoseconds> last_cycle_;
   std::uint64_t cycles_ = 0;
-  std::uint64_t watchdog_expiries_ = 0;
 };
 
 }  // namespace ecat::slave
