@@ -106,19 +106,23 @@ Expected<od::Value, std::string> encode_octets(std::string_view text, std::size_
     t.remove_prefix(2);
   }
   od::Value out;
-  std::optional<unsigned> high;
+  // High nibble of the byte being read; a plain flag rather than an optional,
+  // which GCC's -O2 -Wmaybe-uninitialized misreads.
+  unsigned high = 0;
+  bool have_high = false;
   for (char c : t) {
     if (std::isspace(static_cast<unsigned char>(c))) continue;
     auto d = hex_digit(c);
     if (!d) return fail(fmt::format("'{}' is not a hex byte string", text));
-    if (high) {
-      out.push_back(static_cast<std::uint8_t>((*high << 4) | *d));
-      high.reset();
+    if (have_high) {
+      out.push_back(static_cast<std::uint8_t>((high << 4) | *d));
+      have_high = false;
     } else {
-      high = d;
+      high = *d;
+      have_high = true;
     }
   }
-  if (high) return fail(fmt::format("'{}' has an odd number of hex digits", text));
+  if (have_high) return fail(fmt::format("'{}' has an odd number of hex digits", text));
   if (out.size() > max_bytes) {
     return fail(fmt::format("value is {} bytes, longer than its length {}", out.size(), max_bytes));
   }
