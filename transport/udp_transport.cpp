@@ -122,6 +122,9 @@ Expected<void, TransportError> UdpTransport::send(ConstBytes frame) {
   ssize_t n = -1;
   if (connected_) {
     n = ::send(fd_.get(), payload.data(), payload.size(), 0);
+    // An ICMP "port unreachable" for an earlier datagram is reported once on
+    // the next call: nobody listened then; send this one anyway.
+    if (n < 0 && errno == ECONNREFUSED) n = ::send(fd_.get(), payload.data(), payload.size(), 0);
   } else {
     if (peer_len_ == 0) return fail(TransportError::NotOpen);  // nobody to answer yet
     n = ::sendto(fd_.get(), payload.data(), payload.size(), 0,
