@@ -28,8 +28,8 @@ Expected<void, TransportError> wait_readable(int fd, Nanoseconds timeout) noexce
   p.events = POLLIN;
   const int r = ::ppoll(&p, 1, &ts, nullptr);
   if (r > 0) {
-    if ((p.revents & (POLLERR | POLLNVAL)) != 0) return fail(TransportError::ReceiveFailed);
-    return {};
+    if ((p.revents & POLLNVAL) != 0) return fail(TransportError::NotOpen);
+    return {};  // readable, or POLLERR: the receive call reports the socket error
   }
   // A signal ends the wait early like a timeout, so the caller's loop can
   // look at its shutdown flag.

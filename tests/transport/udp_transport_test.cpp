@@ -80,5 +80,23 @@ TEST(UdpTransport, TimeoutAndBadInputAreErrors) {
   EXPECT_EQ(slave->receive(small, 1s).error(), TransportError::BufferTooSmall);
 }
 
+TEST(UdpTransport, NobodyListeningIsATimeoutNotAnError) {
+  std::uint16_t port = 0;
+  {
+    auto probe = UdpTransport::bind({"127.0.0.1", 0});
+    ASSERT_TRUE(probe.has_value());
+    port = probe->local_port();
+  }  // closed again: nothing listens on `port`
+  auto master = UdpTransport::connect({"127.0.0.1", port});
+  ASSERT_TRUE(master.has_value());
+  std::uint8_t buf[kMaxFrameSize];
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(master->send(test::brd_frame(1)).has_value()) << i;
+    auto r = master->receive(buf, 20ms);
+    ASSERT_FALSE(r.has_value());
+    EXPECT_EQ(r.error(), TransportError::Timeout) << i;
+  }
+}
+
 }  // namespace
 }  // namespace ecat::transport
