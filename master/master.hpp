@@ -33,6 +33,10 @@ struct MasterConfig {
   // Wait loops end at their timeout; only when the clock does not move at
   // all (a ManualClock nobody advances) do they end after this many polls.
   unsigned max_polls = 5000;
+  // Map each mailbox slave's SM1 status byte (0x080D) into the process image
+  // with one more FMMU (SOEM, TwinCAT), so mailbox replies can be seen from
+  // the cyclic frame (mailbox_reply_flagged) instead of an FPRD per slave.
+  bool map_mailbox_status = false;
 };
 
 // Result of one cyclic exchange.
@@ -150,6 +154,9 @@ class Master {
   // 2 x LWR + LRD, so the expected value stays the same (SOEM).
   Expected<CyclicResult, MasterError> exchange_process_data();
   std::uint16_t expected_wkc() const noexcept { return expected_wkc_; }
+  // SM1 "mailbox full" (0x080D bit 3) as the last cyclic exchange saw it;
+  // false when the status byte is not mapped (MasterConfig::map_mailbox_status).
+  bool mailbox_reply_flagged(std::size_t slave) const noexcept;
   Bytes outputs(std::size_t slave);
   ConstBytes inputs(std::size_t slave) const;
   std::span<std::uint8_t> process_image() noexcept { return image_; }

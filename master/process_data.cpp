@@ -65,6 +65,14 @@ Expected<void, MasterError> Master::configure_process_data() {
     s.pd.input_offset = output_bytes_ + input_bytes_;
     input_bytes_ += s.pd.input_bytes;
   }
+  // Then one status byte per mailbox slave (SOEM's layout), read like inputs.
+  for (auto& s : slaves_) {
+    s.pd.mailbox_status_offset.reset();
+    if (config_.map_mailbox_status && s.mailbox.configured) {
+      s.pd.mailbox_status_offset = output_bytes_ + input_bytes_;
+      ++input_bytes_;
+    }
+  }
   if (output_bytes_ + input_bytes_ > kMaxDatagramData) return fail(MasterError::InvalidArgument);
   image_.assign(output_bytes_ + input_bytes_, 0);
   use_lrw_ = true;
@@ -110,11 +118,23 @@ Expected<void, MasterError> Master::configure_process_data() {
     if (s.pd.input_bytes > 0) {
       const auto b = fmmu_block(s.pd.input_offset, s.pd.input_bytes, s.pd.sm3_start, reg::kFmmuRead);
       if (auto r = fpwr(s.station_address, reg::fmmu(next_fmmu++), b); !r) return fail(r.error());
-      expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 1);
     }
+    if (s.pd.mailbox_status_offset) {
+      const auto status = static_cast<std::uint16_t>(reg::sync_manager(1) + reg::kSmStatusOffset);
+      const auto b = fmmu_block(*s.pd.mailbox_status_offset, 1, status, reg::kFmmuRead);
+      if (auto r = fpwr(s.station_address, reg::fmmu(next_fmmu++), b); !r) return fail(r.error());
+    }
+    // One read count per slave however many read FMMUs it has (ETG.1000.4 §5.4.3).
+    if (s.pd.input_bytes > 0 || s.pd.mailbox_status_offset) expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 1);
     s.pd.configured = true;
   }
   return {};
+}
+
+bool Master::mailbox_reply_flagged(std::size_t slave) const noexcept {
+  if (slave >= slaves_.size() || image_.empty()) return false;
+  const auto& at = slaves_[slave].pd.mailbox_status_offset;
+  return at && *at < image_.size() && (image_[*at] & reg::kSmStatusMailboxFull) != 0;
 }
 
 Bytes Master::outputs(std::size_t slave) {

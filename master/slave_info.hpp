@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "master/sii.hpp"
@@ -60,6 +61,7 @@ struct ProcessDataLayout {
   std::uint32_t input_offset = 0;
   std::uint16_t sm2_start = 0, sm3_start = 0;
   std::uint8_t sm2_control = 0x64, sm3_control = 0x20;
+  std::optional<std::uint32_t> mailbox_status_offset;  // logical byte of SM1 status, if mapped
   bool configured = false;
 };
 

@@ -145,7 +145,7 @@ class FakeEsc {
     Bytes data = d.data();
     bool wrote = false;
     bool read = false;
-    for (unsigned f = 0; f < 2; ++f) {
+    for (unsigned f = 0; f < 4; ++f) {
       const std::uint16_t base = reg::fmmu(f);
       if (mem[base + 12] == 0) continue;
       const std::uint32_t lstart = load_le<std::uint32_t>(mem.data() + base);

@@ -105,6 +105,36 @@ TEST_F(InProcessMaster, SdoTrafficAndProcessDataToOp) {
 namespace ecat::master::test {
 namespace {
 
+// SM1 status mapped by an FMMU onto register 0x080D (SOEM, TwinCAT): the
+// emulated ESC answers the mailbox poll inside the cyclic frame.
+TEST(InProcessMailboxStatus, ReplySeenInTheCyclicImage) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml")));
+  MasterConfig cfg;
+  cfg.map_mailbox_status = true;
+  Master master(bus.transport, bus.clock, cfg);
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  ASSERT_TRUE(master.configure_mailbox(0).has_value());
+  ASSERT_TRUE(master.request_state(0, AlState::PreOp).has_value());
+  CoeClient coe(master, 0);
+  ASSERT_TRUE(coe.read_pdo_sizes().has_value());
+  ASSERT_TRUE(master.configure_process_data().has_value());
+  auto safe = master.request_state(0, AlState::SafeOp);
+  ASSERT_TRUE(safe.has_value() && safe->is(AlState::SafeOp));
+  auto r = master.exchange_process_data();
+  ASSERT_TRUE(r.has_value());
+  EXPECT_TRUE(r->ok()) << r->wkc << " vs " << r->expected_wkc;
+  EXPECT_FALSE(master.mailbox_reply_flagged(0));
+  const auto req = CoeClient::upload_request(0x1018, 1, false);
+  ASSERT_TRUE(master.mailbox_send(0, mbx::kTypeCoe, req).has_value());
+  ASSERT_TRUE(master.exchange_process_data().has_value());
+  EXPECT_TRUE(master.mailbox_reply_flagged(0));
+  auto m = master.mailbox_receive(0, std::chrono::milliseconds(100));
+  ASSERT_TRUE(m.has_value());
+  ASSERT_TRUE(master.exchange_process_data().has_value());
+  EXPECT_FALSE(master.mailbox_reply_flagged(0));
+}
+
 // Propagation delays on a line of 3 emulated ESCs (esc::Segment hop delay):
 // the reference has delay 0 and each later slave a larger one.
 TEST(InProcessDc, DelaysGrowAlongTheLine) {

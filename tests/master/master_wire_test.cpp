@@ -183,6 +183,29 @@ TEST_F(MasterFixture, LwrAndLrdWhenTheSlaveCannotTakeLrw) {
   EXPECT_EQ(fake.mem[0x1100], 0x5A);
 }
 
+TEST_F(MasterFixture, MailboxStatusMappedIntoTheImage) {
+  MasterConfig cfg;
+  cfg.map_mailbox_status = true;
+  Master m(transport_, clock, cfg);
+  ASSERT_EQ(m.scan().value_or(0), 1u);
+  ASSERT_TRUE(m.configure_mailbox(0).has_value());
+  m.slave(0).pd.output_bytes = 2;
+  clear_sent();
+  ASSERT_TRUE(m.configure_process_data().has_value());
+  // FMMU1: logical 2 (after the outputs), 1 byte, physical 0x080D, read.
+  EXPECT_EQ(sent(Command::Fpwr, 0x0610).at(0).data,
+            (Bytes8{2, 0, 0, 0, 0x01, 0x00, 0x00, 0x07, 0x0D, 0x08, 0x00, 0x01, 0x01, 0, 0, 0}));
+  EXPECT_EQ(m.expected_wkc(), 3);  // outputs 2 + the status read 1
+  auto r = m.exchange_process_data();
+  ASSERT_TRUE(r.has_value());
+  EXPECT_TRUE(r->ok());
+  EXPECT_FALSE(m.mailbox_reply_flagged(0));
+  fake.mem[0x080D] = 0x08;  // SM1 full
+  ASSERT_TRUE(m.exchange_process_data().has_value());
+  EXPECT_TRUE(m.mailbox_reply_flagged(0));
+  EXPECT_FALSE(master.mailbox_reply_flagged(0));  // not mapped by default
+}
+
 TEST_F(MasterFixture, DcDelaysAndOffsetsFromPortTimes) {
   ASSERT_EQ(master.scan().value_or(0), 1u);
   master.slave(0).esc.features = EscInfo::kFeatureDc;
