@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Fault: the master vanishes while the segment is in Op (issue 8 item 3).
+# ecat-master brings the generic servo to Op over a veth pair, exchanges
+# 300 cycles and exits without a goodbye. The slave's process-data watchdog
+# (SM2 watchdog, ETG.1000.6 §6.4.1 / ESC datasheet 0x0420) must expire and
+# take it to SafeOp with the error indicator and AL status code 001Bh
+# ("Sync manager watchdog"), as ecat-slave's statistics (SIGUSR1) show.
+# A new master run then reaches Op again with no lost frame.
+# Usage: fault_master_vanishes.sh SRCDIR BUILDDIR   (exit 77 = skipped)
+set -uo pipefail
+src=${1:?srcdir}
+build=${2:?builddir}
+# shellcheck source=lib/netns.sh
+. "$src/tests/scripts/lib/netns.sh"
+e2e_require_bins ecat-slave ecat-master
+e2e_require_netns
+e2e_setup w
+
+e2e_start_slave slave || exit 1
+pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
+e2e_master first 60 --cycles 300 --expect-slaves 1 -q || e2e_fail "first master run: exit $?"
+# The watchdog is 100 ms by default; give it ample time on a loaded machine.
+sleep 1
+kill -USR1 "$pid"
+sleep 0.5
+line=$(grep -E '^ +slave +1 ' "$E2E_TMP/slave.log" | tail -1)
+echo "after the master vanished: $line"
+echo "$line" | grep -Eq 'SAFEOP +\+ERR AL code 0x001B' || e2e_fail "expected SafeOp+ERR with AL code 0x001B"
+echo "$line" | grep -Eq 'watchdog [1-9]' || e2e_fail "no watchdog expiry counted"
+
+e2e_master again 60 --cycles 300 --expect-slaves 1 -q || e2e_fail "a new master did not reach Op: exit $?"
+kill -0 "$pid" 2> /dev/null || e2e_fail "ecat-slave died"
+[ "$e2e_status" -eq 0 ] && echo "fault_master_vanishes: OK"
+exit "$e2e_status"
