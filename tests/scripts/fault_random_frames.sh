@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Fault: random and mutated frames at the slave while a master keeps the
+# segment in Op (issue 8 item 3). tests/scripts/lib/frame_fuzz.py sends
+# FUZZ_FRAMES (default 10^5) frames of EtherType 88A4h on the master's end of
+# the veth, next to a master running in Op:
+#  1. --safe (reads and unknown commands only, bad lengths, truncations): the
+#     master must lose no frame and see the right WKC every cycle, ecat-slave
+#     must not crash and must count the malformed frames;
+#  2. anything (writes to any register included, random bytes): ecat-slave
+#     must not crash; afterwards a new master scans it and reaches Op cleanly.
+# Usage: fault_random_frames.sh SRCDIR BUILDDIR   (exit 77 = skipped)
+set -uo pipefail
+src=${1:?srcdir}
+build=${2:?builddir}
+# shellcheck source=lib/netns.sh
+. "$src/tests/scripts/lib/netns.sh"
+e2e_require_bins ecat-slave ecat-master
+command -v python3 > /dev/null || { echo "skip: python3 not installed"; exit 77; }
+e2e_require_netns
+frames=${FUZZ_FRAMES:-100000}
+rate=${FUZZ_RATE:-0}  # frames/s, 0: as fast as python sends (~5-10k/s)
+e2e_setup f
+fuzz="$src/tests/scripts/lib/frame_fuzz.py"
+
+e2e_start_slave slave || exit 1
+pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
+
+# 1. Safe fuzz under a running master: no lost frame, no WKC error.
+# Long enough to cover the whole fuzz at >= 5000 frames/s.
+cycles=$(( frames / 5 + 3000 ))
+timeout -s KILL $(( cycles / 1000 + 60 )) ip netns exec "$E2E_NS_M" "$build/bin/ecat-master" --iface m0 \
+  --cycles "$cycles" --expect-slaves 1 --move -q > "$E2E_TMP/master1.log" 2>&1 &
+mpid=$!
+sleep 1.5
+timeout -s KILL 300 ip netns exec "$E2E_NS_M" python3 "$fuzz" --iface m0 --count "$frames" --rate "$rate" \
+  --seed 1 --safe | sed 's/^/  [fuzz safe] /'
+wait "$mpid"; rc=$?
+sed 's/^/  [master during safe fuzz] /' "$E2E_TMP/master1.log"
+[ "$rc" -eq 0 ] || e2e_fail "master during the safe fuzz: exit $rc (lost frames or WKC errors)"
+kill -0 "$pid" 2> /dev/null || e2e_fail "ecat-slave died during the safe fuzz"
+
+# 2. Anything goes; then a new master must bring the slave back to Op.
+timeout -s KILL 300 ip netns exec "$E2E_NS_M" python3 "$fuzz" --iface m0 --count "$frames" --rate "$rate" \
+  --seed 2 | sed 's/^/  [fuzz any] /'
+kill -0 "$pid" 2> /dev/null || e2e_fail "ecat-slave died during the unrestricted fuzz"
+kill -USR1 "$pid"; sleep 0.3
+grep '^frames ' "$E2E_TMP/slave.log" | tail -1 | sed 's/^/  [slave stats] /'
+e2e_master after 60 --cycles 1000 --expect-slaves 1 --move -q || e2e_fail "new master after the fuzz: exit $?"
+kill -0 "$pid" 2> /dev/null || e2e_fail "ecat-slave died"
+[ "$e2e_status" -eq 0 ] && echo "fault_random_frames: OK"
+exit "$e2e_status"
