@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
     }
   }
   std::sort(rtt.begin(), rtt.end());
-  auto pct = [&](double p) { return rtt.empty() ? Nanoseconds{0} : rtt[static_cast<std::size_t>(p * (rtt.size() - 1))]; };
+  auto pct = [&](double p) { return rtt.empty() ? Nanoseconds{0} : rtt[static_cast<std::size_t>(p * static_cast<double>(rtt.size() - 1))]; };
   std::printf("frames %ld lost %ld rtt-median-us %.1f rtt-p99-us %.1f rtt-max-us %.1f cycle-jitter-max-us %.1f\n", count,
               lost, us(pct(0.5)), us(pct(0.99)), rtt.empty() ? 0.0 : us(rtt.back()), us(jitter_max));
   return lost == count ? 1 : 0;
