@@ -18,7 +18,6 @@ namespace {
 
 using namespace ecat;
 
-constexpr std::size_t kSlaves = 2;
 constexpr Nanoseconds kFrameGap{100'000};
 constexpr std::size_t kMaxFrame = kEthernetHeaderSize + kVlanTagSize + kMaxEthernetPayload;
 
