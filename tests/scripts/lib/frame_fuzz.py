@@ -38,7 +38,7 @@ def datagram_chain(rng, safe):
                            rng.randrange(0x1000) << 16, 0x00010000 * 0x0130])
         out += struct.pack('<BBIHH', cmd, rng.randrange(256), addr, (length & 0x7FF) | more | flags,
                            rng.randrange(0x10000))
-        out += bytes(rng.randrange(256) for _ in range(length))
+        out += rng.randbytes(length)
         out += struct.pack('<H', rng.randrange(4))
     return out
 
@@ -46,7 +46,7 @@ def datagram_chain(rng, safe):
 def frame(rng, src_mac, safe):
     kind = rng.random()
     if kind < 0.3 and not safe:
-        body = bytes(rng.randrange(256) for _ in range(rng.randrange(MAX_PAYLOAD)))
+        body = rng.randbytes(rng.randrange(MAX_PAYLOAD))
         hdr = rng.randrange(0x10000)
     else:
         body = datagram_chain(rng, safe)
@@ -55,7 +55,7 @@ def frame(rng, src_mac, safe):
             hdr = rng.randrange(0x10000) if not safe else (rng.randrange(0x800) | (TYPE_DATAGRAMS << 12))
         if rng.random() < 0.2:  # truncated or extended
             cut = rng.randrange(len(body) + 1)
-            body = body[:cut] if rng.random() < 0.5 else body + bytes(rng.randrange(256) for _ in range(cut % 64))
+            body = body[:cut] if rng.random() < 0.5 else body + rng.randbytes(cut % 64)
         if not safe and rng.random() < 0.2:  # flipped bits anywhere
             b = bytearray(body)
             for _ in range(rng.randint(1, 4)):
