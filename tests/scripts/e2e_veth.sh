@@ -29,6 +29,7 @@ if e2e_start_slave servo; then
     || e2e_fail "(a) generic servo: ecat-master exit $?"
   echo "(a) generic servo, $cycles cycles at 1 ms, --move: $(e2e_cycle_line servo)"
   e2e_stop "$E2E_SLAVE_PID"
+  e2e_check_no_watchdog_during_run servo
 else
   e2e_fail "(a) slave did not start"
 fi
@@ -41,6 +42,7 @@ if e2e_start_slave chain --chain "$chain"; then
     || e2e_fail "(b) chain of 4 seed drives: ecat-master exit $?"
   echo "(b) chain of 4 seed drives, $cycles cycles at 1 ms: $(e2e_cycle_line chain)"
   e2e_stop "$E2E_SLAVE_PID"
+  e2e_check_no_watchdog_during_run chain
 else
   e2e_fail "(b) slave chain did not start"
 fi
@@ -52,7 +54,7 @@ if e2e_start_slave dcslave --chain "$dc_chain"; then
     || e2e_fail "(c) DC chain: ecat-master exit $?"
   echo "(c) generic servo + welcon, $cycles cycles at 1 ms, --dc --move: $(e2e_cycle_line dc)"
   e2e_stop "$E2E_SLAVE_PID"
-  grep -E "slave +[0-9]" "$E2E_TMP/dcslave.log" | sed 's/^/  [dc slave] /'
+  e2e_check_no_watchdog_during_run dcslave
 else
   e2e_fail "(c) DC chain did not start"
 fi

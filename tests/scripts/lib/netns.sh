@@ -104,3 +104,13 @@ e2e_master() {
 
 # The statistics line of a master run ("cycles C lost L wkc-errors W ...").
 e2e_cycle_line() { grep -m1 '^cycles ' "$E2E_TMP/$1.log"; }
+
+# Checks the final statistics ecat-slave printed at exit (log NAME): every
+# slave's SM watchdog expired at most once, i.e. only after the master had
+# gone. The WKC cannot show this: an ESC counts SM2 writes in SafeOp too.
+e2e_check_no_watchdog_during_run() {
+  local name=$1 bad
+  bad=$(grep -E '^ +slave +[0-9]+ ' "$E2E_TMP/$name.log" | grep -Ev ' watchdog [01] ')
+  [ -z "$bad" ] || e2e_fail "$name: SM watchdog expired while the master ran: $bad"
+  grep -E '^ +slave +[0-9]+ ' "$E2E_TMP/$name.log" | sed "s/^/  [$name at exit] /"
+}
