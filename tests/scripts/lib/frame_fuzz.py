@@ -69,12 +69,29 @@ def frame(rng, src_mac, safe):
     return data + bytes(max(0, 60 - len(data)))
 
 
+def recover_frame(src_mac):
+    """One frame that switches write protection off again (Beckhoff ESC
+    datasheet II 0x0020/0x0021, 0x0030/0x0031: the enable bit is valid for
+    the rest of the frame, so enable + clear go together). Random writes
+    can switch protection on; a real ESC keeps it until reset too."""
+    BWR = 8
+    regs = [(0x0020, 1), (0x0021, 0), (0x0030, 1), (0x0031, 0)]
+    body = bytearray()
+    for k, (reg, value) in enumerate(regs):
+        more = 0x8000 if k + 1 < len(regs) else 0
+        body += struct.pack('<BBIHH', BWR, 0, reg << 16, 1 | more, 0) + bytes([value]) + b'\x00\x00'
+    data = b'\xff' * 6 + src_mac + struct.pack('>H', ETHERTYPE_ECAT)
+    data += struct.pack('<H', len(body) | (TYPE_DATAGRAMS << 12)) + body
+    return data + bytes(max(0, 60 - len(data)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--iface', required=True)
     ap.add_argument('--count', type=int, default=100000)
     ap.add_argument('--seed', type=int, default=1)
     ap.add_argument('--safe', action='store_true')
+    ap.add_argument('--recover', action='store_true', help='end with a frame that clears write protection')
     ap.add_argument('--rate', type=float, default=0, help='frames per second (0: as fast as possible)')
     a = ap.parse_args()
     rng = random.Random(a.seed)
@@ -104,6 +121,10 @@ def main():
             ahead = (i + 1) / a.rate - (time.monotonic() - start)
             if ahead > 0:
                 time.sleep(ahead)
+    if a.recover:
+        time.sleep(0.1)
+        s.send(recover_frame(src_mac))
+        sent += 1
     print(f'sent {sent} other-frames-seen {replies} seconds {time.monotonic() - start:.1f}')
 
 
