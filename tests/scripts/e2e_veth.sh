@@ -16,7 +16,7 @@
 set -uo pipefail
 src=${1:?srcdir}
 build=${2:?builddir}
-# shellcheck source=lib/netns.sh
+# shellcheck source-path=SCRIPTDIR source=lib/netns.sh
 . "$src/tests/scripts/lib/netns.sh"
 e2e_require_bins ecat-slave ecat-master
 e2e_require_netns

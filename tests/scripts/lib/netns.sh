@@ -2,7 +2,7 @@
 # fault_*.sh): two network namespaces joined by a veth pair, a slave started
 # in one, cleaned up by an EXIT trap even when the script fails. Source it
 # after setting src/build; every long command runs under `timeout`.
-# shellcheck shell=bash
+# shellcheck shell=bash disable=SC2034,SC2154  # $build, e2e_status: shared with the sourcing script
 
 # Exit 77 (ctest: skipped) with the reason unless root and `ip netns` work.
 e2e_require_netns() {
