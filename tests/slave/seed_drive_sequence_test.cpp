@@ -277,8 +277,14 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
   ASSERT_TRUE(r.cycles(300));
   r.command(kEnableOperation);
   ASSERT_TRUE(r.cycle());
-  ASSERT_GT(dist(r.get(kActualVelocity, 4).value_or(0)), 1000) << "not moving before the quick stop";
+  const std::int64_t speed = dist(r.get(kActualVelocity, 4).value_or(0));
+  ASSERT_GT(speed, 1000) << "not moving before the quick stop";
+  const std::int64_t braking_from = r.position();
   const std::int64_t option = r.get(kQuickStopOption, 2).value_or(2);
+  // Some defaults stop over many seconds (Yaskawa PnB54 = 1000 units/s^2): a
+  // master sets the ramp it wants.
+  constexpr std::int64_t kQuickStopRamp = 1000000;
+  ASSERT_TRUE(r.set(kQuickStopDecel, kQuickStopRamp, 4));
   r.command(kQuickStop);
   ASSERT_TRUE(r.cycles(2));  // the statusword in a frame is that of the previous application cycle
   if (option != 0) {
@@ -294,6 +300,9 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
   }
   EXPECT_LE(dist(r.position() - stopped), 2) << "axis still moving after the quick stop";
   EXPECT_LT(dist(stopped - here), 10 * kDistance) << "quick stop did not cut the move short";
+  // Braking distance v^2 / (2 * 6085h), plus the loop lag at that speed.
+  const double braking = static_cast<double>(speed * speed) / (2.0 * kQuickStopRamp);
+  EXPECT_NEAR(static_cast<double>(dist(stopped - braking_from)), braking, 0.1 * braking + 30.0) << "speed " << speed;
   if (option >= 5) {
     r.command(kEnableOperation);  // transition 16
     ASSERT_TRUE(r.cycles(3));
