@@ -40,6 +40,8 @@ constexpr std::uint16_t kStateMask = 0x027F;
 constexpr std::uint16_t kSwitchOnDisabled = 0x0250, kReadyToSwitchOn = 0x0231, kSwitchedOn = 0x0233;
 constexpr std::uint16_t kOperationEnabled = 0x0237, kQuickStopActive = 0x0217, kFault = 0x0218;
 constexpr std::uint16_t kTargetReached = 1u << 10, kBit12 = 1u << 12, kBit13 = 1u << 13;
+constexpr std::uint16_t kHomeFound = 1u << 15;  // SIMTACH/Leadshine manufacturer bit (docs/ds402.md)
+constexpr std::uint16_t kFaultStateMask = 0x004F, kFaultStateValue = 0x0008;  // Table 28: Fault
 constexpr std::uint16_t kEmcyErrorReset = 0x0000;
 constexpr std::uint8_t kGenericError = 0x01;
 
@@ -55,6 +57,7 @@ struct Seed {
   FaultPlan fault;
   std::uint16_t error_code;  // 603Fh the drive reports
   std::uint16_t emcy_code;   // EMCY code the master receives
+  bool home_found_bit;       // statusword bit 15 once homed
 };
 
 std::ostream& operator<<(std::ostream& os, const Seed& s) { return os << s.file; }
@@ -180,20 +183,11 @@ void enable(Rig& r) {
   }
 }
 
-TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
-  const Seed& seed = GetParam();
-  Rig r(seed);
-  ASSERT_EQ(r.start(), "");
-  ASSERT_TRUE(r.cycles(5));
-  EXPECT_EQ(r.status() & kStateMask, kSwitchOnDisabled) << std::hex << r.status();
+constexpr std::int32_t kOffset = 5000;     // 607Ch
+constexpr std::int32_t kDistance = 20000;  // of the PP move
 
-  // --- Enable (CiA 402-2 §8.1, transitions 2, 3, 4).
-  ASSERT_TRUE(select_mode(r, kPp));
-  enable(r);
-  ASSERT_FALSE(HasFatalFailure());
-
-  // --- Homing (§11): 607Ch becomes the home point's position.
-  constexpr std::int32_t kOffset = 5000;
+// Homing (CiA 402-2 §11): 607Ch becomes the home point's position.
+void home(Rig& r, const Seed& seed) {
   ASSERT_TRUE(r.set(kHomeOffset, kOffset, 4));
   ASSERT_TRUE(r.set(kHomingMethod, seed.homing_method, 1));
   ASSERT_TRUE(r.set(kHomingAcceleration, 2000000, 4));
@@ -217,10 +211,13 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
   if (seed.homing_method == 35 || seed.homing_method == 37) {
     EXPECT_EQ(r.position(), kOffset);
   }
+  EXPECT_EQ(r.status() & kHomeFound, seed.home_found_bit ? kHomeFound : 0) << std::hex << r.status();
+}
 
-  // --- Profile Position (§12.3): set-point handshake, target reached.
-  constexpr std::int32_t kDistance = 20000;
-  const std::int64_t pp_target = kOffset + kDistance;
+// Profile Position (§12.3): set-point handshake, target reached in 6067h.
+void pp_move(Rig& r) {
+  const std::int64_t window = r.get(kPositionWindow, 4).value_or(100) & 0xFFFFFFFF;
+  const std::int64_t pp_target = r.position() + kDistance;
   ASSERT_TRUE(select_mode(r, kPp));
   // 6081h is capped by the drive's 607Fh (max profile velocity).
   const std::int64_t velocity = std::min<std::int64_t>(40000, r.get(kMaxProfileVelocity, 4).value_or(40000) & 0xFFFFFFFF);
@@ -238,9 +235,12 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
                           << r.position() << " target " << pp_target << " window " << window;
   EXPECT_GE(pp_cycles + 20, move_ms);  // never faster than distance / velocity (cycles before the ack uncounted)
   EXPECT_LE(dist(r.position() - pp_target), window) << "6064h after PP";
+}
 
-  // --- Cyclic motion (CSP), or PV where 6502h has no cyclic mode.
-  std::int64_t here = r.position();
+// Cyclic motion (CSP), or PV where 6502h has no cyclic mode.
+void cyclic_motion(Rig& r, const Seed& seed) {
+  const std::int64_t window = r.get(kPositionWindow, 4).value_or(100) & 0xFFFFFFFF;
+  const std::int64_t here = r.position();
   if (seed.cyclic_mode == kCsp) {
     ASSERT_TRUE(r.set(kTargetPosition, here, 4));
     ASSERT_TRUE(select_mode(r, kCsp));
@@ -266,10 +266,12 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
     ASSERT_TRUE(r.set(kTargetVelocity, 0, 4));
     ASSERT_GE(r.until(kBit12, kBit12, 3000), 0) << "PV speed zero not reached";
   }
-  EXPECT_EQ(r.status() & kStateMask & ~0x0200u, kOperationEnabled & ~0x0200u);
+  EXPECT_EQ(r.status() & kStateMask, kOperationEnabled) << std::hex << r.status();
+}
 
-  // --- Quick stop during a PP move (§8.1 transition 11, 605Ah).
-  here = r.position();
+// Quick stop during a PP move (§8.1 transition 11, 605Ah), then enabled again.
+void quick_stop(Rig& r) {
+  const std::int64_t here = r.position();
   ASSERT_TRUE(r.set(kTargetPosition, here, 4));
   ASSERT_TRUE(select_mode(r, kPp));
   ASSERT_TRUE(r.set(kTargetPosition, here + 10 * kDistance, 4));
@@ -309,11 +311,13 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
     EXPECT_EQ(r.status() & kStateMask, kOperationEnabled) << std::hex << r.status();
   } else {
     enable(r);
-    ASSERT_FALSE(HasFatalFailure());
   }
+}
 
-  // --- Fault (§12.4, 603Fh, EMCY), then reset (transition 15).
-  here = r.position();
+// A fault (§12.4): statusword, 603Fh, 1001h and the EMCY; then fault reset
+// (transition 15) back to Switch on disabled.
+void fault_and_reset(Rig& r, const Seed& seed) {
+  const std::int64_t here = r.position();
   std::int64_t saved = 0;
   if (seed.fault == FaultPlan::FollowingErrorInCsp) {
     ASSERT_TRUE(r.set(kTargetPosition, here, 4));
@@ -328,7 +332,7 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
     ASSERT_TRUE(r.set(kTargetVelocity, 20000, 4));
     ASSERT_TRUE(select_mode(r, kPv));
   }
-  ASSERT_GE(r.until(0x004F, 0x0008, 3000), 0) << "no fault, sw " << std::hex << r.status();
+  ASSERT_GE(r.until(kFaultStateMask, kFaultStateValue, 3000), 0) << "no fault, sw " << std::hex << r.status();
   EXPECT_EQ(r.status() & kStateMask, kFault) << std::hex << r.status();
   EXPECT_EQ(r.get(kErrorCode, 2).value_or(-1) & 0xFFFF, seed.error_code);
   ASSERT_TRUE(r.coe.upload_value(kStatusword, 0));  // a mailbox exchange collects pending EMCYs
@@ -370,17 +374,32 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
   enable(r);  // usable again
 }
 
+TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
+  const Seed& seed = GetParam();
+  Rig r(seed);
+  ASSERT_EQ(r.start(), "");
+  ASSERT_TRUE(r.cycles(5));
+  EXPECT_EQ(r.status() & kStateMask, kSwitchOnDisabled) << std::hex << r.status();
+  ASSERT_TRUE(select_mode(r, kPp));
+  ASSERT_NO_FATAL_FAILURE(enable(r));  // transitions 2, 3, 4
+  ASSERT_NO_FATAL_FAILURE(home(r, seed));
+  ASSERT_NO_FATAL_FAILURE(pp_move(r));
+  ASSERT_NO_FATAL_FAILURE(cyclic_motion(r, seed));
+  ASSERT_NO_FATAL_FAILURE(quick_stop(r));
+  ASSERT_NO_FATAL_FAILURE(fault_and_reset(r, seed));
+}
+
 // Homing methods from each drive's list (docs/ds402.md): an index pulse
 // (33/34), the home switch edge (19), or the current position (35/37).
 // Leadshine has no 6065h (following error) and no cyclic mode (6502h = 2Dh):
 // PV and a software limit (8612h) stand in.
 INSTANTIATE_TEST_SUITE_P(
     Seeds, SeedDriveSequence,
-    ::testing::Values(Seed{"generic-servo.xml", 34, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611},
-                      Seed{"simtach-rse.xml", 19, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611},
-                      Seed{"yaskawa-sigma5-sd.xml", 33, kCsp, FaultPlan::FollowingErrorInCsp, 0x0D00, 0xFF00},
-                      Seed{"welcon-servo.xml", 37, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611},
-                      Seed{"leadshine-isv2-can.xml", 35, kPv, FaultPlan::SoftwareLimitInPv, 0x8612, 0x8612}),
+    ::testing::Values(Seed{"generic-servo.xml", 34, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, false},
+                      Seed{"simtach-rse.xml", 19, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, true},
+                      Seed{"yaskawa-sigma5-sd.xml", 33, kCsp, FaultPlan::FollowingErrorInCsp, 0x0D00, 0xFF00, false},
+                      Seed{"welcon-servo.xml", 37, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, false},
+                      Seed{"leadshine-isv2-can.xml", 35, kPv, FaultPlan::SoftwareLimitInPv, 0x8612, 0x8612, true}),
     [](const ::testing::TestParamInfo<Seed>& param) {
       std::string n = param.param.file;
       n = n.substr(0, n.find('.'));
