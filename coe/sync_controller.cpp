@@ -89,6 +89,14 @@ SyncSettings SyncController::settings() noexcept {
   const std::uint8_t control =
       pdi_.read_u8(static_cast<std::uint16_t>(esc::reg::sync_manager(kOutputsSm) + esc::reg::sm::kControl));
   s.outputs_three_buffer = (control & kSmControlModeMask) == 0;
+  // A cycle time the master cannot write (read-only 1C32h:02, as some drives
+  // list it) reflects the SYNC0 cycle the master programmed (ETG.1020 SM
+  // synchronisation: "cycle time of SYNC0" in DC mode) instead of being
+  // compared with it.
+  const auto* cycle_slot = store_.slot(kSmOutputParameter, syncsub::kCycleTime);
+  if (cycle_slot != nullptr && !cycle_slot->entry->access.writable() && s.sync0_cycle != 0) {
+    (void)store_.set(kSmOutputParameter, syncsub::kCycleTime, s.sync0_cycle);
+  }
   s.cycle_time = store_.get<std::uint32_t>(kSmOutputParameter, syncsub::kCycleTime);
   mode_[0] = derive_sync_mode(mode_written_[0], mode_[0], s.dc_activation, limits_, SyncMode::SmSynchronous);
   if (!mode_written_[1] && mode_written_[0] && has_outputs_) {

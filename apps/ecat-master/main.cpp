@@ -45,13 +45,14 @@ void sleep_until(const ecat::Clock& clock, ecat::Nanoseconds deadline) {
 }
 
 int report(const ecat::app::SessionReport& r, const Options& o) {
-  std::printf("cycles %llu lost %llu wkc-errors %llu rtt-median-us %.1f rtt-p99-us %.1f rtt-max-us %.1f "
+  std::printf("cycles %llu lost %llu wkc-errors %llu state-errors %llu rtt-median-us %.1f rtt-p99-us %.1f rtt-max-us %.1f "
               "cycle-jitter-max-us %.1f\n",
               static_cast<unsigned long long>(r.cycles), static_cast<unsigned long long>(r.lost_frames),
-              static_cast<unsigned long long>(r.wkc_errors), static_cast<double>(r.rtt_median.count()) / 1e3,
+              static_cast<unsigned long long>(r.wkc_errors), static_cast<unsigned long long>(r.state_errors),
+              static_cast<double>(r.rtt_median.count()) / 1e3,
               static_cast<double>(r.rtt_p99.count()) / 1e3, static_cast<double>(r.rtt_max.count()) / 1e3,
               static_cast<double>(r.jitter_max.count()) / 1e3);
-  bool ok = r.lost_frames == 0 && r.wkc_errors == 0;
+  bool ok = r.lost_frames == 0 && r.wkc_errors == 0 && r.state_errors == 0;
   if (o.session.move && !r.moved_ok) {
     std::fprintf(stderr, "ecat-master: a drive did not follow the move\n");
     ok = false;

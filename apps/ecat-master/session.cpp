@@ -21,6 +21,11 @@ constexpr std::uint16_t kSyncManagerInputsParameter = 0x1C33;
 constexpr std::uint8_t kSyncModeSub = 1;
 constexpr std::uint16_t kSyncModeDcSync0 = 2;
 constexpr Nanoseconds kSync0StartDelay = std::chrono::milliseconds(20);
+constexpr std::uint64_t kStateCheckInterval = 500;
+constexpr std::uint16_t kSupportedDriveModes = 0x6502;
+constexpr std::uint32_t kSupportsCsp = 1u << 7;
+constexpr std::uint16_t kModesOfOperation = 0x6060;
+constexpr std::uint8_t kCyclicSynchronousPosition = 8;
 
 const char* state_name(std::uint8_t s) {
   switch (s) {
@@ -64,9 +69,24 @@ Expected<void, std::string> Session::configure_slave(std::size_t i) {
   };
   s.pd.output_bytes = static_cast<std::uint16_t>((bits(pdos_[i].outputs) + kBitsPerByte - 1) / kBitsPerByte);
   s.pd.input_bytes = static_cast<std::uint16_t>((bits(pdos_[i].inputs) + kBitsPerByte - 1) / kBitsPerByte);
-  if (o_.dc) {
+  if (o_.move) {
+    // CSP needs 6502h bit 7 (CiA402 §6.2.1); a drive without it is left alone.
+    auto modes = coe.upload_value(kSupportedDriveModes, 0);
+    csp_[i] = modes && (*modes & kSupportsCsp) != 0;
+    if (csp_[i] && !pdos_[i].output_byte(kModesOfOperation)) {
+      if (auto ok = coe.download_value(kModesOfOperation, 0, kCyclicSynchronousPosition, 1); !ok) {
+        return fail(fmt::format("slave {}: 6060h = 8: {}", i + 1, error_text(ok.error())));
+      }
+    }
+  }
+  if (o_.dc && s.esc.has_dc()) {
     for (std::uint16_t obj : {kSyncManagerOutputsParameter, kSyncManagerInputsParameter}) {
-      if (auto ok = coe.download_value(obj, kSyncModeSub, kSyncModeDcSync0, 2); !ok) {
+      auto mode = coe.upload_value(obj, kSyncModeSub);
+      if (mode && *mode == kSyncModeDcSync0) continue;
+      auto ok = coe.download_value(obj, kSyncModeSub, kSyncModeDcSync0, 2);
+      // A read-only sync mode follows the DC activation 0x0981 (ETG.1020
+      // §22.2): the Sync0 set-up below selects it.
+      if (!ok && !(ok.error().from_slave && ok.error().code == master::SdoAbortCode::ReadOnly)) {
         return fail(fmt::format("slave {}: {:04X}h:01 = DC Sync0: {}", i + 1, obj, error_text(ok.error())));
       }
     }
@@ -83,6 +103,7 @@ Expected<void, std::string> Session::bring_up() {
   report_.slaves = *n;
   pdos_.assign(*n, {});
   has_coe_.assign(*n, false);
+  csp_.assign(*n, false);
   for (std::size_t i = 0; i < *n; ++i) {
     const auto& s = master_.slave(i);
     if (o_.verbose) {
@@ -133,6 +154,18 @@ void Session::drive_cycle(std::uint64_t cycle) {
   for (auto& m : motions_) m.cycle(cycle, o_.cycles, o_.move_distance);
 }
 
+void Session::check_states() {
+  for (std::size_t i = 0; i < report_.slaves; ++i) {
+    auto st = master_.read_al_status(i);
+    if (!st || !st->is(master::AlState::Op) || st->error()) {
+      ++report_.state_errors;
+      if (o_.verbose && st) {
+        std::printf("slave %zu left Op: AL status 0x%04X, AL status code 0x%04X\n", i + 1, st->raw, st->code);
+      }
+    }
+  }
+}
+
 Expected<SessionReport, std::string> Session::run() {
   std::vector<Nanoseconds> rtts;
   rtts.reserve(o_.cycles);
@@ -140,7 +173,7 @@ Expected<SessionReport, std::string> Session::run() {
   std::vector<std::size_t> drive_slave;
   for (std::size_t i = 0; i < report_.slaves; ++i) {
     Cia402Motion m(master_, i, pdos_[i]);
-    if (has_coe_[i] && m.usable()) {
+    if (has_coe_[i] && csp_[i] && m.usable()) {
       motions_.push_back(m);
       drive_slave.push_back(i);
     }
@@ -160,6 +193,10 @@ Expected<SessionReport, std::string> Session::run() {
     }
     if (!r->ok()) ++report_.wkc_errors;
     rtts.push_back(r->round_trip);
+    // A slave that left Op still counts its SM2 writes in the WKC, so the
+    // state is checked too (as ethercrab does every cycle; here every
+    // kStateCheckInterval cycles and after the last one).
+    if ((c + 1) % kStateCheckInterval == 0 || c + 1 == o_.cycles) check_states();
     if (c == 0) {
       for (std::size_t k = 0; k < motions_.size(); ++k) start_positions[k] = motions_[k].actual_position();
     }

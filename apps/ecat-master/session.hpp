@@ -32,6 +32,7 @@ struct SessionReport {
   std::uint64_t cycles = 0;
   std::uint64_t lost_frames = 0;
   std::uint64_t wkc_errors = 0;
+  std::uint64_t state_errors = 0;  // AL status checks that found a slave out of Op
   Nanoseconds rtt_median{0};
   Nanoseconds rtt_p99{0};
   Nanoseconds rtt_max{0};
@@ -57,6 +58,7 @@ class Session {
  private:
   Expected<void, std::string> configure_slave(std::size_t i);
   void drive_cycle(std::uint64_t cycle);
+  void check_states();
 
   master::Master& master_;
   const Clock& clock_;
@@ -64,6 +66,7 @@ class Session {
   SessionOptions o_;
   std::vector<PdoLocator> pdos_;
   std::vector<bool> has_coe_;
+  std::vector<bool> csp_;  // drive supports cyclic synchronous position
   std::vector<Cia402Motion> motions_;
   SessionReport report_;
 };
