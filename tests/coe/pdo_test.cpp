@@ -4,7 +4,7 @@
 
 #include "coe/pdo_config.hpp"
 #include "coe/process_data.hpp"
-#include "tests/coe/alloc_counter.hpp"
+#include "tests/support/alloc_counter.hpp"
 #include "tests/coe/rig.hpp"
 
 namespace ecat::coe {
@@ -108,7 +108,7 @@ TEST_F(PdoTest, CyclicCopyBothWaysWithoutHeap) {
   mem[0x1102] = 0xAB;
   ASSERT_TRUE(rig.store.set<std::uint32_t>(0x6000, 0, 0xCAFEBABE));
   {
-    test::AllocCounter allocs;
+    ecat::test::AllocCounter allocs;
     for (int i = 0; i < 100; ++i) {
       data.read_outputs(rig.esc);
       data.write_inputs(rig.esc);
@@ -116,7 +116,7 @@ TEST_F(PdoTest, CyclicCopyBothWaysWithoutHeap) {
     EXPECT_EQ(allocs.count(), 0u);
   }
   {
-    test::AllocCounter allocs;  // the counter itself sees allocations
+    ecat::test::AllocCounter allocs;  // the counter itself sees allocations
     auto p = std::make_unique<int>(1);
     EXPECT_EQ(allocs.count(), 1u);
   }

@@ -5,7 +5,7 @@
 
 #include "esc/dc/dc_unit.hpp"
 #include "sync_fixture.hpp"
-#include "tests/coe/alloc_counter.hpp"
+#include "tests/support/alloc_counter.hpp"
 
 namespace ecat::coe::test {
 namespace {
@@ -18,7 +18,7 @@ TEST_F(SyncTest, CyclicPathAllocatesNothing) {
   std::array<std::uint8_t, 8> b{};
   std::size_t allocations = 0;
   {
-    AllocCounter counter;
+    ecat::test::AllocCounter counter;
     for (int c = 0; c < 1000; ++c) {
       t += kCycle;
       if (c % 7 != 0) new_outputs();

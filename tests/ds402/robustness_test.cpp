@@ -7,7 +7,7 @@
 
 #include "ds402/motion_trace.hpp"
 #include "harness.hpp"
-#include "tests/ds402/alloc_counter.hpp"
+#include "tests/support/alloc_counter.hpp"
 
 namespace ecat::ds402::test {
 namespace {
@@ -94,7 +94,7 @@ TEST(Robustness, CyclicPathDoesNotAllocate) {
   h.enable(OperationMode::ProfilePosition);
   h.in.target_position = 300000;
   h.in.touch_probe_function = 0x0031;
-  AllocCounter counter;
+  ecat::test::AllocCounter counter;
   h.in.controlword = 0x001F;
   for (int i = 0; i < 2000; ++i) {
     h.step();

@@ -1,4 +1,4 @@
-#include "tests/coe/alloc_counter.hpp"
+#include "tests/support/alloc_counter.hpp"
 
 #include <atomic>
 #include <cstdlib>
@@ -17,7 +17,7 @@ void* operator new(std::size_t n) {
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
-namespace ecat::coe::test {
+namespace ecat::test {
 
 AllocCounter::AllocCounter() {
   allocations = 0;
@@ -26,4 +26,4 @@ AllocCounter::AllocCounter() {
 AllocCounter::~AllocCounter() { armed = false; }
 std::size_t AllocCounter::count() const { return allocations.load(); }
 
-}  // namespace ecat::coe::test
+}  // namespace ecat::test
