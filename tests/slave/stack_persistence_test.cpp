@@ -22,15 +22,22 @@ std::filesystem::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-Expected<std::uint32_t, master::SdoError> start_and_read(const std::filesystem::path& dir) {
-  InProcess p;
+// A generic servo whose state lives in `dir`, brought to PreOp (mailbox open).
+void start_in_preop(InProcess& p, const std::filesystem::path& dir) {
   auto d = esi::load_default_device();
+  ASSERT_TRUE(d);
   slave::SlaveOptions o;
   o.state_dir = dir;
   p.add(*d, o);
-  EXPECT_TRUE(p.master.scan());
-  EXPECT_TRUE(p.master.configure_mailbox(0));
-  EXPECT_TRUE(p.master.request_state(0, master::AlState::PreOp));
+  ASSERT_TRUE(p.master.scan());
+  ASSERT_TRUE(p.master.configure_mailbox(0));
+  auto st = p.master.request_state(0, master::AlState::PreOp);
+  ASSERT_TRUE(st && !st->error());
+}
+
+Expected<std::uint32_t, master::SdoError> start_and_read(const std::filesystem::path& dir) {
+  InProcess p;
+  start_in_preop(p, dir);
   master::CoeClient coe(p.master, 0);
   return coe.upload_value(kFollowingErrorWindow, 0);
 }
@@ -39,13 +46,7 @@ TEST(InProcessStack, StoredParametersComeBackInANewSlave) {
   const auto dir = fresh_dir("store");
   {
     InProcess p;
-    auto d = esi::load_default_device();
-    slave::SlaveOptions o;
-    o.state_dir = dir;
-    p.add(*d, o);
-    ASSERT_TRUE(p.master.scan());
-    ASSERT_TRUE(p.master.configure_mailbox(0));
-    ASSERT_TRUE(p.master.request_state(0, master::AlState::PreOp));
+    ASSERT_NO_FATAL_FAILURE(start_in_preop(p, dir));
     master::CoeClient coe(p.master, 0);
     ASSERT_TRUE(coe.download_value(kFollowingErrorWindow, 0, 12345, 4));
     ASSERT_TRUE(coe.download_value(kStoreParameters, 1, kSaveSignature, 4));
@@ -58,13 +59,7 @@ TEST(InProcessStack, StoredParametersComeBackInANewSlave) {
   const auto other = fresh_dir("nostore");
   {
     InProcess p;
-    auto d = esi::load_default_device();
-    slave::SlaveOptions o;
-    o.state_dir = other;
-    p.add(*d, o);
-    ASSERT_TRUE(p.master.scan());
-    ASSERT_TRUE(p.master.configure_mailbox(0));
-    ASSERT_TRUE(p.master.request_state(0, master::AlState::PreOp));
+    ASSERT_NO_FATAL_FAILURE(start_in_preop(p, other));
     master::CoeClient coe(p.master, 0);
     ASSERT_TRUE(coe.download_value(kFollowingErrorWindow, 0, 777, 4));
   }
