@@ -10,16 +10,18 @@
 #include <string_view>
 
 #include "common/clock.hpp"
+#include "common/frame.hpp"
 #include "common/expected.hpp"
 #include "common/le.hpp"
 
 namespace ecat::transport {
 
 // EtherType of EtherCAT frames, also the UDP port of EtherCAT-in-UDP (ETG.1000.4 §5.2/§5.3).
-inline constexpr std::uint16_t kEtherTypeEthercat = 0x88A4;
+inline constexpr std::uint16_t kEtherTypeEthercat = ecat::kEtherTypeEtherCat;
 inline constexpr std::uint16_t kUdpPortEthercat = 0x88A4;
-inline constexpr std::size_t kMacSize = 6;
-inline constexpr std::size_t kEthernetHeaderSize = 14;  // dst(6) + src(6) + EtherType(2)
+// Ethernet sizes come from the wire format (common/frame.hpp).
+using ecat::kEthernetHeaderSize;
+using ecat::kMacSize;
 inline constexpr std::size_t kEtherTypeOffset = 12;
 // Largest untagged Ethernet II frame without FCS (1500-byte payload).
 inline constexpr std::size_t kMaxFrameSize = 1514;
