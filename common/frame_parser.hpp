@@ -1,15 +1,16 @@
 // Walks the datagrams of an EtherCAT frame in place (ETG.1000.4 §5.3/§5.4).
 // parse_frame() checks every bound once — Ethernet header, frame header
 // length, each datagram's header, data and WKC, the "more" chain — and
-// records where each datagram starts in a fixed-capacity table (no heap).
-// After that, DatagramView reads and writes fields of a datagram directly in
-// the caller's buffer without further checks.
+// returns a small view (buffer, where the datagrams start, how many): no
+// table, nothing copied, no heap. After that, DatagramView reads and writes
+// fields of a datagram directly in the caller's buffer without further
+// checks, and the datagrams are walked in place: each one's 11-bit length
+// says where the next starts (an ESC never changes a length).
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
+#include <iterator>
 
 #include "common/frame.hpp"
 
@@ -66,6 +67,11 @@ class DatagramView {
   }
   // Bytes of the whole datagram (header + data + WKC).
   std::size_t wire_size() const noexcept { return kDatagramOverhead + length(); }
+  // The datagram after this one (only meaningful when more() is set).
+  DatagramView next() const noexcept { return DatagramView(p_ + wire_size()); }
+  std::uint8_t* header_pointer() const noexcept { return p_; }
+
+  friend bool operator==(const DatagramView&, const DatagramView&) = default;
 
  private:
   std::uint16_t length_word() const noexcept { return load_le<std::uint16_t>(p_ + kLengthOffset); }
@@ -73,32 +79,69 @@ class DatagramView {
   std::uint8_t* p_ = nullptr;
 };
 
-// A validated frame: where its EtherCAT part starts and where each datagram is.
+// A validated frame: where its EtherCAT part starts and how many datagrams
+// it carries. Iterate it (for (DatagramView d : frame)) to walk the
+// datagrams in place; operator[] walks from the first one (O(i)).
 class FrameView {
  public:
+  class Iterator {
+   public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = DatagramView;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = DatagramView;
+
+    Iterator() noexcept = default;
+    Iterator(DatagramView d, std::size_t left) noexcept : d_(d), left_(left) {}
+    DatagramView operator*() const noexcept { return d_; }
+    Iterator& operator++() noexcept {
+      if (--left_ != 0) d_ = d_.next();
+      return *this;
+    }
+    Iterator operator++(int) noexcept {
+      Iterator old = *this;
+      ++*this;
+      return old;
+    }
+    // Iterators of one frame compare by how many datagrams are left.
+    friend bool operator==(const Iterator& a, const Iterator& b) noexcept { return a.left_ == b.left_; }
+
+   private:
+    DatagramView d_;
+    std::size_t left_ = 0;
+  };
+
   Bytes frame() const noexcept { return frame_; }
   std::size_t ethercat_offset() const noexcept { return ecat_offset_; }
   const FrameHeader& header() const noexcept { return header_; }
   std::size_t size() const noexcept { return count_; }
   bool empty() const noexcept { return count_ == 0; }
+  DatagramView front() const noexcept { return DatagramView(frame_.data() + first_offset()); }
+  Iterator begin() const noexcept { return Iterator(front(), count_); }
+  Iterator end() const noexcept { return Iterator(DatagramView(), 0); }
   DatagramView operator[](std::size_t i) const noexcept {
-    return DatagramView(frame_.data() + offsets_[i]);
+    DatagramView d = front();
+    for (; i != 0; --i) d = d.next();
+    return d;
   }
   // Offset of datagram i's header from the start of the buffer.
-  std::size_t offset(std::size_t i) const noexcept { return offsets_[i]; }
+  std::size_t offset(std::size_t i) const noexcept {
+    return static_cast<std::size_t>((*this)[i].header_pointer() - frame_.data());
+  }
 
   template <typename F>
   void for_each(F&& f) const {
-    for (std::size_t i = 0; i < count_; ++i) f((*this)[i]);
+    for (DatagramView d : *this) f(d);
   }
 
  private:
   friend Expected<FrameView, FrameError> parse_ethercat(Bytes buffer, std::size_t ecat_offset) noexcept;
+  std::size_t first_offset() const noexcept { return ecat_offset_ + kFrameHeaderSize; }
   Bytes frame_;
   std::size_t ecat_offset_ = 0;
   FrameHeader header_{};
   std::size_t count_ = 0;
-  std::array<std::uint32_t, kMaxDatagramsPerFrame> offsets_{};
 };
 
 // Parses the EtherCAT part starting at `ecat_offset` (the frame header) of
@@ -116,6 +159,7 @@ inline Expected<FrameView, FrameError> parse_ethercat(Bytes buffer, std::size_t 
   const std::size_t end = pos + v.header_.length;
   if (end > buffer.size()) return fail(FrameError::LengthBeyondFrame);
   if (v.header_.length < kDatagramOverhead) return fail(FrameError::TooShort);
+  std::size_t count = 0;
   for (;;) {
     if (end - pos < kDatagramOverhead) return fail(FrameError::DatagramBeyondFrame);
     const std::uint8_t* h = buffer.data() + pos;
@@ -123,22 +167,38 @@ inline Expected<FrameView, FrameError> parse_ethercat(Bytes buffer, std::size_t 
     const std::uint16_t word = load_le<std::uint16_t>(h + DatagramView::kLengthOffset);
     const std::size_t total = kDatagramOverhead + (word & kDatagramLengthMask);
     if (end - pos < total) return fail(FrameError::DatagramBeyondFrame);
-    if (v.count_ == kMaxDatagramsPerFrame) return fail(FrameError::TooManyDatagrams);
-    v.offsets_[v.count_++] = static_cast<std::uint32_t>(pos);
+    if (count == kMaxDatagramsPerFrame) return fail(FrameError::TooManyDatagrams);
+    ++count;
     pos += total;
     if ((word & kDatagramMore) == 0) break;
   }
   if (pos != end) return fail(FrameError::LengthMismatch);
+  v.count_ = count;
   return v;
 }
 
-// Parses an Ethernet frame carrying EtherCAT (EtherType 0x88A4, optionally
-// behind one VLAN tag). Bytes after the EtherCAT length are padding.
+// Offset of the EtherCAT frame header in an Ethernet frame carrying
+// EtherCAT (EtherType 0x88A4, optionally behind one 802.1Q tag; both
+// big-endian on the wire, IEEE 802.3), read in place.
+inline Expected<std::size_t, FrameError> locate_ethercat(ConstBytes frame) noexcept {
+  constexpr std::size_t kTypeOffset = 2 * kMacSize;
+  if (frame.size() < kEthernetHeaderSize) return fail(FrameError::TooShort);
+  auto be16 = [&](std::size_t pos) { return static_cast<std::uint16_t>((frame[pos] << 8) | frame[pos + 1]); };
+  std::size_t at = kTypeOffset;
+  if (be16(at) == kEtherTypeVlan) {
+    if (frame.size() < kEthernetHeaderSize + kVlanTagSize) return fail(FrameError::TooShort);
+    at += kVlanTagSize;
+  }
+  if (be16(at) != kEtherTypeEtherCat) return fail(FrameError::NotEtherCat);
+  return at + sizeof(std::uint16_t);
+}
+
+// Parses an Ethernet frame carrying EtherCAT. Bytes after the EtherCAT
+// length are padding.
 inline Expected<FrameView, FrameError> parse_frame(Bytes frame) noexcept {
-  auto eth = EthernetHeader::unpack(frame);
-  if (!eth) return fail(eth.error());
-  if (eth->ether_type != kEtherTypeEtherCat) return fail(FrameError::NotEtherCat);
-  return parse_ethercat(frame, eth->size());
+  const auto at = locate_ethercat(frame);
+  if (!at) return fail(at.error());
+  return parse_ethercat(frame, *at);
 }
 
 }  // namespace ecat

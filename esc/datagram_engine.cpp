@@ -4,6 +4,7 @@
 // and the IRQ field. Logical commands go through the FMMUs (Section I §6).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstring>
 
 #include "esc/esc.hpp"
@@ -28,6 +29,8 @@ void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
 
 }  // namespace
 
+// The datagrams are walked in place (header read + jump); the timers run
+// only when one is due (run_timers checks next_timer_).
 bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
   run_timers(now);
   now_ = now;  // the time of every access in this frame
@@ -35,16 +38,16 @@ bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
   // Circulating-frame prevention (Section I §3.5.1): a frame passing a
   // closed port 0 gets the circulating bit; if it already had it, the ESC
   // destroys the frame.
-  if (!port_open(0) && !frame.empty()) {
-    if (frame[0].circulating()) return false;
-    frame.for_each([](DatagramView d) { d.set_circulating(true); });
+  if (!port_open_[0] && !frame.empty()) {
+    if (frame.front().circulating()) return false;
+    for (DatagramView d : frame) d.set_circulating(true);
   }
   register_write_enabled_ = false;
   esc_write_enabled_ = false;
-  for (std::size_t i = 0; i < frame.size(); ++i) {
-    DatagramView d = frame[i];
+  for (DatagramView d : frame) {
     process_datagram(d);
-    d.set_irq(static_cast<std::uint16_t>(d.irq() | irq_field()));
+    const std::uint16_t irq = irq_field();
+    if (irq != 0) d.set_irq(static_cast<std::uint16_t>(d.irq() | irq));
     if (reset_requested_) reset();
   }
   // Write-enable releases last for one frame only (Section I §13).
@@ -139,25 +142,33 @@ std::uint16_t Esc::process_logical(DatagramView d) noexcept {
   std::size_t count = 0;
   std::size_t wlo = data.size();  // byte range of the datagram the write FMMUs take
   std::size_t whi = 0;
-  for (unsigned k = 0; k < config_.fmmu_count; ++k) {
-    const Fmmu& f = fmmus_[k];
-    if (!f.active()) continue;
+  std::size_t rlo = data.size();  // ... and the read FMMUs
+  std::size_t rhi = 0;
+  for (std::uint32_t left = fmmu_active_; left != 0; left &= left - 1) {
+    const Fmmu& f = fmmus_[static_cast<unsigned>(std::countr_zero(left))];
     const std::uint64_t lo = std::max(dg_first, f.first_bit());
     const std::uint64_t hi = std::min(dg_last, f.last_bit());
     if (lo > hi) continue;
     hits[count++] = Hit{&f, lo, hi};
+    const auto first = static_cast<std::size_t>((lo - dg_first) / 8);
+    const auto end = static_cast<std::size_t>((hi - dg_first) / 8) + 1;
     if (f.write) {
-      wlo = std::min(wlo, static_cast<std::size_t>((lo - dg_first) / 8));
-      whi = std::max(whi, static_cast<std::size_t>((hi - dg_first) / 8) + 1);
+      wlo = std::min(wlo, first);
+      whi = std::max(whi, end);
+    }
+    if (f.read) {
+      rlo = std::min(rlo, first);
+      rhi = std::max(rhi, end);
     }
   }
   if (count == 0) return 0;
   // LRW writes the data as it arrived while reads replace it: keep the
-  // bytes the writes need. `wsrc[i - origin]` is incoming byte i.
+  // bytes the writes need when a read lands on them. `wsrc[i - origin]` is
+  // incoming byte i.
   Scratch incoming;
   const std::uint8_t* wsrc = data.data();
   std::size_t origin = 0;
-  if (cmd == Command::Lrw && wlo < whi) {
+  if (cmd == Command::Lrw && wlo < whi && rlo < whi && wlo < rhi) {
     std::memcpy(incoming.data(), data.data() + wlo, whi - wlo);
     wsrc = incoming.data();
     origin = wlo;

@@ -84,6 +84,8 @@ void Esc::reset() noexcept {
   m[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
   for (auto& sm : sms_) sm.reset_state();
   for (auto& f : fmmus_) f = Fmmu{};
+  sm_enabled_ = 0;
+  fmmu_active_ = 0;
   watchdogs_.reset();
   register_write_enabled_ = false;
   esc_write_enabled_ = false;
@@ -91,6 +93,8 @@ void Esc::reset() noexcept {
   reset_requested_ = false;
   al_control_pending_ = false;
   load_eeprom(true);
+  refresh_timers();
+  update_ports();
   update_dl_status();
 }
 
@@ -145,6 +149,7 @@ void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
   update_dl_status();
 }
 
+
 void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
   const Nanoseconds t = clock_.now();
   run_timers(t);
@@ -159,6 +164,7 @@ void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcep
 // Any PDI access restarts the PDI watchdog and shows it in DL status bit 1.
 void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
   watchdogs_.trigger_pdi(t, register_u16(reg::kWatchdogDivider), register_u16(reg::kWatchdogTimePdi));
+  refresh_timers();
   std::uint8_t* p = mem_.get() + reg::kDlStatus;
   store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | bits::kDlPdiWatchdogOk));
 }
@@ -175,7 +181,21 @@ std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
   return next;
 }
 
+// Nothing is due before next_timer_: most frames skip the timers entirely.
 void Esc::run_timers(Nanoseconds now) noexcept {
+  if (now < next_timer_) return;
+  run_due_timers(now);
+  refresh_timers();
+}
+
+void Esc::refresh_timers() noexcept {
+  Nanoseconds next = Nanoseconds::max();
+  if (const auto w = watchdogs_.next_deadline()) next = std::min(next, *w);
+  if (const auto s = sii_.next_deadline()) next = std::min(next, *s);
+  next_timer_ = next;
+}
+
+void Esc::run_due_timers(Nanoseconds now) noexcept {
   sii_action(sii_.poll(now));
   const Watchdogs::Expired e = watchdogs_.check(now);
   std::uint8_t* m = mem_.get();
@@ -208,19 +228,37 @@ void Esc::sii_action(SiiInterface::Action a) noexcept {
 void Esc::set_link(unsigned port, bool l) noexcept {
   if (port >= kMaxPorts) return;
   link_[port] = l && port < config_.port_count;
+  update_ports();
   update_dl_status();
 }
 
-bool Esc::link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
-
 // Loop control per port (0x0100 bits 8+2n, Section I §3.5): Auto and
 // Auto-close follow the link; open/closed are forced.
-bool Esc::port_open(unsigned port) const noexcept {
-  if (port >= config_.port_count) return false;
-  const std::uint32_t loop = (dl_control() >> (bits::kDlLoopShift + 2 * port)) & bits::kDlLoopMask;
-  if (loop == bits::kLoopOpen) return true;
-  if (loop == bits::kLoopClosed) return false;
-  return link_[port];
+void Esc::update_ports() noexcept {
+  const std::uint32_t dl = dl_control();
+  for (unsigned p = 0; p < kMaxPorts; ++p) {
+    bool open = false;
+    if (p < config_.port_count) {
+      const std::uint32_t loop = (dl >> (bits::kDlLoopShift + 2 * p)) & bits::kDlLoopMask;
+      open = loop == bits::kLoopOpen || (loop != bits::kLoopClosed && link_[p]);
+    }
+    port_open_[p] = open;
+  }
+}
+
+// Enabled SMs (Section I §8): the ones whose area the memory path guards.
+void Esc::update_sm_guards() noexcept {
+  sm_enabled_ = 0;
+  for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
+    if (sms_[n].enabled()) sm_enabled_ |= 1u << n;
+  }
+}
+
+void Esc::update_fmmus() noexcept {
+  fmmu_active_ = 0;
+  for (unsigned n = 0; n < config_.fmmu_count; ++n) {
+    if (fmmus_[n].active()) fmmu_active_ |= 1u << n;
+  }
 }
 
 void Esc::update_dl_status() noexcept {
@@ -249,13 +287,6 @@ void Esc::count_rx_error(unsigned port, bool forwarded) noexcept {
 
 // --- Events -------------------------------------------------------------------------
 
-std::uint32_t Esc::al_event() const noexcept {
-  return load_le<std::uint32_t>(mem_.get() + reg::kAlEventRequest) | dc_.al_event_request();
-}
-std::uint16_t Esc::ecat_event() const noexcept {
-  return static_cast<std::uint16_t>(load_le<std::uint16_t>(mem_.get() + reg::kEcatEventRequest) |
-                                    dc_.ecat_event_request());
-}
 void Esc::set_al_event(std::uint32_t b) noexcept {
   std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
   store_le(p, load_le<std::uint32_t>(p) | b);
@@ -285,15 +316,8 @@ void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
     watchdogs_.trigger_process_data(now_, register_u16(reg::kWatchdogDivider),
                                     register_u16(reg::kWatchdogTimeProcessData));
     mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
+    refresh_timers();
   }
-}
-
-std::uint16_t Esc::irq_field() const noexcept {
-  return static_cast<std::uint16_t>(ecat_event() & register_u16(reg::kEcatEventMask));
-}
-
-bool Esc::irq() const noexcept {
-  return (al_event() & load_le<std::uint32_t>(mem_.get() + reg::kAlEventMask)) != 0;
 }
 
 }  // namespace ecat::esc

@@ -8,6 +8,11 @@
 //
 // Behaviour follows an ET1100 wherever the datasheet leaves a choice
 // (docs/esc.md lists every register and every such choice).
+//
+// Speed (issue 8): a frame is walked in place; what a frame needs per ESC
+// is cached and recomputed only when its registers change (port loop state,
+// enabled SMs, active FMMUs, the next timer deadline), and register bytes
+// without side effects are copied as a block (esc/register_map.hpp).
 #pragma once
 
 #include <array>
@@ -25,6 +30,7 @@
 #include "esc/fmmu.hpp"
 #include "esc/pdi.hpp"
 #include "esc/register_bits.hpp"
+#include "esc/registers.hpp"
 #include "esc/sii_interface.hpp"
 #include "esc/sync_manager.hpp"
 #include "esc/watchdog.hpp"
@@ -67,10 +73,11 @@ class Esc final : public Pdi {
   // Physical link on `port` (0..3): a neighbour is connected. Unconnected
   // ports are closed (looped back) as an ET1100 in Auto loop mode does.
   void set_link(unsigned port, bool link) noexcept;
-  bool link(unsigned port) const noexcept;
+  bool link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
   // Whether a frame leaving the processing unit toward `port` goes out
-  // (open) or is looped back (closed), per link and DL control loop bits.
-  bool port_open(unsigned port) const noexcept;
+  // (open) or is looped back (closed), per link and DL control loop bits
+  // (cached; recomputed when the link or DL control changes).
+  bool port_open(unsigned port) const noexcept { return port < kMaxPorts && port_open_[port]; }
 
   // --- Accessors for tests and the slave layer ---
   const std::uint8_t* memory() const noexcept { return mem_.get(); }
@@ -80,8 +87,19 @@ class Esc final : public Pdi {
   const EscConfig& config() const noexcept { return config_; }
   DcUnit& dc() noexcept { return dc_; }
   const SyncManager& sync_manager(unsigned n) const noexcept { return sms_[n]; }
-  // True when (AL event request & AL event mask) != 0: the IRQ pin to the µC.
-  bool irq() const noexcept;
+  // True when (AL event request & AL event mask) != 0: the IRQ pin to the µC
+  // (Section II 0x0204/0x0220). Cheap: a few loads. The mask is 0 after
+  // reset, so firmware that relies on irq() must write 0x0204 first.
+  bool irq() const noexcept { return (al_event() & load_le<std::uint32_t>(mem_.get() + reg::kAlEventMask)) != 0; }
+  // True when any AL event request bit is set, whatever the mask: something
+  // the application must look at (AL control written, SM activation changed,
+  // an SM buffer event with SM control bit 5, watchdog expired, DC SYNC/latch).
+  // Lets a host decide which slaves' firmware to run after a frame without
+  // depending on the mask the firmware chose.
+  bool pdi_attention() const noexcept { return al_event() != 0; }
+  // The earliest time the ESC's own timers (watchdogs, SII busy) need to
+  // run; Nanoseconds::max() when none is armed. DC SYNC is in dc().poll().
+  Nanoseconds next_timer() const noexcept { return next_timer_; }
   // Time of the latest access: frame, PDI access or poll.
   Nanoseconds last_time() const noexcept { return now_; }
 
@@ -105,19 +123,37 @@ class Esc final : public Pdi {
   void process_datagram(DatagramView d) noexcept;
   std::uint16_t process_logical(DatagramView d) noexcept;
   bool addressed_configured(std::uint16_t adp) const noexcept;
+  // Register write protection (0x0021/0x0031) active and not released in
+  // this frame: ECAT register writes take the checked path.
+  bool write_protection_active() const noexcept;
 
-  // Events (esc/esc.cpp).
-  std::uint32_t al_event() const noexcept;
-  std::uint16_t ecat_event() const noexcept;
+  // Events (esc/esc.cpp). The request registers live in memory; the DC unit's
+  // bits are ORed in on every read.
+  std::uint32_t al_event() const noexcept {
+    return load_le<std::uint32_t>(mem_.get() + reg::kAlEventRequest) | dc_.al_event_request();
+  }
+  std::uint16_t ecat_event() const noexcept {
+    return static_cast<std::uint16_t>(load_le<std::uint16_t>(mem_.get() + reg::kEcatEventRequest) |
+                                      dc_.ecat_event_request());
+  }
   void set_al_event(std::uint32_t bits) noexcept;
   void clear_al_event(std::uint32_t bits) noexcept;
   void set_ecat_event(std::uint16_t bits) noexcept;
   void clear_ecat_event(std::uint16_t bits) noexcept;
   void apply(unsigned sm, const SmSignals& sig) noexcept;
-  std::uint16_t irq_field() const noexcept;
+  // The IRQ field this ESC ORs into a datagram: (0x0210 | DC) & 0x0200.
+  std::uint16_t irq_field() const noexcept {
+    return static_cast<std::uint16_t>(ecat_event() & load_le<std::uint16_t>(mem_.get() + reg::kEcatEventMask));
+  }
   void update_dl_status() noexcept;
+  // Caches (see "Speed" above).
+  void update_ports() noexcept;
+  void update_sm_guards() noexcept;
+  void update_fmmus() noexcept;
+  void refresh_timers() noexcept;
   void load_eeprom(bool power_on) noexcept;
   void run_timers(Nanoseconds now) noexcept;
+  void run_due_timers(Nanoseconds now) noexcept;
   void pdi_watchdog_trigger(Nanoseconds t) noexcept;
   void sii_action(SiiInterface::Action a) noexcept;
   std::uint32_t dl_control() const noexcept;
@@ -129,6 +165,10 @@ class Esc final : public Pdi {
   std::array<SyncManager, kMaxSyncManagers> sms_{};
   std::array<Fmmu, kMaxFmmus> fmmus_{};
   std::array<bool, kMaxPorts> link_{};
+  std::array<bool, kMaxPorts> port_open_{};
+  std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
+  std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active
+  Nanoseconds next_timer_ = Nanoseconds::max();
   DcUnit dc_;
   SiiInterface sii_;
   Watchdogs watchdogs_;

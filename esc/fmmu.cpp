@@ -20,20 +20,6 @@ Fmmu Fmmu::decode(const std::uint8_t* block) noexcept {
   return f;
 }
 
-bool Fmmu::active() const noexcept {
-  if (!enabled || length == 0 || (!read && !write)) return false;
-  // A one-byte mapping needs stop bit >= start bit.
-  return !(length == 1 && logical_stop_bit < logical_start_bit);
-}
-
-std::uint64_t Fmmu::first_bit() const noexcept {
-  return static_cast<std::uint64_t>(logical_start) * 8 + logical_start_bit;
-}
-
-std::uint64_t Fmmu::last_bit() const noexcept {
-  return (static_cast<std::uint64_t>(logical_start) + length - 1) * 8 + logical_stop_bit;
-}
-
 bool Fmmu::byte_aligned() const noexcept {
   return logical_start_bit == 0 && logical_stop_bit == 7 && physical_start_bit == 0;
 }

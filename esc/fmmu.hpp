@@ -38,11 +38,17 @@ struct Fmmu {
   static Fmmu decode(const std::uint8_t* block) noexcept;
 
   // Usable: enabled, non-empty and the bit range well-formed.
-  bool active() const noexcept;
+  bool active() const noexcept {
+    if (!enabled || length == 0 || (!read && !write)) return false;
+    // A one-byte mapping needs stop bit >= start bit.
+    return !(length == 1 && logical_stop_bit < logical_start_bit);
+  }
   // First and last logical bit mapped (absolute bit numbers, 64-bit to avoid
   // overflow at the top of the 4 GiB space).
-  std::uint64_t first_bit() const noexcept;
-  std::uint64_t last_bit() const noexcept;
+  std::uint64_t first_bit() const noexcept { return static_cast<std::uint64_t>(logical_start) * 8 + logical_start_bit; }
+  std::uint64_t last_bit() const noexcept {
+    return (static_cast<std::uint64_t>(logical_start) + length - 1) * 8 + logical_stop_bit;
+  }
   // True when the mapping is whole bytes on both sides.
   bool byte_aligned() const noexcept;
 };

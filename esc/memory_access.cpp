@@ -3,6 +3,7 @@
 // (Section I §8; ETG.1000.4 §5.4.3 "accessible memory" for the WKC).
 // RAM not covered by an enabled SM is freely accessible from both sides.
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include "esc/esc.hpp"
@@ -18,14 +19,17 @@ struct Guard {
   std::uint32_t end = 0;
 };
 
+// `enabled`: bit n set for every enabled SM n (Esc::sm_enabled_), lowest first.
 template <typename Sms>
-Guard find_guard(const Sms& sms, unsigned count, std::uint32_t pos, std::uint32_t limit) noexcept {
+Guard find_guard(const Sms& sms, std::uint32_t enabled, std::uint32_t pos, std::uint32_t limit) noexcept {
   Guard g{-1, limit};
-  for (unsigned n = 0; n < count; ++n) {
+  for (std::uint32_t left = enabled; left != 0; left &= left - 1) {
+    const auto n = static_cast<unsigned>(std::countr_zero(left));
     const SyncManager& sm = sms[n];
-    if (!sm.enabled()) continue;
-    if (sm.covers(pos)) return Guard{static_cast<int>(n), std::min(limit, sm.end())};
-    if (sm.start() > pos) g.end = std::min<std::uint32_t>(g.end, sm.start());
+    const std::uint32_t start = sm.start();
+    const std::uint32_t end = sm.end();
+    if (pos >= start && pos < end) return Guard{static_cast<int>(n), std::min(limit, end)};
+    if (start > pos) g.end = std::min(g.end, start);
   }
   return g;
 }
@@ -43,7 +47,7 @@ bool Esc::mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
   }
   const std::uint32_t limit = std::min(end, ram_end());
   while (pos < limit) {
-    const Guard g = find_guard(sms_, config_.sync_manager_count, pos, limit);
+    const Guard g = find_guard(sms_, sm_enabled_, pos, limit);
     auto part = out.subspan(pos - address, g.end - pos);
     if (g.sm < 0) {
       std::memcpy(part.data(), mem_.get() + pos, part.size());
@@ -73,7 +77,7 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
   }
   const std::uint32_t limit = std::min(end, ram_end());
   while (pos < limit) {
-    const Guard g = find_guard(sms_, config_.sync_manager_count, pos, limit);
+    const Guard g = find_guard(sms_, sm_enabled_, pos, limit);
     auto part = in.subspan(pos - address, g.end - pos);
     if (g.sm < 0) {
       std::memcpy(mem_.get() + pos, part.data(), part.size());

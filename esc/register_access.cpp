@@ -1,9 +1,13 @@
 // Register space 0x0000-0x0FFF: reads and writes from either side with their
 // side effects (Beckhoff ESC datasheet Section II; shared/spec/esc-registers.md
 // §4, §11). The per-side write masks are in esc/register_masks.cpp.
+// Bytes that only store or return a value are copied as a block; the
+// others go through reg_read_byte / reg_write_byte (esc/register_map.hpp).
 #include <algorithm>
+#include <cstring>
 
 #include "esc/esc.hpp"
+#include "esc/register_map.hpp"
 #include "esc/register_masks.hpp"
 #include "esc/registers.hpp"
 
@@ -20,6 +24,13 @@ bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { retu
 // --- Reads --------------------------------------------------------------------------
 
 bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
+  if (out.empty()) return false;
+  const std::uint8_t effect = register_map::read_effect_flag(side);
+  std::uint8_t* m = mem_.get();
+  if (!register_map::any_in(address, out.size(), effect)) {
+    std::memcpy(out.data(), m + address, out.size());
+    return true;
+  }
   std::size_t i = 0;
   bool counted = false;
   while (i < out.size()) {
@@ -33,7 +44,7 @@ bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
       i += n;
       continue;
     }
-    out[i++] = reg_read_byte(a, side);
+    out[i++] = register_map::has(a, effect) ? reg_read_byte(a, side) : m[a];
     counted = true;
   }
   return counted;
@@ -80,7 +91,22 @@ std::uint8_t Esc::reg_read_byte(std::uint16_t a, Side side) noexcept {
 
 // --- Writes -------------------------------------------------------------------------
 
+bool Esc::write_protection_active() const noexcept {
+  const std::uint8_t* m = mem_.get();
+  return ((m[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_) ||
+         ((m[reg::kRegisterWriteProtection] & bits::kWriteProtect) && !register_write_enabled_);
+}
+
 bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_bytes, Side side) noexcept {
+  if (in_bytes.empty()) return false;
+  const std::uint8_t plain = register_map::write_plain_flag(side);
+  std::uint8_t* m = mem_.get();
+  // Write protection (Section I §13) sends every ECAT byte through the checks.
+  bool checked = side == Side::Ecat && write_protection_active();
+  if (!checked && register_map::all_in(address, in_bytes.size(), plain)) {
+    std::memcpy(m + address, in_bytes.data(), in_bytes.size());
+    return true;
+  }
   std::size_t i = 0;
   bool counted = false;
   while (i < in_bytes.size()) {
@@ -99,12 +125,20 @@ bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_byte
           std::min<std::size_t>(in_bytes.size() - i, reg::kEepromConfiguration + sii_reg::kSize - a);
       const auto action = sii_.write(a - reg::kEepromConfiguration, in_bytes.subspan(i, n), side, now_);
       sii_action(action);
+      refresh_timers();
       update_dl_status();
       counted = true;
       i += n;
       continue;
     }
-    counted = reg_write_byte(a, in_bytes[i], side) || counted;
+    if (!checked && register_map::has(a, plain)) {
+      m[a] = in_bytes[i];
+      counted = true;
+    } else {
+      counted = reg_write_byte(a, in_bytes[i], side) || counted;
+      // A byte of this access may have changed the protection (0x0020/0x0021/0x0030/0x0031).
+      checked = side == Side::Ecat && write_protection_active();
+    }
     ++i;
   }
   return counted;
@@ -161,6 +195,7 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
     }
     m[a] = step;  // reads show the progress of the sequence
   } else if (in(a, reg::kDlControl, reg::kDlControl + 4)) {
+    update_ports();
     update_dl_status();
   } else if (ecat && a == reg::kAlControl) {
     al_control_pending_ = true;
@@ -183,7 +218,10 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
     m[reg::kWatchdogCounterPdi] = 0;
   } else if (in(a, reg::kFmmuBase, kFmmuEnd)) {
     const unsigned n = (a - reg::kFmmuBase) / reg::kFmmuStride;
-    if (n < config_.fmmu_count) fmmus_[n] = Fmmu::decode(m + reg::fmmu(n));
+    if (n < config_.fmmu_count) {
+      fmmus_[n] = Fmmu::decode(m + reg::fmmu(n));
+      update_fmmus();
+    }
   } else if (in(a, reg::kSyncManagerBase, kSmEnd)) {
     const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
     const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
@@ -192,6 +230,7 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
       if (ecat && off == reg::sm::kActivate) set_al_event(bits::kAlEventSmActivation);
       if (m[a] != old) {
         sms_[n].on_register_written(off, old);
+        update_sm_guards();
         if (!sms_[n].enabled() || sms_[n].pdi_deactivated()) {
           // A disabled/deactivated SM has no pending interrupts (Section I §8.3).
           SmSignals clear;

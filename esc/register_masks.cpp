@@ -14,8 +14,6 @@ using namespace reg_layout;
 RegisterWriteMask register_write_mask(std::uint16_t a, const EscConfig& cfg) noexcept {
   using namespace reg;
   constexpr RegisterWriteMask kEcat{0xFF, 0x00};
-  constexpr RegisterWriteMask kPdi{0x00, 0xFF};
-  constexpr RegisterWriteMask kBoth{0xFF, 0xFF};
   if (a >= kFmmuBase && a < kFmmuEnd) {
     const unsigned n = (a - kFmmuBase) / kFmmuStride;
     const unsigned off = (a - kFmmuBase) % kFmmuStride;
@@ -41,54 +39,7 @@ RegisterWriteMask register_write_mask(std::uint16_t a, const EscConfig& cfg) noe
       default: return kEcat;
     }
   }
-  switch (a) {
-    case kConfiguredStationAddress:
-    case kConfiguredStationAddress + 1: return kEcat;
-    case kConfiguredStationAlias:
-    case kConfiguredStationAlias + 1: return kPdi;
-    case kRegisterWriteEnable:
-    case kRegisterWriteProtection:
-    case kEscWriteEnable:
-    case kEscWriteProtection: return {bits::kWriteEnable, 0};
-    case kEscResetEcat: return kEcat;
-    case kEscResetPdi: return kPdi;
-    case kDlControl: return {0x03, 0};
-    case kDlControl + 1: return kEcat;
-    case kDlControl + 2: return {0x0F, 0};
-    case kDlControl + 3: return {0x01, 0};
-    case kPhysicalRwOffset:
-    case kPhysicalRwOffset + 1: return kEcat;
-    case kAlControl: return {bits::kAlControlWritable, 0};
-    case kAlStatus: return {0, bits::kAlStatusWritable};
-    case kAlStatusCode:
-    case kAlStatusCode + 1: return kPdi;
-    case kRunLedOverride:
-    case kErrLedOverride: return {kLedOverrideWritable, 0};
-    case kEcatEventMask:
-    case kEcatEventMask + 1: return kEcat;
-    case kAlEventMask:
-    case kAlEventMask + 1:
-    case kAlEventMask + 2:
-    case kAlEventMask + 3: return kPdi;
-    case kWatchdogDivider:
-    case kWatchdogDivider + 1:
-    case kWatchdogTimePdi:
-    case kWatchdogTimePdi + 1:
-    case kWatchdogTimeProcessData:
-    case kWatchdogTimeProcessData + 1: return kEcat;
-    case kMiiControl: return {kMiiWriteEnable, 0};
-    case kMiiControl + 1: return {kMiiCommandMask, 0};
-    case kMiiPhyAddress:
-    case kMiiPhyAddress + 1:
-    case kMiiPhyAddress + 2:
-    case kMiiPhyAddress + 3: return kBoth;
-    case kMiiEcatAccess: return {0x01, 0};
-    case kMiiPdiAccess: return {0, 0x01};
-    default: break;
-  }
-  if (a >= kDigitalIoOutput && a < bits::kDigitalOutputEnd) return kEcat;
-  if (a >= bits::kUserRam && a < kProcessRam) return kBoth;
-  return {};
+  return fixed_register_write_mask(a);
 }
 
 }  // namespace ecat::esc

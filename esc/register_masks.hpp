@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "esc/esc_config.hpp"
+#include "esc/register_bits.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::esc {
@@ -39,6 +40,65 @@ struct RegisterWriteMask {
   std::uint8_t ecat = 0;
   std::uint8_t pdi = 0;
 };
+
+// The masks of register bytes outside the FMMU and SM blocks, which do not
+// depend on the configuration (usable in constant expressions: the
+// register map of esc/register_map.hpp is built from it).
+constexpr RegisterWriteMask fixed_register_write_mask(std::uint16_t a) noexcept {
+  using namespace reg;
+  using namespace reg_layout;
+  constexpr RegisterWriteMask kEcat{0xFF, 0x00};
+  constexpr RegisterWriteMask kPdi{0x00, 0xFF};
+  constexpr RegisterWriteMask kBoth{0xFF, 0xFF};
+  switch (a) {
+    case kConfiguredStationAddress:
+    case kConfiguredStationAddress + 1: return kEcat;
+    case kConfiguredStationAlias:
+    case kConfiguredStationAlias + 1: return kPdi;
+    case kRegisterWriteEnable:
+    case kRegisterWriteProtection:
+    case kEscWriteEnable:
+    case kEscWriteProtection: return {bits::kWriteEnable, 0};
+    case kEscResetEcat: return kEcat;
+    case kEscResetPdi: return kPdi;
+    case kDlControl: return {0x03, 0};
+    case kDlControl + 1: return kEcat;
+    case kDlControl + 2: return {0x0F, 0};
+    case kDlControl + 3: return {0x01, 0};
+    case kPhysicalRwOffset:
+    case kPhysicalRwOffset + 1: return kEcat;
+    case kAlControl: return {bits::kAlControlWritable, 0};
+    case kAlStatus: return {0, bits::kAlStatusWritable};
+    case kAlStatusCode:
+    case kAlStatusCode + 1: return kPdi;
+    case kRunLedOverride:
+    case kErrLedOverride: return {kLedOverrideWritable, 0};
+    case kEcatEventMask:
+    case kEcatEventMask + 1: return kEcat;
+    case kAlEventMask:
+    case kAlEventMask + 1:
+    case kAlEventMask + 2:
+    case kAlEventMask + 3: return kPdi;
+    case kWatchdogDivider:
+    case kWatchdogDivider + 1:
+    case kWatchdogTimePdi:
+    case kWatchdogTimePdi + 1:
+    case kWatchdogTimeProcessData:
+    case kWatchdogTimeProcessData + 1: return kEcat;
+    case kMiiControl: return {kMiiWriteEnable, 0};
+    case kMiiControl + 1: return {kMiiCommandMask, 0};
+    case kMiiPhyAddress:
+    case kMiiPhyAddress + 1:
+    case kMiiPhyAddress + 2:
+    case kMiiPhyAddress + 3: return kBoth;
+    case kMiiEcatAccess: return {0x01, 0};
+    case kMiiPdiAccess: return {0, 0x01};
+    default: break;
+  }
+  if (a >= kDigitalIoOutput && a < bits::kDigitalOutputEnd) return kEcat;
+  if (a >= bits::kUserRam && a < kProcessRam) return kBoth;
+  return {};
+}
 
 // Bits of register byte `address` (< 0x1000, outside 0x0500-0x050F and the
 // DC block, which have their own handlers) each side may write.

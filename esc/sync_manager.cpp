@@ -19,9 +19,6 @@ void SyncManager::bind(std::uint8_t* regs, std::uint8_t* memory, std::uint32_t m
   reset_state();
 }
 
-std::uint16_t SyncManager::start() const noexcept { return load_le<std::uint16_t>(regs_ + reg::sm::kStartAddress); }
-std::uint16_t SyncManager::length() const noexcept { return load_le<std::uint16_t>(regs_ + reg::sm::kLength); }
-std::uint8_t SyncManager::control() const noexcept { return regs_[reg::sm::kControl]; }
 bool SyncManager::mailbox() const noexcept { return (control() & kModeMask) == kModeMailbox; }
 bool SyncManager::ecat_writes() const noexcept { return (control() & kDirectionMask) == kDirectionWrite; }
 bool SyncManager::enabled() const noexcept {

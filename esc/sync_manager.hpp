@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <span>
 
+#include "common/le.hpp"
 #include "esc/access_side.hpp"
+#include "esc/registers.hpp"
 
 namespace ecat::esc {
 
@@ -62,9 +64,9 @@ class SyncManager {
   void on_register_written(unsigned offset, std::uint8_t old_value) noexcept;
   void reset_state() noexcept;
 
-  std::uint16_t start() const noexcept;
-  std::uint16_t length() const noexcept;
-  std::uint8_t control() const noexcept;
+  std::uint16_t start() const noexcept { return load_le<std::uint16_t>(regs_ + reg::sm::kStartAddress); }
+  std::uint16_t length() const noexcept { return load_le<std::uint16_t>(regs_ + reg::sm::kLength); }
+  std::uint8_t control() const noexcept { return regs_[reg::sm::kControl]; }
   bool mailbox() const noexcept;
   // True for master->slave buffers (ECAT writes, PDI reads).
   bool ecat_writes() const noexcept;

@@ -5,22 +5,9 @@
 
 namespace ecat::esc {
 
-Nanoseconds Watchdogs::timeout(std::uint16_t divider, std::uint16_t time) noexcept {
-  const std::int64_t unit = (static_cast<std::int64_t>(divider) + kWatchdogDividerOffset) * kEscClockPeriodNs;
-  return Nanoseconds{unit * time};
-}
-
 void Watchdogs::reset() noexcept {
   pd_deadline_.reset();
   pdi_deadline_.reset();
-}
-
-void Watchdogs::trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
-  if (time == 0) {
-    pd_deadline_.reset();  // 0 = disabled
-  } else {
-    pd_deadline_ = now + timeout(divider, time);
-  }
 }
 
 void Watchdogs::trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
@@ -42,11 +29,6 @@ Watchdogs::Expired Watchdogs::check(Nanoseconds now) noexcept {
     pdi_deadline_.reset();
   }
   return e;
-}
-
-std::optional<Nanoseconds> Watchdogs::next_deadline() const noexcept {
-  if (pd_deadline_ && pdi_deadline_) return std::min(*pd_deadline_, *pdi_deadline_);
-  return pd_deadline_ ? pd_deadline_ : pdi_deadline_;
 }
 
 }  // namespace ecat::esc

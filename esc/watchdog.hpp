@@ -20,11 +20,20 @@ inline constexpr std::uint16_t kWatchdogDividerOffset = 2;      // divider = tic
 class Watchdogs {
  public:
   // Timeout for a time register value under `divider` (0 = disabled).
-  static Nanoseconds timeout(std::uint16_t divider, std::uint16_t time) noexcept;
+  static Nanoseconds timeout(std::uint16_t divider, std::uint16_t time) noexcept {
+    const std::int64_t unit = (static_cast<std::int64_t>(divider) + kWatchdogDividerOffset) * kEscClockPeriodNs;
+    return Nanoseconds{unit * time};
+  }
 
   void reset() noexcept;
   // Restart on a trigger at `now` with the current register values.
-  void trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept;
+  void trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
+    if (time == 0) {
+      pd_deadline_.reset();  // 0 = disabled
+    } else {
+      pd_deadline_ = now + timeout(divider, time);
+    }
+  }
   void trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept;
 
   struct Expired {
@@ -33,7 +42,10 @@ class Watchdogs {
   };
   // Reports (once each) the watchdogs that expired by `now`.
   Expired check(Nanoseconds now) noexcept;
-  std::optional<Nanoseconds> next_deadline() const noexcept;
+  std::optional<Nanoseconds> next_deadline() const noexcept {
+    if (pd_deadline_ && pdi_deadline_) return pd_deadline_ < pdi_deadline_ ? pd_deadline_ : pdi_deadline_;
+    return pd_deadline_ ? pd_deadline_ : pdi_deadline_;
+  }
 
  private:
   std::optional<Nanoseconds> pd_deadline_;

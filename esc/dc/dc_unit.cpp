@@ -149,13 +149,7 @@ void DcUnit::latch_receive_times(Nanoseconds t) noexcept {
   receive_latch_armed_ = true;
 }
 
-void DcUnit::on_frame_arrival(int port, Nanoseconds t) noexcept {
-  last_t_ = std::max(last_t_, t);
-  if (port <= 0) {
-    receive_latch_armed_ = false;  // a new frame
-    return;
-  }
-  if (!receive_latch_armed_ || port >= static_cast<int>(kPorts)) return;
+void DcUnit::latch_return_time(int port, Nanoseconds t) noexcept {
   const auto reg = static_cast<std::uint16_t>(kReceiveTimePort0 + port * kReceiveTimePortStride);
   store_le(&regs_[reg], static_cast<std::uint32_t>(clock_.at(t)));
 }

@@ -47,8 +47,16 @@ class DcUnit : private SyncUnit::Sink {
   void write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds t,
              Side side = Side::Ecat) noexcept;
   // A frame reached `port` at time t (before the ESC processes it for port 0,
-  // on its way back for the other ports).
-  void on_frame_arrival(int port, Nanoseconds t) noexcept;
+  // on its way back for the other ports). Inline: every frame calls it; the
+  // receive times are stored only after a write to 0x0900 armed the latch.
+  void on_frame_arrival(int port, Nanoseconds t) noexcept {
+    if (t > last_t_) last_t_ = t;
+    if (port <= 0) {
+      receive_latch_armed_ = false;  // a new frame
+      return;
+    }
+    if (receive_latch_armed_ && port < static_cast<int>(kPorts)) latch_return_time(port, t);
+  }
   // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
@@ -84,6 +92,7 @@ class DcUnit : private SyncUnit::Sink {
   bool writable(std::uint16_t offset, Side side) const noexcept;
   void after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept;
   void latch_receive_times(Nanoseconds t) noexcept;
+  void latch_return_time(int port, Nanoseconds t) noexcept;
   void compare_system_time(std::span<const std::uint8_t> written, Nanoseconds t) noexcept;
   void activation_written(Nanoseconds t) noexcept;
   void start_time_written(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept;
