@@ -1,10 +1,10 @@
 // The datagram engine: what one ESC does to each datagram of a passing frame
 // (ETG.1000.4 §5.4; Beckhoff ESC datasheet Section I §2.5 Tables 5 and 7;
 // shared/spec/esc-registers.md §2). Addressing, data, ADP increment, WKC
-// and the IRQ field. Logical commands go through the FMMUs (Section I §6).
+// and the IRQ field. Logical commands go through the FMMUs (Section I §6;
+// esc/logical_access.cpp).
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cstring>
 
 #include "esc/esc.hpp"
@@ -20,12 +20,6 @@ using Scratch = std::array<std::uint8_t, kFrameLengthMask + 1>;
 constexpr std::uint16_t kWkcRead = 1;
 constexpr std::uint16_t kWkcWrite = 1;
 constexpr std::uint16_t kWkcReadWriteWrite = 2;  // the write part of an xRW
-
-bool get_bit(const std::uint8_t* p, std::uint64_t bit) noexcept { return (p[bit / 8] >> (bit % 8)) & 1u; }
-void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
-  const auto mask = static_cast<std::uint8_t>(1u << (bit % 8));
-  p[bit / 8] = static_cast<std::uint8_t>(v ? (p[bit / 8] | mask) : (p[bit / 8] & ~mask));
-}
 
 }  // namespace
 
@@ -120,112 +114,6 @@ void Esc::process_datagram(DatagramView d) noexcept {
     if (mem_write(ado, data, Side::Ecat)) wkc = kWkcWrite;
   }
   d.add_wkc(wkc);
-}
-
-// Logical addressing through every active FMMU (Section I §6; ETG.1000.4
-// §5.4.3): +1 if any read FMMU hit accessible memory, +1 (LWR) / +2 (LRW)
-// if any write FMMU did, whatever the number of FMMUs involved. The cost
-// follows the bytes this ESC maps, never the datagram length.
-std::uint16_t Esc::process_logical(DatagramView d) noexcept {
-  const Command cmd = d.command();
-  Bytes data = d.data();
-  if (data.empty()) return 0;
-  const std::uint64_t dg_first = static_cast<std::uint64_t>(d.logical_address()) * 8;
-  const std::uint64_t dg_last = dg_first + data.size() * 8 - 1;
-  // Which FMMUs overlap the datagram, and where (bit numbers).
-  struct Hit {
-    const Fmmu* fmmu;
-    std::uint64_t lo;
-    std::uint64_t hi;
-  };
-  std::array<Hit, kMaxFmmus> hits;
-  std::size_t count = 0;
-  std::size_t wlo = data.size();  // byte range of the datagram the write FMMUs take
-  std::size_t whi = 0;
-  std::size_t rlo = data.size();  // ... and the read FMMUs
-  std::size_t rhi = 0;
-  for (std::uint32_t left = fmmu_active_; left != 0; left &= left - 1) {
-    const Fmmu& f = fmmus_[static_cast<unsigned>(std::countr_zero(left))];
-    const std::uint64_t lo = std::max(dg_first, f.first_bit());
-    const std::uint64_t hi = std::min(dg_last, f.last_bit());
-    if (lo > hi) continue;
-    hits[count++] = Hit{&f, lo, hi};
-    const auto first = static_cast<std::size_t>((lo - dg_first) / 8);
-    const auto end = static_cast<std::size_t>((hi - dg_first) / 8) + 1;
-    if (f.write) {
-      wlo = std::min(wlo, first);
-      whi = std::max(whi, end);
-    }
-    if (f.read) {
-      rlo = std::min(rlo, first);
-      rhi = std::max(rhi, end);
-    }
-  }
-  if (count == 0) return 0;
-  // LRW writes the data as it arrived while reads replace it: keep the
-  // bytes the writes need when a read lands on them. `wsrc[i - origin]` is
-  // incoming byte i.
-  Scratch incoming;
-  const std::uint8_t* wsrc = data.data();
-  std::size_t origin = 0;
-  if (cmd == Command::Lrw && wlo < whi && rlo < whi && wlo < rhi) {
-    std::memcpy(incoming.data(), data.data() + wlo, whi - wlo);
-    wsrc = incoming.data();
-    origin = wlo;
-  }
-  bool read_hit = false;
-  bool write_hit = false;
-  Scratch phys;
-  // Two passes: all reads, then all writes, so a byte read and written by
-  // the same LRW returns its old value.
-  for (int pass = 0; pass < 2; ++pass) {
-    const bool reading = pass == 0;
-    if (reading ? !reads(cmd) : !writes(cmd)) continue;
-    for (std::size_t h = 0; h < count; ++h) {
-      const Fmmu& f = *hits[h].fmmu;
-      if (reading ? !f.read : !f.write) continue;
-      const std::uint64_t lo = hits[h].lo;
-      const std::uint64_t bits_n = hits[h].hi - lo + 1;
-      const std::uint64_t pbit = static_cast<std::uint64_t>(f.physical_start) * 8 + f.physical_start_bit +
-                                 (lo - f.first_bit());
-      const std::uint64_t pbyte = pbit / 8;
-      if (pbyte >= kAddressSpace) continue;
-      const auto paddr = static_cast<std::uint16_t>(pbyte);
-      const std::size_t doff = static_cast<std::size_t>((lo - dg_first) / 8);
-      if ((lo % 8) == 0 && (pbit % 8) == 0 && (bits_n % 8) == 0) {
-        // Whole bytes on both sides: straight through the SM rules.
-        const std::size_t n = static_cast<std::size_t>(bits_n / 8);
-        if (reading) {
-          read_hit = mem_read(paddr, data.subspan(doff, n), Side::Ecat) || read_hit;
-        } else {
-          write_hit = mem_write(paddr, std::span<const std::uint8_t>(wsrc + (doff - origin), n), Side::Ecat) ||
-                      write_hit;
-        }
-        continue;
-      }
-      // Bit-granular: only mapped bits change in the frame (read) or in
-      // memory (write; unmapped bits of touched bytes keep their value).
-      const std::size_t pbytes = static_cast<std::size_t>((pbit + bits_n - 1) / 8 - pbyte + 1);
-      std::span<std::uint8_t> buf(phys.data(), pbytes);
-      const std::uint64_t pshift = pbit - pbyte * 8;
-      const std::uint64_t dshift = lo - dg_first;
-      if (reading) {
-        std::memset(buf.data(), 0, buf.size());
-        if (!mem_read(paddr, buf, Side::Ecat)) continue;
-        read_hit = true;
-        for (std::uint64_t b = 0; b < bits_n; ++b) put_bit(data.data(), dshift + b, get_bit(buf.data(), pshift + b));
-      } else {
-        peek(paddr, buf);
-        const std::uint64_t sshift = dshift - origin * 8;
-        for (std::uint64_t b = 0; b < bits_n; ++b) put_bit(buf.data(), pshift + b, get_bit(wsrc, sshift + b));
-        write_hit = mem_write(paddr, buf, Side::Ecat) || write_hit;
-      }
-    }
-  }
-  std::uint16_t wkc = 0;
-  if (read_hit) wkc = static_cast<std::uint16_t>(wkc + kWkcRead);
-  if (write_hit) wkc = static_cast<std::uint16_t>(wkc + (cmd == Command::Lrw ? kWkcReadWriteWrite : kWkcWrite));
-  return wkc;
 }
 
 }  // namespace ecat::esc

@@ -39,8 +39,6 @@ Esc::Esc(EscConfig config, const Clock& clock)
 
 Esc::~Esc() = default;
 
-std::uint32_t Esc::ram_end() const noexcept { return reg::kProcessRam + config_.process_ram_size; }
-
 std::uint32_t Esc::dl_control() const noexcept { return load_le<std::uint32_t>(mem_.get() + reg::kDlControl); }
 
 std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept {
@@ -85,7 +83,7 @@ void Esc::reset() noexcept {
   for (auto& sm : sms_) sm.reset_state();
   for (auto& f : fmmus_) f = Fmmu{};
   sm_enabled_ = 0;
-  fmmu_active_ = 0;
+  update_fmmus();
   watchdogs_.reset();
   register_write_enabled_ = false;
   esc_write_enabled_ = false;
@@ -181,12 +179,6 @@ std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
   return next;
 }
 
-// Nothing is due before next_timer_: most frames skip the timers entirely.
-void Esc::run_timers(Nanoseconds now) noexcept {
-  if (now < next_timer_) return;
-  run_due_timers(now);
-  refresh_timers();
-}
 
 void Esc::refresh_timers() noexcept {
   Nanoseconds next = Nanoseconds::max();
@@ -195,6 +187,7 @@ void Esc::refresh_timers() noexcept {
   next_timer_ = next;
 }
 
+// Nothing is due before next_timer_: most frames skip this entirely.
 void Esc::run_due_timers(Nanoseconds now) noexcept {
   sii_action(sii_.poll(now));
   const Watchdogs::Expired e = watchdogs_.check(now);
@@ -214,6 +207,7 @@ void Esc::run_due_timers(Nanoseconds now) noexcept {
              static_cast<std::uint16_t>(register_u16(reg::kDlStatus) & ~bits::kDlPdiWatchdogOk));
     set_ecat_event(bits::kEcatEventDlStatus);
   }
+  refresh_timers();
 }
 
 void Esc::sii_action(SiiInterface::Action a) noexcept {
@@ -252,13 +246,7 @@ void Esc::update_sm_guards() noexcept {
   for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
     if (sms_[n].enabled()) sm_enabled_ |= 1u << n;
   }
-}
-
-void Esc::update_fmmus() noexcept {
-  fmmu_active_ = 0;
-  for (unsigned n = 0; n < config_.fmmu_count; ++n) {
-    if (fmmus_[n].active()) fmmu_active_ |= 1u << n;
-  }
+  update_fmmus();  // their routes depend on the SMs
 }
 
 void Esc::update_dl_status() noexcept {
@@ -305,16 +293,26 @@ void Esc::clear_ecat_event(std::uint16_t b) noexcept {
 }
 
 // SyncManager interrupts: AL event bit 8+n, ECAT event bit 4+n (n < 8).
+// Each request register is read and written once (clear, then raise).
 void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
-  const std::uint32_t al = 1u << (bits::kAlEventSmShift + n);
-  const auto ecat = static_cast<std::uint16_t>(n < bits::kEcatEventSmCount ? 1u << (bits::kEcatEventSmShift + n) : 0);
-  if (sig.clear_al) clear_al_event(al);
-  if (sig.clear_ecat) clear_ecat_event(ecat);
-  if (sig.raise_al) set_al_event(al);
-  if (sig.raise_ecat) set_ecat_event(ecat);
+  std::uint8_t* m = mem_.get();
+  if (sig.clear_al || sig.raise_al) {
+    const std::uint32_t al = 1u << (bits::kAlEventSmShift + n);
+    std::uint32_t v = load_le<std::uint32_t>(m + reg::kAlEventRequest);
+    if (sig.clear_al) v &= ~al;
+    if (sig.raise_al) v |= al;
+    store_le(m + reg::kAlEventRequest, v);
+  }
+  if ((sig.clear_ecat || sig.raise_ecat) && n < bits::kEcatEventSmCount) {
+    const auto ecat = static_cast<std::uint16_t>(1u << (bits::kEcatEventSmShift + n));
+    auto v = load_le<std::uint16_t>(m + reg::kEcatEventRequest);
+    if (sig.clear_ecat) v = static_cast<std::uint16_t>(v & ~ecat);
+    if (sig.raise_ecat) v = static_cast<std::uint16_t>(v | ecat);
+    store_le(m + reg::kEcatEventRequest, v);
+  }
   if (sig.watchdog_trigger) {
-    watchdogs_.trigger_process_data(now_, register_u16(reg::kWatchdogDivider),
-                                    register_u16(reg::kWatchdogTimeProcessData));
+    watchdogs_.trigger_process_data(now_, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
+                                    load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
     mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
     refresh_timers();
   }

@@ -121,7 +121,9 @@ class Esc final : public Pdi {
 
   // Datagram engine (esc/datagram_engine.cpp).
   void process_datagram(DatagramView d) noexcept;
+  // Logical addressing (esc/logical_access.cpp).
   std::uint16_t process_logical(DatagramView d) noexcept;
+  std::uint16_t process_logical_bits(DatagramView d) noexcept;
   bool addressed_configured(std::uint16_t adp) const noexcept;
   // Register write protection (0x0021/0x0031) active and not released in
   // this frame: ECAT register writes take the checked path.
@@ -152,12 +154,15 @@ class Esc final : public Pdi {
   void update_fmmus() noexcept;
   void refresh_timers() noexcept;
   void load_eeprom(bool power_on) noexcept;
-  void run_timers(Nanoseconds now) noexcept;
+  // Runs the watchdogs and the SII busy time when one is due (now >= next_timer_).
+  void run_timers(Nanoseconds now) noexcept {
+    if (now >= next_timer_) run_due_timers(now);
+  }
   void run_due_timers(Nanoseconds now) noexcept;
   void pdi_watchdog_trigger(Nanoseconds t) noexcept;
   void sii_action(SiiInterface::Action a) noexcept;
   std::uint32_t dl_control() const noexcept;
-  std::uint32_t ram_end() const noexcept;
+  std::uint32_t ram_end() const noexcept { return reg::kProcessRam + config_.process_ram_size; }
 
   EscConfig config_;
   const Clock& clock_;
@@ -168,6 +173,12 @@ class Esc final : public Pdi {
   std::array<bool, kMaxPorts> port_open_{};
   std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
   std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active
+  // Where a byte-aligned FMMU's physical range goes: SM n (>= 0), plain RAM,
+  // or the general byte-by-byte SM path.
+  static constexpr std::int8_t kRouteGeneral = -1;
+  static constexpr std::int8_t kRouteRam = -2;
+  std::array<std::int8_t, kMaxFmmus> fmmu_route_{};
+  bool fmmus_byte_aligned_ = true;  // every active FMMU is whole bytes
   Nanoseconds next_timer_ = Nanoseconds::max();
   DcUnit dc_;
   SiiInterface sii_;

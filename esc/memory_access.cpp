@@ -38,6 +38,7 @@ Guard find_guard(const Sms& sms, std::uint32_t enabled, std::uint32_t pos, std::
 
 bool Esc::mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
   const std::uint32_t end = std::min<std::uint32_t>(address + static_cast<std::uint32_t>(out.size()), kAddressSpace);
+  if (end <= reg::kProcessRam) return reg_read(address, out, side);  // registers only
   std::uint32_t pos = address;
   bool any = false;
   if (pos < reg::kProcessRam) {
@@ -64,6 +65,7 @@ bool Esc::mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
 
 bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept {
   const std::uint32_t end = std::min<std::uint32_t>(address + static_cast<std::uint32_t>(in.size()), kAddressSpace);
+  if (end <= reg::kProcessRam) return reg_write(address, in, side);  // registers only
   std::uint32_t pos = address;
   bool any = false;
   if (pos < reg::kProcessRam) {

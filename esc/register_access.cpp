@@ -19,6 +19,18 @@ namespace {
 
 bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { return a >= first && a < end; }
 
+// Register accesses are mostly 1, 2, 4 or 8 bytes: copy those inline
+// instead of through a library call.
+void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) noexcept {
+  switch (n) {
+    case 1: dst[0] = src[0]; break;
+    case 2: std::memcpy(dst, src, 2); break;
+    case 4: std::memcpy(dst, src, 4); break;
+    case 8: std::memcpy(dst, src, 8); break;
+    default: std::memcpy(dst, src, n); break;
+  }
+}
+
 }  // namespace
 
 // --- Reads --------------------------------------------------------------------------
@@ -27,8 +39,16 @@ bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
   if (out.empty()) return false;
   const std::uint8_t effect = register_map::read_effect_flag(side);
   std::uint8_t* m = mem_.get();
-  if (!register_map::any_in(address, out.size(), effect)) {
-    std::memcpy(out.data(), m + address, out.size());
+  copy_bytes(out.data(), m + address, out.size());
+  if (!register_map::any_in(address, out.size(), effect)) return true;
+  const std::uint32_t end = address + static_cast<std::uint32_t>(out.size());
+  if (end <= reg::kDcBase || address >= reg::kDcEnd) {
+    // Outside the DC block: only the flagged bytes need their handler, in
+    // address order (an acknowledging read may clear a later event byte).
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const auto a = static_cast<std::uint16_t>(address + i);
+      if (register_map::has(a, effect)) out[i] = reg_read_byte(a, side);
+    }
     return true;
   }
   std::size_t i = 0;
@@ -104,7 +124,7 @@ bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_byte
   // Write protection (Section I §13) sends every ECAT byte through the checks.
   bool checked = side == Side::Ecat && write_protection_active();
   if (!checked && register_map::all_in(address, in_bytes.size(), plain)) {
-    std::memcpy(m + address, in_bytes.data(), in_bytes.size());
+    copy_bytes(m + address, in_bytes.data(), in_bytes.size());
     return true;
   }
   std::size_t i = 0;

@@ -68,9 +68,17 @@ void DcUnit::read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds
   last_t_ = std::max(last_t_, t);
   if (offset >= kSize) return;
   const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(out.size(), kSize - offset));
-  std::array<std::uint8_t, kSize> view{};
-  render(view, t, side);
-  std::copy_n(view.begin() + offset, n, out.begin());
+  if (offset >= kSystemTime && offset + n <= kSystemTime + kU64) {
+    // The system time alone (the ARMW/FRMW of every DC cycle): the same
+    // value render() puts there, without building the whole block.
+    std::array<std::uint8_t, kU64> value{};
+    store_le(value.data(), system_time(t) - (side == Side::Ecat ? delay() : 0u));
+    std::copy_n(value.begin() + (offset - kSystemTime), n, out.begin());
+  } else {
+    std::array<std::uint8_t, kSize> view{};
+    render(view, t, side);
+    std::copy_n(view.begin() + offset, n, out.begin());
+  }
   after_read(offset, static_cast<std::uint16_t>(offset + n), side, t);
 }
 

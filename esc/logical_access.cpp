@@ -1,0 +1,274 @@
+// Logical addressing through the FMMUs (ESC datasheet Section I §6;
+// ETG.1000.4 §5.4.3): +1 to the WKC if any read FMMU hit accessible memory,
+// +1 (LWR) / +2 (LRW) if any write FMMU did, whatever the number of FMMUs
+// involved. The cost follows the bytes this ESC maps, never the datagram
+// length: the FMMUs are decoded and routed when their registers (or the
+// SMs) change, so a frame only compares ranges and copies mapped bytes.
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
+
+#include "esc/esc.hpp"
+#include "esc/registers.hpp"
+
+namespace ecat::esc {
+
+namespace {
+
+// Scratch for one datagram's data (11-bit length), on the stack: no heap.
+using Scratch = std::array<std::uint8_t, kFrameLengthMask + 1>;
+
+constexpr std::uint16_t kWkcRead = 1;
+constexpr std::uint16_t kWkcWrite = 1;
+constexpr std::uint16_t kWkcReadWriteWrite = 2;  // the write part of an LRW
+
+bool get_bit(const std::uint8_t* p, std::uint64_t bit) noexcept { return (p[bit / 8] >> (bit % 8)) & 1u; }
+void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
+  const auto mask = static_cast<std::uint8_t>(1u << (bit % 8));
+  p[bit / 8] = static_cast<std::uint8_t>(v ? (p[bit / 8] | mask) : (p[bit / 8] & ~mask));
+}
+
+std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept {
+  std::uint16_t wkc = 0;
+  if (read_hit) wkc = static_cast<std::uint16_t>(wkc + kWkcRead);
+  if (write_hit) wkc = static_cast<std::uint16_t>(wkc + (cmd == Command::Lrw ? kWkcReadWriteWrite : kWkcWrite));
+  return wkc;
+}
+
+}  // namespace
+
+// Active FMMUs and, for each byte-aligned one, where its physical range
+// goes: one SM (the lowest-numbered enabled SM overlapping the range covers
+// all of it), plain RAM (no enabled SM overlaps it), or the general path.
+// This is exactly what mem_read/mem_write would find byte by byte.
+void Esc::update_fmmus() noexcept {
+  fmmu_active_ = 0;
+  fmmus_byte_aligned_ = true;
+  for (unsigned k = 0; k < config_.fmmu_count; ++k) {
+    const Fmmu& f = fmmus_[k];
+    fmmu_route_[k] = kRouteGeneral;
+    if (!f.active()) continue;
+    fmmu_active_ |= 1u << k;
+    if (!f.byte_aligned()) {
+      fmmus_byte_aligned_ = false;
+      continue;
+    }
+    const std::uint32_t p0 = f.physical_start;
+    const std::uint32_t p1 = p0 + f.length;
+    if (p0 < reg::kProcessRam || p1 > ram_end()) continue;
+    std::int8_t route = kRouteRam;
+    for (std::uint32_t left = sm_enabled_; left != 0; left &= left - 1) {
+      const auto n = static_cast<unsigned>(std::countr_zero(left));
+      const std::uint32_t s0 = sms_[n].start();
+      const std::uint32_t s1 = sms_[n].end();
+      if (s1 <= p0 || s0 >= p1) continue;  // no overlap
+      route = s0 <= p0 && p1 <= s1 ? static_cast<std::int8_t>(n) : kRouteGeneral;
+      break;
+    }
+    fmmu_route_[k] = route;
+  }
+}
+
+std::uint16_t Esc::process_logical(DatagramView d) noexcept {
+  if (!fmmus_byte_aligned_) return process_logical_bits(d);
+  const Command cmd = d.command();
+  Bytes data = d.data();
+  if (data.empty() || fmmu_active_ == 0) return 0;
+  const std::uint64_t dg0 = d.logical_address();
+  const std::uint64_t dg1 = dg0 + data.size();
+  struct Hit {
+    unsigned k;
+    std::uint32_t doff;  // first datagram byte mapped
+    std::uint32_t n;     // bytes
+    std::uint32_t paddr;
+  };
+  std::array<Hit, kMaxFmmus> hits;
+  std::size_t count = 0;
+  std::size_t wlo = data.size();  // datagram bytes the write FMMUs take
+  std::size_t whi = 0;
+  std::size_t rlo = data.size();  // ... and the read FMMUs
+  std::size_t rhi = 0;
+  for (std::uint32_t left = fmmu_active_; left != 0; left &= left - 1) {
+    const auto k = static_cast<unsigned>(std::countr_zero(left));
+    const Fmmu& f = fmmus_[k];
+    const std::uint64_t lo = std::max<std::uint64_t>(dg0, f.logical_start);
+    const std::uint64_t hi = std::min<std::uint64_t>(dg1, std::uint64_t{f.logical_start} + f.length);
+    if (lo >= hi) continue;
+    const auto paddr = static_cast<std::uint32_t>(f.physical_start + (lo - f.logical_start));
+    if (paddr >= kAddressSpace) continue;
+    const auto doff = static_cast<std::uint32_t>(lo - dg0);
+    const auto n = static_cast<std::uint32_t>(hi - lo);
+    hits[count++] = Hit{k, doff, n, paddr};
+    if (f.write) {
+      wlo = std::min<std::size_t>(wlo, doff);
+      whi = std::max<std::size_t>(whi, doff + n);
+    }
+    if (f.read) {
+      rlo = std::min<std::size_t>(rlo, doff);
+      rhi = std::max<std::size_t>(rhi, doff + n);
+    }
+  }
+  if (count == 0) return 0;
+  // LRW writes the data as it arrived while reads replace it: keep the
+  // bytes the writes need when a read lands on them.
+  Scratch incoming;
+  const std::uint8_t* wsrc = data.data();
+  std::size_t origin = 0;
+  if (cmd == Command::Lrw && wlo < whi && rlo < whi && wlo < rhi) {
+    std::memcpy(incoming.data(), data.data() + wlo, whi - wlo);
+    wsrc = incoming.data();
+    origin = wlo;
+  }
+  bool read_hit = false;
+  bool write_hit = false;
+  // All reads, then all writes: a byte read and written by one LRW returns its old value.
+  if (reads(cmd)) {
+    for (std::size_t h = 0; h < count; ++h) {
+      const Hit& hit = hits[h];
+      if (!fmmus_[hit.k].read) continue;
+      const std::span<std::uint8_t> out = data.subspan(hit.doff, hit.n);
+      const std::int8_t route = fmmu_route_[hit.k];
+      if (route >= 0) {
+        SmSignals sig;
+        if (sms_[static_cast<unsigned>(route)].read(Side::Ecat, static_cast<std::uint16_t>(hit.paddr), out, sig)) {
+          read_hit = true;
+        }
+        apply(static_cast<unsigned>(route), sig);
+      } else if (route == kRouteRam) {
+        std::memcpy(out.data(), mem_.get() + hit.paddr, out.size());
+        read_hit = true;
+      } else {
+        read_hit = mem_read(static_cast<std::uint16_t>(hit.paddr), out, Side::Ecat) || read_hit;
+      }
+    }
+  }
+  if (writes(cmd)) {
+    // ESC write protection (0x0031) covers the RAM (Section I §13).
+    const bool ram_protected = (mem_[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_;
+    for (std::size_t h = 0; h < count; ++h) {
+      const Hit& hit = hits[h];
+      if (!fmmus_[hit.k].write) continue;
+      const std::span<const std::uint8_t> in(wsrc + (hit.doff - origin), hit.n);
+      const std::int8_t route = fmmu_route_[hit.k];
+      if (route == kRouteGeneral) {
+        write_hit = mem_write(static_cast<std::uint16_t>(hit.paddr), in, Side::Ecat) || write_hit;
+      } else if (ram_protected) {
+        continue;
+      } else if (route >= 0) {
+        SmSignals sig;
+        if (sms_[static_cast<unsigned>(route)].write(Side::Ecat, static_cast<std::uint16_t>(hit.paddr), in, sig)) {
+          write_hit = true;
+        }
+        apply(static_cast<unsigned>(route), sig);
+      } else {
+        std::memcpy(mem_.get() + hit.paddr, in.data(), in.size());
+        write_hit = true;
+      }
+    }
+  }
+  return wkc_of(cmd, read_hit, write_hit);
+}
+
+// The general path: bit-granular FMMUs, through the SM rules of mem_read /
+// mem_write. Only mapped bits change in the frame (read) or in memory (write).
+std::uint16_t Esc::process_logical_bits(DatagramView d) noexcept {
+  const Command cmd = d.command();
+  Bytes data = d.data();
+  if (data.empty()) return 0;
+  const std::uint64_t dg_first = static_cast<std::uint64_t>(d.logical_address()) * 8;
+  const std::uint64_t dg_last = dg_first + data.size() * 8 - 1;
+  // Which FMMUs overlap the datagram, and where (bit numbers).
+  struct Hit {
+    const Fmmu* fmmu;
+    std::uint64_t lo;
+    std::uint64_t hi;
+  };
+  std::array<Hit, kMaxFmmus> hits;
+  std::size_t count = 0;
+  std::size_t wlo = data.size();  // byte range of the datagram the write FMMUs take
+  std::size_t whi = 0;
+  std::size_t rlo = data.size();  // ... and the read FMMUs
+  std::size_t rhi = 0;
+  for (std::uint32_t left = fmmu_active_; left != 0; left &= left - 1) {
+    const Fmmu& f = fmmus_[static_cast<unsigned>(std::countr_zero(left))];
+    const std::uint64_t lo = std::max(dg_first, f.first_bit());
+    const std::uint64_t hi = std::min(dg_last, f.last_bit());
+    if (lo > hi) continue;
+    hits[count++] = Hit{&f, lo, hi};
+    const auto first = static_cast<std::size_t>((lo - dg_first) / 8);
+    const auto end = static_cast<std::size_t>((hi - dg_first) / 8) + 1;
+    if (f.write) {
+      wlo = std::min(wlo, first);
+      whi = std::max(whi, end);
+    }
+    if (f.read) {
+      rlo = std::min(rlo, first);
+      rhi = std::max(rhi, end);
+    }
+  }
+  if (count == 0) return 0;
+  // LRW writes the data as it arrived while reads replace it: keep the
+  // bytes the writes need when a read lands on them. `wsrc[i - origin]` is
+  // incoming byte i.
+  Scratch incoming;
+  const std::uint8_t* wsrc = data.data();
+  std::size_t origin = 0;
+  if (cmd == Command::Lrw && wlo < whi && rlo < whi && wlo < rhi) {
+    std::memcpy(incoming.data(), data.data() + wlo, whi - wlo);
+    wsrc = incoming.data();
+    origin = wlo;
+  }
+  bool read_hit = false;
+  bool write_hit = false;
+  Scratch phys;
+  // Two passes: all reads, then all writes, so a byte read and written by
+  // the same LRW returns its old value.
+  for (int pass = 0; pass < 2; ++pass) {
+    const bool reading = pass == 0;
+    if (reading ? !reads(cmd) : !writes(cmd)) continue;
+    for (std::size_t h = 0; h < count; ++h) {
+      const Fmmu& f = *hits[h].fmmu;
+      if (reading ? !f.read : !f.write) continue;
+      const std::uint64_t lo = hits[h].lo;
+      const std::uint64_t bits_n = hits[h].hi - lo + 1;
+      const std::uint64_t pbit = static_cast<std::uint64_t>(f.physical_start) * 8 + f.physical_start_bit +
+                                 (lo - f.first_bit());
+      const std::uint64_t pbyte = pbit / 8;
+      if (pbyte >= kAddressSpace) continue;
+      const auto paddr = static_cast<std::uint16_t>(pbyte);
+      const std::size_t doff = static_cast<std::size_t>((lo - dg_first) / 8);
+      if ((lo % 8) == 0 && (pbit % 8) == 0 && (bits_n % 8) == 0) {
+        // Whole bytes on both sides: straight through the SM rules.
+        const std::size_t n = static_cast<std::size_t>(bits_n / 8);
+        if (reading) {
+          read_hit = mem_read(paddr, data.subspan(doff, n), Side::Ecat) || read_hit;
+        } else {
+          write_hit = mem_write(paddr, std::span<const std::uint8_t>(wsrc + (doff - origin), n), Side::Ecat) ||
+                      write_hit;
+        }
+        continue;
+      }
+      // Bit-granular: only mapped bits change in the frame (read) or in
+      // memory (write; unmapped bits of touched bytes keep their value).
+      const std::size_t pbytes = static_cast<std::size_t>((pbit + bits_n - 1) / 8 - pbyte + 1);
+      std::span<std::uint8_t> buf(phys.data(), pbytes);
+      const std::uint64_t pshift = pbit - pbyte * 8;
+      const std::uint64_t dshift = lo - dg_first;
+      if (reading) {
+        std::memset(buf.data(), 0, buf.size());
+        if (!mem_read(paddr, buf, Side::Ecat)) continue;
+        read_hit = true;
+        for (std::uint64_t b = 0; b < bits_n; ++b) put_bit(data.data(), dshift + b, get_bit(buf.data(), pshift + b));
+      } else {
+        peek(paddr, buf);
+        const std::uint64_t sshift = dshift - origin * 8;
+        for (std::uint64_t b = 0; b < bits_n; ++b) put_bit(buf.data(), pshift + b, get_bit(wsrc, sshift + b));
+        write_hit = mem_write(paddr, buf, Side::Ecat) || write_hit;
+      }
+    }
+  }
+  return wkc_of(cmd, read_hit, write_hit);
+}
+
+}  // namespace ecat::esc
