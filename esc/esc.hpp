@@ -108,6 +108,9 @@ class Esc final : public Pdi {
   // Return true if the access counts for the WKC.
   bool reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept;
   bool reg_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept;
+  // Byte by byte through the handlers (every byte when !fast_paths).
+  bool reg_read_checked(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept;
+  bool reg_write_checked(std::uint16_t address, std::span<const std::uint8_t> in, Side side, bool checked) noexcept;
   std::uint8_t reg_read_byte(std::uint16_t address, Side side) noexcept;
   bool reg_write_byte(std::uint16_t address, std::uint8_t value, Side side) noexcept;
   void after_register_write(std::uint16_t address, std::uint8_t old_value, Side side) noexcept;

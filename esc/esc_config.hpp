@@ -54,6 +54,11 @@ struct EscConfig {
   Nanoseconds sii_busy_time{0};
   // Read size reported in 0x0502 bit 6: true = 8 bytes (as an ET1100), false = 4 bytes.
   bool sii_read_8_bytes = true;
+  // Fast paths (issue 8): register bytes without side effects copied as a
+  // block, byte-aligned FMMUs routed straight to their SM. false sends every
+  // access through the per-byte checked handlers instead - same behaviour,
+  // slower; the tests run both and compare (tests/esc/esc_fast_path_test.cpp).
+  bool fast_paths = true;
 };
 
 }  // namespace ecat::esc

@@ -44,7 +44,7 @@ std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept {
 // This is exactly what mem_read/mem_write would find byte by byte.
 void Esc::update_fmmus() noexcept {
   fmmu_active_ = 0;
-  fmmus_byte_aligned_ = true;
+  fmmus_byte_aligned_ = config_.fast_paths;  // off: every LRD/LWR/LRW takes the general path
   for (unsigned k = 0; k < config_.fmmu_count; ++k) {
     const Fmmu& f = fmmus_[k];
     fmmu_route_[k] = kRouteGeneral;

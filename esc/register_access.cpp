@@ -35,22 +35,27 @@ void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) noexc
 
 // --- Reads --------------------------------------------------------------------------
 
+// Fast path outside the DC block: copy, then run the handler of each byte
+// with a read effect, in address order (an acknowledging read may clear a
+// later event byte, which the handler then reads afresh).
 bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
   if (out.empty()) return false;
-  const std::uint8_t effect = register_map::read_effect_flag(side);
-  std::uint8_t* m = mem_.get();
-  copy_bytes(out.data(), m + address, out.size());
-  if (!register_map::any_in(address, out.size(), effect)) return true;
   const std::uint32_t end = address + static_cast<std::uint32_t>(out.size());
-  if (end <= reg::kDcBase || address >= reg::kDcEnd) {
-    // Outside the DC block: only the flagged bytes need their handler, in
-    // address order (an acknowledging read may clear a later event byte).
+  if (!config_.fast_paths || (end > reg::kDcBase && address < reg::kDcEnd)) {
+    return reg_read_checked(address, out, side);
+  }
+  const std::uint8_t effect = register_map::read_effect_flag(side);
+  copy_bytes(out.data(), mem_.get() + address, out.size());
+  if (register_map::any_in(address, out.size(), effect)) {
     for (std::size_t i = 0; i < out.size(); ++i) {
       const auto a = static_cast<std::uint16_t>(address + i);
       if (register_map::has(a, effect)) out[i] = reg_read_byte(a, side);
     }
-    return true;
   }
+  return true;
+}
+
+bool Esc::reg_read_checked(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
   std::size_t i = 0;
   bool counted = false;
   while (i < out.size()) {
@@ -64,7 +69,7 @@ bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
       i += n;
       continue;
     }
-    out[i++] = register_map::has(a, effect) ? reg_read_byte(a, side) : m[a];
+    out[i++] = reg_read_byte(a, side);
     counted = true;
   }
   return counted;
@@ -117,16 +122,23 @@ bool Esc::write_protection_active() const noexcept {
          ((m[reg::kRegisterWriteProtection] & bits::kWriteProtect) && !register_write_enabled_);
 }
 
+// Fast path: a range of plain bytes (all bits writable, nothing else
+// happens) is one copy. Write protection (Section I §13) sends every ECAT
+// byte through the checks.
 bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_bytes, Side side) noexcept {
   if (in_bytes.empty()) return false;
-  const std::uint8_t plain = register_map::write_plain_flag(side);
-  std::uint8_t* m = mem_.get();
-  // Write protection (Section I §13) sends every ECAT byte through the checks.
-  bool checked = side == Side::Ecat && write_protection_active();
-  if (!checked && register_map::all_in(address, in_bytes.size(), plain)) {
-    copy_bytes(m + address, in_bytes.data(), in_bytes.size());
+  const bool checked = !config_.fast_paths || (side == Side::Ecat && write_protection_active());
+  if (!checked && register_map::all_in(address, in_bytes.size(), register_map::write_plain_flag(side))) {
+    copy_bytes(mem_.get() + address, in_bytes.data(), in_bytes.size());
     return true;
   }
+  return reg_write_checked(address, in_bytes, side, checked);
+}
+
+bool Esc::reg_write_checked(std::uint16_t address, std::span<const std::uint8_t> in_bytes, Side side,
+                            bool checked) noexcept {
+  const std::uint8_t plain = register_map::write_plain_flag(side);
+  std::uint8_t* m = mem_.get();
   std::size_t i = 0;
   bool counted = false;
   while (i < in_bytes.size()) {
@@ -157,7 +169,7 @@ bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_byte
     } else {
       counted = reg_write_byte(a, in_bytes[i], side) || counted;
       // A byte of this access may have changed the protection (0x0020/0x0021/0x0030/0x0031).
-      checked = side == Side::Ecat && write_protection_active();
+      checked = !config_.fast_paths || (side == Side::Ecat && write_protection_active());
     }
     ++i;
   }
