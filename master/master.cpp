@@ -97,12 +97,29 @@ Expected<std::size_t, MasterError> Master::count_slaves() {
   return static_cast<std::size_t>(*wkc);
 }
 
+Expected<void, MasterError> Master::clear_write_protection() {
+  std::uint8_t enable_registers[1]{reg::kWriteEnableBit};
+  std::uint8_t enable_esc[1]{reg::kWriteEnableBit};
+  std::uint8_t unprotect_registers[1]{0};
+  std::uint8_t unprotect_esc[1]{0};
+  std::array<Datagram, 4> frame{{
+      {Command::Bwr, device_address(0, reg::kRegisterWriteEnable), enable_registers},
+      {Command::Bwr, device_address(0, reg::kEscWriteEnable), enable_esc},
+      {Command::Bwr, device_address(0, reg::kRegisterWriteProtection), unprotect_registers},
+      {Command::Bwr, device_address(0, reg::kEscWriteProtection), unprotect_esc},
+  }};
+  return link_.exchange(frame);
+}
+
 Expected<std::size_t, MasterError> Master::scan() {
   slaves_.clear();
   image_.clear();
   expected_wkc_ = 0;
   reference_clock_.reset();
   dc_cyclic_ = false;
+  // Neither SOEM nor IgH touch write protection; a slave left protected (by a
+  // stray frame, a previous master) would refuse every write of the scan.
+  if (auto r = clear_write_protection(); !r) return fail(r.error());
   // SOEM ecx_config_init order (masters.md §1.1): Init + ack, count, reset.
   const std::uint8_t init_ack[2]{static_cast<std::uint8_t>(AlState::Init) | kAlErrorBit, 0};
   if (auto r = bwr(reg::kAlControl, init_ack); !r) return fail(r.error());

@@ -88,9 +88,13 @@ class Master {
   Expected<std::uint16_t, MasterError> bwr(std::uint16_t reg, ConstBytes in);
 
   // --- scan (masters.md §1.1) -------------------------------------------------------
+  // One frame of four BWRs: register and ESC write enable (0x0020, 0x0030 = 1),
+  // then register and ESC write protection off (0x0021, 0x0031 = 0). Enables
+  // first: ESC write protection also blocks 0x0021. WKCs are not checked.
+  Expected<void, MasterError> clear_write_protection();
   // BRD 0x0000: the WKC is the number of slaves.
   Expected<std::size_t, MasterError> count_slaves();
-  // Init + ack broadcast, reset FMMUs/SMs/DC activation, SII to ECAT, station
+  // Write protection off, Init + ack broadcast, reset FMMUs/SMs/DC activation, SII to ECAT, station
   // addresses, ESC info, DL status, AL status, SII image per slave.
   Expected<std::size_t, MasterError> scan();
   std::size_t slave_count() const noexcept { return slaves_.size(); }

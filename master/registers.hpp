@@ -11,6 +11,14 @@ inline constexpr std::uint16_t kType = 0x0000;
 inline constexpr std::uint16_t kEscInfoLength = 10;  // 0x0000-0x0009
 inline constexpr std::uint16_t kConfiguredStationAddress = 0x0010;
 inline constexpr std::uint16_t kConfiguredStationAlias = 0x0012;
+// Write protection (ESC datasheet Section I "Write protection", Section II
+// 0x0020/0x0021, 0x0030/0x0031): bit 0 of an enable register releases the
+// protection for the rest of the frame it is written in.
+inline constexpr std::uint16_t kRegisterWriteEnable = 0x0020;
+inline constexpr std::uint16_t kRegisterWriteProtection = 0x0021;
+inline constexpr std::uint16_t kEscWriteEnable = 0x0030;
+inline constexpr std::uint16_t kEscWriteProtection = 0x0031;
+inline constexpr std::uint8_t kWriteEnableBit = 0x01;
 inline constexpr std::uint16_t kDlControl = 0x0100;
 inline constexpr std::uint16_t kDlControlLoop = 0x0101;
 inline constexpr std::uint16_t kDlControlAlias = 0x0103;

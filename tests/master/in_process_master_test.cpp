@@ -35,6 +35,32 @@ TEST_F(InProcessMaster, ScanThreeSlavesAssignsAddressesAndReadsSii) {
   }
 }
 
+// A slave left with register (0x0021) or ESC (0x0031) write protection on (a
+// stray frame, the 10^6-frame fuzz) drops every write; the scan releases it
+// first (ESC datasheet Section I "Write protection", Section II 0x0020-0x0031).
+TEST(InProcessWriteProtection, ScanReleasesProtectionLeftOnByAStrayFrame) {
+  for (const std::uint16_t protection : {std::uint16_t{0x0021}, std::uint16_t{0x0031}}) {
+    SCOPED_TRACE(protection);
+    InProcessBus bus;
+    ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 2));
+    Master master(bus.transport, bus.clock);
+    const std::uint8_t on[1]{0x01};
+    ASSERT_EQ(master.bwr(protection, on).value_or(0), 2u);
+    // Protected now: a plain station-address write is discarded (no WKC, no change).
+    const std::uint8_t address[2]{0x34, 0x12};
+    EXPECT_EQ(master.bwr(0x0010, address).value_or(99), 0u);
+    EXPECT_EQ(bus.chain()[0].esc().register_u16(0x0010), 0x0000);
+    auto n = master.scan();
+    ASSERT_TRUE(n.has_value()) << describe(n.error());
+    ASSERT_EQ(*n, 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_EQ(bus.chain()[i].esc().register_u16(0x0010), 0x1001 + i);
+      EXPECT_EQ(bus.chain()[i].esc().register_u16(0x0020) & 0xFF00, 0x0000);  // 0x0021 = 0
+      EXPECT_EQ(bus.chain()[i].esc().register_u16(0x0030) & 0xFF00, 0x0000);  // 0x0031 = 0
+    }
+  }
+}
+
 TEST_F(InProcessMaster, InitToPreOpNeedsTheMailboxSms) {
   ASSERT_TRUE(bus.add(device_path("generic-servo.xml")));
   ASSERT_EQ(master.scan().value_or(0), 1u);

@@ -22,13 +22,13 @@ TEST_F(MasterFixture, CountSlavesIsOneBrdOfRegisterZeroPaddedTo60Bytes) {
 
 TEST_F(MasterFixture, ScanAssignsStationAddressAndReadsSii) {
   ASSERT_EQ(master.scan().value_or(0), 1u);
-  // First datagram: Init + ack to everybody (SOEM).
+  // After the write-protection frame (4 datagrams): Init + ack to everybody (SOEM).
   auto all = sent();
-  ASSERT_GE(all.size(), 3u);
-  EXPECT_EQ(all[0].command, Command::Bwr);
-  EXPECT_EQ(all[0].ado, 0x0120);
-  EXPECT_EQ(all[0].data, (Bytes8{0x11, 0x00}));
-  EXPECT_EQ(all[1].command, Command::Brd);
+  ASSERT_GE(all.size(), 7u);
+  EXPECT_EQ(all[4].command, Command::Bwr);
+  EXPECT_EQ(all[4].ado, 0x0120);
+  EXPECT_EQ(all[4].data, (Bytes8{0x11, 0x00}));
+  EXPECT_EQ(all[5].command, Command::Brd);
   // APWR 0x0010 = 0x1001 at position 0 (ADP 0).
   auto apwr = sent(Command::Apwr, 0x0010);
   ASSERT_EQ(apwr.size(), 1u);
@@ -50,6 +50,30 @@ TEST_F(MasterFixture, ScanAssignsStationAddressAndReadsSii) {
   EXPECT_EQ(s.sii.vendor_id, kVendor);
   EXPECT_EQ(s.sii.device_name(), "TestSlave");
   EXPECT_EQ(s.sii_image.size(), test_sii_image().size() - 2);  // up to the end marker word
+}
+
+// ESC datasheet Section I "Write protection" / Section II 0x0020-0x0031: an
+// enable bit holds for the rest of its frame, and ESC write protection (0x0031)
+// also blocks 0x0021, so both enables go first. Regression for docs/e2e.md
+// "ecat-master does not clear ESC write protection".
+TEST_F(MasterFixture, ScanStartsWithOneFrameThatReleasesWriteProtection) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  ASSERT_GE(frames().size(), 2u);
+  const Bytes8 expected{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01, 0x01, 0x01, 0x01, 0x01, 0x01, 0x88, 0xA4,
+                        0x34, 0x10,  // 52 bytes of datagrams, type 1
+                        // BWR idx 0, ADP 0, ADO 0x0020, len 1 + more, irq, data 01, WKC 0
+                        0x08, 0x00, 0x00, 0x00, 0x20, 0x00, 0x01, 0x80, 0x00, 0x00, 0x01, 0x00, 0x00,
+                        // BWR idx 1, ADO 0x0030 = 01
+                        0x08, 0x01, 0x00, 0x00, 0x30, 0x00, 0x01, 0x80, 0x00, 0x00, 0x01, 0x00, 0x00,
+                        // BWR idx 2, ADO 0x0021 = 00
+                        0x08, 0x02, 0x00, 0x00, 0x21, 0x00, 0x01, 0x80, 0x00, 0x00, 0x00, 0x00, 0x00,
+                        // BWR idx 3, ADO 0x0031 = 00, last datagram
+                        0x08, 0x03, 0x00, 0x00, 0x31, 0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
+  EXPECT_EQ(frames()[0], expected);  // 68 bytes: no padding needed
+  EXPECT_EQ(fake.mem[0x0020], 0x01);
+  EXPECT_EQ(fake.mem[0x0030], 0x01);
+  EXPECT_EQ(fake.mem[0x0021], 0x00);
+  EXPECT_EQ(fake.mem[0x0031], 0x00);
 }
 
 TEST_F(MasterFixture, SiiFourByteReadsAndBusyPolling) {
