@@ -202,9 +202,10 @@ void MailboxServer::receive(const SmRegs& sm0) noexcept {
   const auto header = MailboxHeader::unpack({request_.data(), sm0.length});
   if (!header) return;
   if (header->counter != 0 && header->counter == last_request_counter_) {
-    // Same counter as the last request: the master did not get our reply
-    // (ETG.1000.4 §5.6). Do not execute again; send the reply again.
-    if (last_reply_length_ > 0) (void)queue_.push_back({last_reply_.data(), last_reply_length_});
+    // Same counter as the last request: a retry of a write whose WKC the
+    // master did not see (ETG.1000.4 §5.6; SOES drops it too). The request
+    // ran and its reply is on its way: drop the repeat. A second copy of the
+    // reply would answer the master's next request (SOEM, docs/e2e.md).
     return;
   }
   last_request_counter_ = header->counter;
