@@ -21,6 +21,28 @@ constexpr std::uint16_t kWkcRead = 1;
 constexpr std::uint16_t kWkcWrite = 1;
 constexpr std::uint16_t kWkcReadWriteWrite = 2;  // the write part of an xRW
 
+// What each command code does (ETG.1000.4 §5.4, Table 5), looked up once per
+// datagram instead of several switches. Codes are <= kLastCommand in a
+// validated frame.
+struct CommandTraits {
+  Addressing mode = Addressing::None;
+  bool increments_adp = false;
+  bool read_write = false;
+  bool rmw = false;  // ARMW/FRMW
+  bool reads = false;
+  bool writes = false;
+};
+
+constexpr std::array<CommandTraits, kLastCommand + 1> kCommandTraits = [] {
+  std::array<CommandTraits, kLastCommand + 1> t{};
+  for (std::uint8_t code = 0; code <= kLastCommand; ++code) {
+    const auto c = static_cast<Command>(code);
+    t[code] = CommandTraits{addressing(c), increments_adp(c), is_read_write(c),
+                            c == Command::Armw || c == Command::Frmw, reads(c), writes(c)};
+  }
+  return t;
+}();
+
 }  // namespace
 
 // The datagrams are walked in place (header read + jump); the timers run
@@ -51,14 +73,16 @@ bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
 }
 
 bool Esc::addressed_configured(std::uint16_t adp) const noexcept {
-  if (adp == load_le<std::uint16_t>(mem_.get() + reg::kConfiguredStationAddress)) return true;
-  return (dl_control() & bits::kDlStationAlias) != 0 &&
-         adp == load_le<std::uint16_t>(mem_.get() + reg::kConfiguredStationAlias);
+  const std::uint8_t* m = mem_.get();
+  if (adp == load_le<std::uint16_t>(m + reg::kConfiguredStationAddress)) return true;
+  return (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0 &&
+         adp == load_le<std::uint16_t>(m + reg::kConfiguredStationAlias);
 }
 
 void Esc::process_datagram(DatagramView d) noexcept {
   const Command cmd = d.command();
-  const Addressing mode = addressing(cmd);
+  const CommandTraits& traits = kCommandTraits[static_cast<std::uint8_t>(cmd)];
+  const Addressing mode = traits.mode;
   if (mode == Addressing::None) return;
   if (mode == Addressing::Logical) {
     if (cmd == Command::Lrw && !config_.lrw) return;  // 0x0008 bit 9: passes untouched
@@ -66,23 +90,23 @@ void Esc::process_datagram(DatagramView d) noexcept {
     return;
   }
   const std::uint16_t adp = d.adp();
-  if (increments_adp(cmd)) d.set_adp(static_cast<std::uint16_t>(adp + 1));
-  if (is_read_write(cmd) && !config_.read_write_commands) return;  // 0x0008 bit 10
+  if (traits.increments_adp) d.set_adp(static_cast<std::uint16_t>(adp + 1));
+  if (traits.read_write && !config_.read_write_commands) return;  // 0x0008 bit 10
   bool addressed = true;
   if (mode == Addressing::AutoIncrement) addressed = adp == 0;
   if (mode == Addressing::Configured) addressed = addressed_configured(adp);
+  if (!addressed && !traits.rmw) return;
   const std::uint16_t ado = d.ado();
   Bytes data = d.data();
   // xRMW: read on the addressed slave, write on every other (Section I Table 7).
-  if (cmd == Command::Armw || cmd == Command::Frmw) {
+  if (traits.rmw) {
     const bool ok = addressed ? mem_read(ado, data, Side::Ecat) : mem_write(ado, data, Side::Ecat);
     if (ok) d.add_wkc(kWkcRead);
     return;
   }
-  if (!addressed) return;
   const bool broadcast = mode == Addressing::Broadcast;
   std::uint16_t wkc = 0;
-  if (is_read_write(cmd)) {
+  if (traits.read_write) {
     // Read first (data returned is the memory before the write), then write
     // the incoming data.
     Scratch incoming;
@@ -98,7 +122,7 @@ void Esc::process_datagram(DatagramView d) noexcept {
     if (mem_write(ado, std::span<const std::uint8_t>(incoming.data(), data.size()), Side::Ecat)) {
       wkc = static_cast<std::uint16_t>(wkc + kWkcReadWriteWrite);
     }
-  } else if (reads(cmd)) {
+  } else if (traits.reads) {
     if (broadcast) {
       // BRD: the data of all slaves ORed together.
       Scratch result;
@@ -110,7 +134,7 @@ void Esc::process_datagram(DatagramView d) noexcept {
     } else if (mem_read(ado, data, Side::Ecat)) {
       wkc = kWkcRead;
     }
-  } else if (writes(cmd)) {
+  } else if (traits.writes) {
     if (mem_write(ado, data, Side::Ecat)) wkc = kWkcWrite;
   }
   d.add_wkc(wkc);

@@ -23,10 +23,12 @@ bool Segment::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noex
   }
   std::size_t reached = 0;
   bool lost = false;
+  Nanoseconds t = now;  // when the frame reaches the next ESC's port 0
   for (Esc* esc : escs_) {
-    const Nanoseconds t = now + hop_delay_ * static_cast<std::int64_t>(reached);
     ++reached;
-    if (!esc->process(*view, t)) {
+    const bool carried = esc->process(*view, t);
+    t += hop_delay_;
+    if (!carried) {
       lost = true;
       break;
     }
@@ -37,9 +39,14 @@ bool Segment::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noex
     }
   }
   // On the way back the frame passes each earlier slave's port 1.
-  for (std::size_t i = 0; !lost && reached > 1 && i + 1 < reached; ++i) {
-    const auto hops = static_cast<std::int64_t>(2 * (reached - 1) - i);
-    escs_[i]->dc().on_frame_arrival(static_cast<int>(kDownstreamPort), now + hop_delay_ * hops);
+  // After the last reached ESC (reached - 1 hops out) it takes as many back:
+  // ESC i sees it at 2 (reached - 1) - i hops.
+  if (!lost && reached > 1) {
+    Nanoseconds back = now + hop_delay_ * static_cast<std::int64_t>(2 * (reached - 1));
+    for (std::size_t i = 0; i + 1 < reached; ++i) {
+      escs_[i]->dc().on_frame_arrival(static_cast<int>(kDownstreamPort), back);
+      back -= hop_delay_;
+    }
   }
   if (lost || escs_.empty()) {
     ++dropped_;
