@@ -64,6 +64,7 @@ class CoeServer {
   ProcessData& process_data() noexcept { return process_data_; }
   PdoConfig& pdo() noexcept { return pdo_; }
   MailboxServer& mailbox() noexcept { return mailbox_; }
+  const MailboxServer& mailbox() const noexcept { return mailbox_; }
   ParameterStore& parameters() noexcept { return parameters_; }
   esc::EsmHooks& esm_hooks() noexcept { return hooks_; }
   const std::vector<std::string>& warnings() const noexcept { return warnings_; }

@@ -26,6 +26,7 @@
 #include "coe/mailbox_header.hpp"
 #include "coe/mailbox_queue.hpp"
 #include "coe/mailbox_service.hpp"
+#include "coe/sm_bits.hpp"
 #include "common/clock.hpp"
 #include "common/expected.hpp"
 #include "esc/pdi.hpp"
@@ -54,6 +55,13 @@ class MailboxServer {
   // Queues an unsolicited message (CoE emergency). Fails with NoMoreMemory
   // when its queue is full or the mailbox is closed (Init).
   Expected<void, MailboxError> send(MailboxType type, ConstBytes payload) noexcept;
+
+  // AL event request bits poll() acts on: SM0 written (a request), SM1 read
+  // (room for the next reply). A repeat request shows as an SM activation
+  // change (0x0220 bit 4), which the ESM consumes first.
+  static constexpr std::uint32_t kEventsHandled = bits::al_event_sm(kWriteMailboxSm) | bits::al_event_sm(kReadMailboxSm);
+  // Replies or unsolicited messages wait to go into SM1.
+  bool has_output() const noexcept { return !queue_.empty() || !unsolicited_.empty(); }
 
   // ESM state seen at the last poll.
   od::EsmState state() const noexcept { return state_; }

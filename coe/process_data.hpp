@@ -4,8 +4,15 @@
 // write_inputs packs the mapped TxPDO entries and writes SM3's buffer (its
 // last byte completes it). Layout from PdoConfig; the frame buffer is sized
 // once; no heap on this path.
+//
+// Firmware that knows when the SM settings can change (the master writes SM
+// registers only with an SM activation event, and the mapping only in PreOp)
+// calls load_layout() then, as SSC reads the SM settings at PreOp->SafeOp:
+// the cycle then uses the SM areas read there instead of reading the SM
+// registers every time. Without load_layout() each call reads them.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,13 +31,25 @@ class ProcessData {
   // Objects -> SM3. Call in SafeOp and Op.
   void write_inputs(esc::Pdi& pdi) noexcept;
 
+  // Reads SM2/SM3 (start, length, enable) once for the following cycles.
+  void load_layout(esc::Pdi& pdi) noexcept;
+
   const ProcessDataImage& outputs() const noexcept { return config_.outputs(); }
   const ProcessDataImage& inputs() const noexcept { return config_.inputs(); }
 
  private:
+  struct SmArea {
+    std::uint16_t start = 0;
+    std::uint16_t length = 0;
+    bool enabled = false;
+  };
+  SmArea area(esc::Pdi& pdi, unsigned sm) noexcept;
+
   ObjectStore& store_;
   PdoConfig& config_;
   std::vector<std::uint8_t> buffer_;
+  std::array<SmArea, 2> areas_{};  // [0] SM2, [1] SM3, from load_layout()
+  bool layout_loaded_ = false;
 };
 
 }  // namespace ecat::coe

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "esc/dc/dc_registers.hpp"
+#include "coe/sm_bits.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::coe {
@@ -45,6 +46,7 @@ void SyncController::install() noexcept {
     }
   }
   load_modes();
+  cycle_slot_ = store_.slot(kSmOutputParameter, syncsub::kCycleTime);
 }
 
 void SyncController::load_modes() noexcept {
@@ -155,7 +157,24 @@ void SyncController::on_state_changed(AlState from, AlState to, AlStatusCode cod
   if (!at_least_safeop(to)) sm2_buffer_.reset();
 }
 
-SyncPoll SyncController::poll(Nanoseconds now) noexcept {
+SyncPoll SyncController::poll(Nanoseconds now) noexcept { return poll(now, pdi_.read_u32(esc::reg::kAlEventRequest)); }
+
+std::uint32_t SyncController::al_event_mask() const noexcept {
+  if (!at_least_safeop(state_)) return 0;
+  const std::uint32_t process = has_outputs_ ? bits::al_event_sm(kOutputsSm) : kAlEventSm3;
+  switch (trigger_mode()) {
+    case SyncMode::FreeRun: return 0;
+    case SyncMode::SmSynchronous:
+    case SyncMode::SmSynchronousSm2: return process;
+    // New outputs are noted as they come (shift time check); the cycle runs on SYNC.
+    case SyncMode::DcSync0: return esc::dcreg::kAlEventSync0 | (has_outputs_ ? process : 0);
+    case SyncMode::DcSync1: return esc::dcreg::kAlEventSync1 | (has_outputs_ ? process : 0);
+  }
+  return 0;
+}
+
+SyncPoll SyncController::poll(Nanoseconds now, std::uint32_t al_events) noexcept {
+  events_ = al_events;
   last_now_ = now;
   if (!at_least_safeop(state_)) return poll_free_run(now);
   switch (trigger_mode()) {
@@ -169,7 +188,7 @@ SyncPoll SyncController::poll(Nanoseconds now) noexcept {
 }
 
 Nanoseconds SyncController::cycle_time() noexcept {
-  const std::uint32_t written = store_.get<std::uint32_t>(kSmOutputParameter, syncsub::kCycleTime);
+  const std::uint32_t written = cycle_slot_ != nullptr ? store_.get<std::uint32_t>(*cycle_slot_) : 0;
   const Nanoseconds wanted = written != 0 ? Nanoseconds{written} : kDefaultFreeRunCycle;
   return std::max(wanted, Nanoseconds{limits_.min_cycle_time_ns});
 }
@@ -198,7 +217,7 @@ bool SyncController::new_outputs(Nanoseconds now) noexcept {
 }
 
 bool SyncController::new_input_event() noexcept {
-  const bool pending = (pdi_.read_u32(esc::reg::kAlEventRequest) & kAlEventSm3) != 0;
+  const bool pending = (events_ & kAlEventSm3) != 0;
   const bool rising = pending && !sm3_event_seen_;
   sm3_event_seen_ = pending;
   return rising;
@@ -237,7 +256,7 @@ SyncPoll SyncController::poll_dc(Nanoseconds now) noexcept {
   const bool sync1 = trigger_mode() == SyncMode::DcSync1;
   const std::uint32_t bit = sync1 ? esc::dcreg::kAlEventSync1 : esc::dcreg::kAlEventSync0;
   SyncPoll result;
-  if ((pdi_.read_u32(esc::reg::kAlEventRequest) & bit) != 0) {
+  if ((events_ & bit) != 0) {
     (void)pdi_.read_u8(dc_register(sync1 ? esc::dcreg::kSync1Status : esc::dcreg::kSync0Status));  // acknowledge
     sync_cycle(now);
     start_cycle(now);
@@ -291,6 +310,9 @@ void SyncController::start_cycle(Nanoseconds now) noexcept {
 
 void SyncController::cycle_done(Nanoseconds now) noexcept {
   if (trace_ != nullptr) trace_->app_cycle(false, now);
+  // Writing SM3 acknowledged its event: the next one is a new edge even if no
+  // poll sees the bit low in between (interrupt-driven firmware).
+  if (!has_outputs_) sm3_event_seen_ = (pdi_.read_u32(esc::reg::kAlEventRequest) & kAlEventSm3) != 0;
 }
 
 void SyncController::reset_counters() noexcept {

@@ -63,6 +63,12 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   void set_trace(esc::VcdProbe* probe) noexcept { trace_ = probe; }
 
   SyncPoll poll(Nanoseconds now) noexcept;
+  // The same with AL event request 0x0220 as the caller read it in this pass
+  // (interrupt-driven firmware reads it once and dispatches).
+  SyncPoll poll(Nanoseconds now, std::uint32_t al_events) noexcept;
+  // AL event request bits that start or prepare a cycle in the current state
+  // and mode (SM2/SM3 event, SYNC0/SYNC1), for the AL event mask 0x0204.
+  std::uint32_t al_event_mask() const noexcept;
   // The application cycle started by poll() has finished (for the trace).
   void cycle_done(Nanoseconds now) noexcept;
 
@@ -122,6 +128,8 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   bool sync_error_ = false;
   bool timeout_reported_ = false;
   Nanoseconds last_now_{0};
+  std::uint32_t events_ = 0;  // AL event request of the current poll
+  const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()
   std::optional<Nanoseconds> op_wait_start_;
 };
 

@@ -57,12 +57,15 @@ void Esm::reset() noexcept {
   write_status();
 }
 
-void Esm::poll() noexcept {
-  const std::uint32_t events = pdi_.read_u32(reg::kAlEventRequest);
+void Esm::poll() noexcept { handle_events(pdi_.read_u32(reg::kAlEventRequest), true); }
+
+void Esm::poll(std::uint32_t events) noexcept { handle_events(events, false); }
+
+void Esm::handle_events(std::uint32_t events, bool watchdog_polled) noexcept {
   const bool requested = (events & kAlEventAlControl) != 0;
   if (requested) handle_request(pdi_.read_u16(reg::kAlControl));  // the read clears the event
   if ((events & kAlEventSmActivation) != 0) handle_sm_change();
-  handle_watchdog(events);
+  handle_watchdog(events, watchdog_polled);
   if (!requested) retry_pending();
 }
 
@@ -196,8 +199,10 @@ void Esm::handle_sm_change() noexcept {
 
 // ETG.1000.6 / SOES ecat_slv.c: process-data watchdog expiry in Op drops the
 // slave to SafeOp with 0x001B; the ESC itself leaves the AL state alone.
-void Esm::handle_watchdog(std::uint32_t events) noexcept {
-  if (state_ != AlState::Op && (events & kAlEventWatchdog) == 0) return;
+// `polled`: in Op the status is read on every call, event or not (for a PDI
+// whose watchdog event may be missed); otherwise only on AL event bit 6.
+void Esm::handle_watchdog(std::uint32_t events, bool polled) noexcept {
+  if ((events & kAlEventWatchdog) == 0 && !(polled && state_ == AlState::Op)) return;
   const std::uint16_t status = pdi_.read_u16(reg::kWatchdogStatusProcessData);
   if (state_ == AlState::Op && (status & kWatchdogProcessDataActive) == 0) {
     raise_error(AlStatusCode::SyncManagerWatchdog, AlState::SafeOp);

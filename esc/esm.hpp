@@ -57,6 +57,13 @@ class Esm {
   // Handles a pending AL control request, a SM change by the master and the
   // process-data watchdog. Call once per application cycle.
   void poll() noexcept;
+  // The same for firmware driven by the ESC's interrupt (SOES/SSC
+  // AL_Event handling): `events` is AL event request 0x0220 as the caller
+  // read it once; the watchdog status is read only when bit 6 says it
+  // expired, and a transition held by a deferral is retried.
+  void poll(std::uint32_t events) noexcept;
+  // AL event request bits poll(events) acts on (for the AL event mask 0x0204).
+  static constexpr std::uint32_t kEventsHandled = kAlEventAlControl | kAlEventSmActivation | kAlEventWatchdog;
 
   // Local error (ETG.1000.6 §6.4.1.3): the slave drops to `target` (never
   // up) with ErrInd and `code`, e.g. sync loss -> SafeOp + 0x001A.
@@ -74,7 +81,8 @@ class Esm {
   void retry_pending() noexcept;
   bool deferrals_ready(AlState from, AlState to) noexcept;
   void handle_sm_change() noexcept;
-  void handle_watchdog(std::uint32_t events) noexcept;
+  void handle_events(std::uint32_t events, bool watchdog_polled) noexcept;
+  void handle_watchdog(std::uint32_t events, bool polled) noexcept;
   AlStatusCode check(EsmTransition t, AlState from, AlState to) noexcept;
   AlStatusCode ask_hooks(AlState from, AlState to) noexcept;
   void enter(AlState to, AlStatusCode code, bool error) noexcept;

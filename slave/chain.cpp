@@ -6,6 +6,7 @@
 
 #include "common/frame_parser.hpp"
 #include "slave/firmware.hpp"
+#include "slave/frame_tally.hpp"
 
 namespace ecat::slave {
 
@@ -28,19 +29,20 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
   } else {
     ++stats_.frames_lost;
   }
-  // The firmware of every slave reacts to what the frame left behind, as its
-  // interrupt handler would within microseconds.
-  for (auto& s : slaves_) (void)s->poll(now);
+  // The firmware of a slave reacts to what the frame left behind when its
+  // ESC raised the IRQ (or it has work due), as its interrupt handler would
+  // within microseconds; the others stay asleep.
+  for (auto& s : slaves_) {
+    Firmware& fw = s->firmware();
+    if (fw.wants_poll(now)) (void)fw.poll(now);
+  }
   return returned;
 }
 
 void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
-  // A returned frame was valid when it entered the line, so it parses.
-  std::span<std::uint8_t> mutable_view(const_cast<std::uint8_t*>(frame.data()), frame.size());
-  auto parsed = parse_frame(mutable_view);
-  if (!parsed) return;
-  stats_.datagrams += parsed->size();
-  for (std::size_t i = 0; i < parsed->size(); ++i) stats_.wkc_total += (*parsed)[i].wkc();
+  const FrameTally t = tally_frame(frame);
+  stats_.datagrams += t.datagrams;
+  stats_.wkc_total += t.wkc_total;
 }
 
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {

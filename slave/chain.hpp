@@ -1,6 +1,6 @@
 // A line of virtual slaves in one process, wired port 0 -> port 1 as real
-// slaves are (esc::Segment), with the firmware of each run after every frame
-// that passed it. This is what ecat-slave serves on a wire and what tests
+// slaves are (esc::Segment), with the firmware of a slave run after a frame
+// when its ESC raised the IRQ or its own deadline is due. This is what ecat-slave serves on a wire and what tests
 // and the demo drive in-process.
 #pragma once
 

@@ -1,5 +1,7 @@
 #include "slave/firmware.hpp"
 
+#include "coe/sm_bits.hpp"
+#include "common/le.hpp"
 #include "esc/registers.hpp"
 #include "slave/drive_application.hpp"
 #include "slave/esc_setup.hpp"
@@ -28,6 +30,15 @@ constexpr Nanoseconds kNominalCycle = std::chrono::milliseconds(1);
 
 bool is_operational(esc::AlState s) { return s == esc::AlState::SafeOp || s == esc::AlState::Op; }
 
+// SyncManager control 0x0804+8n bit 5: the SM raises its AL event (Section II).
+constexpr std::uint8_t kSmControlAlEvent = 0x20;
+constexpr std::uint32_t kAlEventSmShift = 8;  // 0x0220 bit 8+n: SM n
+constexpr unsigned kSmsWithEvents = 4;        // mailbox and process-data SMs
+// Events every state handles: AL control, SM activation, watchdog, mailbox.
+constexpr std::uint32_t kBaseEvents = esc::Esm::kEventsHandled | coe::MailboxServer::kEventsHandled;
+// Events the mailbox reacts to, SM activation included (repeat request).
+constexpr std::uint32_t kMailboxEvents = coe::MailboxServer::kEventsHandled | esc::kAlEventSmActivation;
+
 }  // namespace
 
 Firmware::Firmware(esc::Esc& esc, const od::DeviceDescription& device, const SlaveOptions& options)
@@ -41,6 +52,7 @@ Firmware::Firmware(esc::Esc& esc, const od::DeviceDescription& device, const Sla
   sync_.attach(esm_);
   app_ = make_drive_application(device, coe_, options.motion_trace);
   esm_.reset();
+  program_event_mask(true);
 }
 
 void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
@@ -51,17 +63,50 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
 }
 
 std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
-  const esc::AlState before = esm_.state();
-  esm_.poll();
-  const esc::AlState after = esm_.state();
-  if (after != before) {
-    if (app_) app_->on_state(after);
-    if (!is_operational(after)) last_cycle_.reset();
+  const std::uint32_t events = esc_.read_u32(esc::reg::kAlEventRequest);
+  if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) esm_.poll(events);
+  const esc::AlState state = esm_.state();
+  const bool changed = state != state_seen_;
+  if (changed) {
+    state_seen_ = state;
+    if (app_) app_->on_state(state);
+    if (!is_operational(state)) last_cycle_.reset();
   }
-  coe_.poll(now);
-  const coe::SyncPoll sp = sync_.poll(now);
+  const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
+  if (sms_changed) coe_.process_data().load_layout(esc_);
+  if (changed || (events & kMailboxEvents) != 0 || coe_.mailbox().has_output()) coe_.poll(now);
+  const coe::SyncPoll sp = sync_.poll(now, events);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
+  program_event_mask(sms_changed);
+  next_ = sp.next;
   return sp.next;
+}
+
+// ETG.1000.4 §6.2 / ESC datasheet Section II 0x0204: the IRQ to the µC is
+// AL event request & mask. Rewritten only when the set changes (state or
+// synchronisation mode).
+void Firmware::program_event_mask(bool sms_changed) noexcept {
+  const std::uint32_t mask = kBaseEvents | sync_.al_event_mask();
+  if (mask != event_mask_ || mask_lost()) {
+    esc_.write_u32(esc::reg::kAlEventMask, mask);
+    event_mask_ = mask;
+    sms_changed = true;
+  }
+  if (sms_changed) poll_each_frame_ = !sm_events_enabled(mask);
+}
+
+// An enabled SM the firmware waits on whose control byte does not raise the
+// AL event (a master may configure it so): the firmware then looks after
+// every frame, as polled firmware does.
+bool Firmware::sm_events_enabled(std::uint32_t mask) noexcept {
+  for (unsigned n = 0; n < kSmsWithEvents; ++n) {
+    if ((mask & (1u << (kAlEventSmShift + n))) == 0) continue;
+    const auto base = esc::reg::sync_manager(n);
+    const std::uint8_t control = esc_.read_u8(static_cast<std::uint16_t>(base + esc::reg::sm::kControl));
+    const std::uint8_t activate = esc_.read_u8(static_cast<std::uint16_t>(base + esc::reg::sm::kActivate));
+    if ((activate & coe::bits::kSmActivateEnable) != 0 && (control & kSmControlAlEvent) == 0) return false;
+  }
+  return true;
 }
 
 void Firmware::application_cycle(Nanoseconds now) noexcept {

@@ -12,9 +12,11 @@
 #include "coe/coe_server.hpp"
 #include "coe/sync_controller.hpp"
 #include "common/clock.hpp"
+#include "common/le.hpp"
 #include "esc/dc/vcd_trace.hpp"
 #include "esc/esc.hpp"
 #include "esc/esm.hpp"
+#include "esc/registers.hpp"
 #include "od/device.hpp"
 #include "slave/application.hpp"
 #include "slave/slave_options.hpp"
@@ -28,9 +30,26 @@ class Firmware {
   Firmware(const Firmware&) = delete;
   Firmware& operator=(const Firmware&) = delete;
 
-  // One pass of the firmware main loop at `now`; returns when it next needs
-  // to run by time alone.
+  // One pass of the firmware at `now`, as an interrupt handler plus main
+  // loop of SSC/SOES: AL event request 0x0220 is read once and dispatched
+  // (ESM, mailbox, synchronisation, application cycle); the AL event mask
+  // 0x0204 is kept to what this pass found the firmware needs. Returns when
+  // it next needs to run by time alone.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+
+  // Whether a frame that just passed the ESC gives the firmware work at
+  // `now`: the ESC's IRQ (AL event request & mask), a deadline due, or
+  // something it finishes pass by pass (a transition waiting for a
+  // deferral, a mailbox reply waiting for SM1, an SM whose event the master
+  // switched off so the firmware has to look by itself).
+  bool wants_poll(Nanoseconds now) const noexcept {
+    return esc_.irq() || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() ||
+           coe_.mailbox().has_output() || mask_lost();
+  }
+  // The time poll() last asked to run again at.
+  std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }
+  // The AL event mask the firmware last programmed.
+  std::uint32_t event_mask() const noexcept { return event_mask_; }
 
   esc::Esm& esm() noexcept { return esm_; }
   coe::CoeServer& coe() noexcept { return coe_; }
@@ -43,6 +62,12 @@ class Firmware {
 
  private:
   void application_cycle(Nanoseconds now) noexcept;
+  void program_event_mask(bool sms_changed) noexcept;
+  // The ESC no longer holds the mask programmed (an ESC reset clears it).
+  bool mask_lost() const noexcept {
+    return load_le<std::uint32_t>(esc_.memory() + esc::reg::kAlEventMask) != event_mask_;
+  }
+  bool sm_events_enabled(std::uint32_t mask) noexcept;
 
   esc::Esc& esc_;
   esc::Esm esm_;
@@ -51,6 +76,10 @@ class Firmware {
   std::unique_ptr<Application> app_;
   esc::VcdProbe* trace_ = nullptr;
   std::optional<Nanoseconds> last_cycle_;
+  std::optional<Nanoseconds> next_;  // deadline returned by the last poll
+  esc::AlState state_seen_ = esc::AlState::Init;
+  std::uint32_t event_mask_ = 0;
+  bool poll_each_frame_ = false;
   std::uint64_t cycles_ = 0;
 };
 

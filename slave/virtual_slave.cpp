@@ -24,7 +24,9 @@ VirtualSlave::~VirtualSlave() = default;
 
 std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   std::optional<Nanoseconds> next = esc_->poll(now);
-  const std::optional<Nanoseconds> fw = firmware_->poll(now);
+  // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
+  const std::optional<Nanoseconds> fw =
+      firmware_->wants_poll(now) ? firmware_->poll(now) : firmware_->next_deadline();
   if (fw && (!next || *fw < *next)) next = fw;
   return next;
 }

@@ -35,9 +35,10 @@ class VirtualSlave {
   const od::DeviceDescription& device() const noexcept { return *device_; }
   Firmware& firmware() noexcept { return *firmware_; }
 
-  // Runs the firmware (ESM, mailbox, process data, drive cycle) up to `now`.
-  // Called after every frame that reached this slave and at the deadline it
-  // returns. Returns when it next needs to run.
+  // Runs the ESC's timers up to `now`, then the firmware (ESM, mailbox,
+  // process data, drive cycle) if the ESC raised its IRQ or the firmware's
+  // deadline came. Call at the deadline it returns. Returns when it next
+  // needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
   SlaveStatus status() const noexcept;
