@@ -2,6 +2,8 @@
 
 #include <tuple>
 #include <type_traits>
+
+#include "common/le.hpp"
 #include <utility>
 
 namespace ecat::ds402 {
@@ -67,6 +69,22 @@ void each(const Tuple& t, Fn&& fn) {
   each(t, fn, std::make_index_sequence<std::tuple_size_v<Tuple>>{});
 }
 
+// The entry's value bytes when they hold exactly a T (integral), else null.
+template <typename T>
+std::uint8_t* same_width(coe::ObjectStore& store, coe::ObjectStore::Slot* s) noexcept {
+  if (s == nullptr || !std::is_integral_v<T> || s->capacity != sizeof(T) || s->length != sizeof(T)) return nullptr;
+  return store.storage(*s).data();
+}
+
+template <typename T>
+T load_field(const std::uint8_t* p) noexcept {
+  return static_cast<T>(load_le<std::make_unsigned_t<T>>(p));
+}
+template <typename T>
+void store_field(std::uint8_t* p, T v) noexcept {
+  store_le(p, static_cast<std::make_unsigned_t<T>>(v));
+}
+
 constexpr std::uint16_t kErrorRegister = 0x1001;
 constexpr std::uint16_t kSupportedHomingMethods = 0x60E3;
 
@@ -74,8 +92,16 @@ constexpr std::uint16_t kSupportedHomingMethods = 0x60E3;
 
 DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency) noexcept
     : store_(store), emergency_(emergency) {
-  each(kInputs, [&](const auto& fld, std::size_t i) { in_[i] = store_.slot(fld.index, fld.subindex); });
-  each(kOutputs, [&](const auto& fld, std::size_t i) { out_[i] = store_.slot(fld.index, fld.subindex); });
+  each(kInputs, [&](const auto& fld, std::size_t i) {
+    using T = std::remove_cvref_t<decltype(std::declval<I&>().*fld.member)>;
+    in_[i] = store_.slot(fld.index, fld.subindex);
+    in_bytes_[i] = same_width<T>(store_, in_[i]);
+  });
+  each(kOutputs, [&](const auto& fld, std::size_t i) {
+    using T = std::remove_cvref_t<decltype(std::declval<O&>().*fld.member)>;
+    out_[i] = store_.slot(fld.index, fld.subindex);
+    out_bytes_[i] = same_width<T>(store_, out_[i]);
+  });
   error_register_ = store_.slot(kErrorRegister, 0);
 }
 
@@ -96,8 +122,10 @@ void DriveBinding::publish(const DriveConfig& config) {
 
 void DriveBinding::read(DriveInputs& in) const noexcept {
   each(kInputs, [&](const auto& fld, std::size_t i) {
-    if (const auto* s = in_[i]) {
-      using T = std::remove_cvref_t<decltype(in.*fld.member)>;
+    using T = std::remove_cvref_t<decltype(in.*fld.member)>;
+    if (const std::uint8_t* p = in_bytes_[i]) {
+      in.*fld.member = load_field<T>(p);
+    } else if (const auto* s = in_[i]) {
       in.*fld.member = store_.get<T>(*s);
     }
   });
@@ -105,7 +133,11 @@ void DriveBinding::read(DriveInputs& in) const noexcept {
 
 void DriveBinding::write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept {
   each(kOutputs, [&](const auto& fld, std::size_t i) {
-    if (auto* s = out_[i]) store_.set(*s, out.*fld.member);
+    if (std::uint8_t* p = out_bytes_[i]) {
+      store_field(p, out.*fld.member);
+    } else if (auto* s = out_[i]) {
+      store_.set(*s, out.*fld.member);
+    }
   });
   if (!emergency_) {
     if (error_register_) store_.set(*error_register_, out.error_register);

@@ -50,6 +50,11 @@ class DriveBinding {
   coe::Emergency* emergency_;
   std::array<coe::ObjectStore::Slot*, kInputCount> in_{};
   std::array<coe::ObjectStore::Slot*, kOutputCount> out_{};
+  // The value bytes of each bound entry whose size equals its field's, read
+  // and written in place each cycle; null where the entry needs conversion
+  // (another width), which then goes through the store.
+  std::array<std::uint8_t*, kInputCount> in_bytes_{};
+  std::array<std::uint8_t*, kOutputCount> out_bytes_{};
   coe::ObjectStore::Slot* error_register_ = nullptr;
   DriveObjectHooks hooks_;
   std::uint32_t emergencies_lost_ = 0;

@@ -67,7 +67,11 @@ void Plant::sub_step(const LoopDemand& d, const LoopLimits& lim, double position
   if (d.kind != Kind::Off && limited != tc) torque_limited_ = true;
   torque_command_ = d.kind == Kind::Off ? 0.0 : limited;
 
-  torque_ += (torque_command_ - torque_) * (1.0 - std::exp(-h / p_.current_time_constant));
+  if (h != lag_h_) {
+    lag_h_ = h;
+    lag_factor_ = 1.0 - std::exp(-h / p_.current_time_constant);
+  }
+  torque_ += (torque_command_ - torque_) * lag_factor_;
 
   const double w = velocity_ * rad_per_inc_;
   const double net = torque_ - external_torque_ - p_.viscous_friction * w;

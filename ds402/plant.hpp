@@ -126,6 +126,11 @@ class Plant {
   double last_position_ref_ = 0;
   bool last_was_position_ = false;
   bool torque_limited_ = false;
+  // Current-loop lag factor 1 - exp(-h/tau) for the sub-step length h it was
+  // last computed for: h only changes with the cycle time, so exp() runs
+  // once per new cycle time instead of every sub-step.
+  double lag_h_ = -1;
+  double lag_factor_ = 0;
 };
 
 }  // namespace ecat::ds402
