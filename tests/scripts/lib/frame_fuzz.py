@@ -72,10 +72,12 @@ def frame(rng, src_mac, safe):
 def recover_frame(src_mac):
     """One frame that switches write protection off again (Beckhoff ESC
     datasheet II 0x0020/0x0021, 0x0030/0x0031: the enable bit is valid for
-    the rest of the frame, so enable + clear go together). Random writes
-    can switch protection on; a real ESC keeps it until reset too."""
+    the rest of the frame, so enable + clear go together; both enables
+    first, since ESC write protection also blocks the write to 0x0021).
+    Random writes can switch protection on; a real ESC keeps it until reset
+    too."""
     BWR = 8
-    regs = [(0x0020, 1), (0x0021, 0), (0x0030, 1), (0x0031, 0)]
+    regs = [(0x0020, 1), (0x0030, 1), (0x0021, 0), (0x0031, 0)]
     body = bytearray()
     for k, (reg, value) in enumerate(regs):
         more = 0x8000 if k + 1 < len(regs) else 0
