@@ -275,23 +275,6 @@ void Esc::count_rx_error(unsigned port, bool forwarded) noexcept {
 
 // --- Events -------------------------------------------------------------------------
 
-void Esc::set_al_event(std::uint32_t b) noexcept {
-  std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
-  store_le(p, load_le<std::uint32_t>(p) | b);
-}
-void Esc::clear_al_event(std::uint32_t b) noexcept {
-  std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
-  store_le(p, load_le<std::uint32_t>(p) & ~b);
-}
-void Esc::set_ecat_event(std::uint16_t b) noexcept {
-  std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
-  store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | b));
-}
-void Esc::clear_ecat_event(std::uint16_t b) noexcept {
-  std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
-  store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) & ~b));
-}
-
 // SyncManager interrupts: AL event bit 8+n, ECAT event bit 4+n (n < 8).
 // Each request register is read and written once (clear, then raise).
 void Esc::apply(unsigned n, const SmSignals& sig) noexcept {

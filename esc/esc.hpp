@@ -141,10 +141,22 @@ class Esc final : public Pdi {
     return static_cast<std::uint16_t>(load_le<std::uint16_t>(mem_.get() + reg::kEcatEventRequest) |
                                       dc_.ecat_event_request());
   }
-  void set_al_event(std::uint32_t bits) noexcept;
-  void clear_al_event(std::uint32_t bits) noexcept;
-  void set_ecat_event(std::uint16_t bits) noexcept;
-  void clear_ecat_event(std::uint16_t bits) noexcept;
+  void set_al_event(std::uint32_t b) noexcept {
+    std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
+    store_le(p, load_le<std::uint32_t>(p) | b);
+  }
+  void clear_al_event(std::uint32_t b) noexcept {
+    std::uint8_t* p = mem_.get() + reg::kAlEventRequest;
+    store_le(p, load_le<std::uint32_t>(p) & ~b);
+  }
+  void set_ecat_event(std::uint16_t b) noexcept {
+    std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
+    store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | b));
+  }
+  void clear_ecat_event(std::uint16_t b) noexcept {
+    std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
+    store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) & ~b));
+  }
   void apply(unsigned sm, const SmSignals& sig) noexcept;
   // The IRQ field this ESC ORs into a datagram: (0x0210 | DC) & 0x0200.
   std::uint16_t irq_field() const noexcept {

@@ -60,11 +60,9 @@ void SyncManager::set_status_bits(std::uint8_t set, std::uint8_t clear) noexcept
   regs_[reg::sm::kStatus] = static_cast<std::uint8_t>((regs_[reg::sm::kStatus] & ~clear) | set);
 }
 
-void SyncManager::publish_buffer_status() noexcept {
-  set_status_bits(static_cast<std::uint8_t>(latest_ << kStatusBufferShift), kStatusBufferMask);
-}
-
 namespace {
+constexpr unsigned kBufferIndexSum = 0 + 1 + 2;  // the three buffers of buffered mode
+
 // Copies, clipped at the end of ESC memory (bytes past it read as 0 / are dropped).
 void copy_out(const std::uint8_t* mem, std::uint32_t mem_end, std::uint32_t at, std::span<std::uint8_t> out) {
   std::size_t n = at >= mem_end ? 0 : std::min<std::size_t>(out.size(), mem_end - at);
@@ -100,30 +98,34 @@ bool SyncManager::read(Side side, std::uint16_t address, std::span<std::uint8_t>
   if (pdi_deactivated() || writer(side) || out.empty()) return false;
   const bool first = address == start();
   const bool last = static_cast<std::uint32_t>(address) + out.size() == end();
-  if (mailbox()) {
-    if (!full_) return false;  // empty mailbox: no data, no WKC (Section I §8.2)
-    copy_out(mem_, mem_end_, address, out);
-    acknowledge(side, sig);
-    set_status_bits(kStatusReadBufferOpen, kStatusWriteEvent);
-    if (last) {
-      full_ = false;
-      set_status_bits(kStatusReadEvent, kStatusMailboxFull | kStatusReadBufferOpen);
-      signal_other_side(side, control(), sig);
+  const std::uint8_t ctl = control();
+  if ((ctl & kModeMask) != kModeMailbox) {
+    // Buffered: the reader takes the latest complete buffer when it opens
+    // one. The status byte is updated once (same result as bit by bit).
+    std::uint8_t status = regs_[reg::sm::kStatus];
+    if (first || !read_open_) {
+      if (latest_ != kNoBufferWritten) read_buffer_ = latest_;
+      read_open_ = true;
+      acknowledge(side, sig);
+      status = static_cast<std::uint8_t>((status & ~kStatusWriteEvent) | kStatusReadBufferOpen);
     }
+    copy_out(mem_, mem_end_, physical(read_buffer_, address), out);
+    if (last) {
+      read_open_ = false;
+      status = static_cast<std::uint8_t>((status & ~kStatusReadBufferOpen) | kStatusReadEvent);
+      signal_other_side(side, ctl, sig);
+    }
+    regs_[reg::sm::kStatus] = status;
     return true;
   }
-  // Buffered: the reader takes the latest complete buffer when it opens one.
-  if (first || !read_open_) {
-    if (latest_ != kNoBufferWritten) read_buffer_ = latest_;
-    read_open_ = true;
-    acknowledge(side, sig);
-    set_status_bits(kStatusReadBufferOpen, kStatusWriteEvent);
-  }
-  copy_out(mem_, mem_end_, physical(read_buffer_, address), out);
+  if (!full_) return false;  // empty mailbox: no data, no WKC (Section I §8.2)
+  copy_out(mem_, mem_end_, address, out);
+  acknowledge(side, sig);
+  set_status_bits(kStatusReadBufferOpen, kStatusWriteEvent);
   if (last) {
-    read_open_ = false;
-    set_status_bits(kStatusReadEvent, kStatusReadBufferOpen);
-    signal_other_side(side, control(), sig);
+    full_ = false;
+    set_status_bits(kStatusReadEvent, kStatusMailboxFull | kStatusReadBufferOpen);
+    signal_other_side(side, ctl, sig);
   }
   return true;
 }
@@ -132,37 +134,40 @@ bool SyncManager::write(Side side, std::uint16_t address, std::span<const std::u
   if (pdi_deactivated() || !writer(side) || in.empty()) return false;
   const bool first = address == start();
   const bool last = static_cast<std::uint32_t>(address) + in.size() == end();
-  const bool wd = side == Side::Ecat && (control() & kWatchdogTrigger) != 0;
-  if (mailbox()) {
-    if (full_) return false;  // full mailbox: not written, no WKC (Section I §8.2)
-    copy_in(mem_, mem_end_, address, in);
-    acknowledge(side, sig);
-    set_status_bits(kStatusWriteBufferOpen, kStatusReadEvent);
+  const std::uint8_t ctl = control();
+  const bool wd = side == Side::Ecat && (ctl & kWatchdogTrigger) != 0;
+  if ((ctl & kModeMask) != kModeMailbox) {
+    // Buffered; the status byte is updated once (same result as bit by bit).
+    std::uint8_t status = regs_[reg::sm::kStatus];
+    if (first || !write_open_) {
+      write_open_ = true;
+      acknowledge(side, sig);
+      status = static_cast<std::uint8_t>((status & ~kStatusReadEvent) | kStatusWriteBufferOpen);
+    }
+    copy_in(mem_, mem_end_, physical(write_buffer_, address), in);
     if (last) {
-      full_ = true;
-      set_status_bits(kStatusMailboxFull | kStatusWriteEvent, kStatusWriteBufferOpen);
-      signal_other_side(side, control(), sig);
+      // Exchange: the written buffer becomes the latest; the writer continues
+      // with the buffer neither the reader holds nor the latest is in.
+      latest_ = write_buffer_;
+      write_buffer_ = static_cast<std::uint8_t>(kBufferIndexSum - latest_ - read_buffer_);
+      if (latest_ == read_buffer_) write_buffer_ = latest_ == 2 ? 1 : 2;
+      write_open_ = false;
+      status = static_cast<std::uint8_t>((status & ~(kStatusBufferMask | kStatusWriteBufferOpen)) |
+                                         (latest_ << kStatusBufferShift) | kStatusWriteEvent);
+      signal_other_side(side, ctl, sig);
       sig.watchdog_trigger = wd;
     }
+    regs_[reg::sm::kStatus] = status;
     return true;
   }
-  if (first || !write_open_) {
-    write_open_ = true;
-    acknowledge(side, sig);
-    set_status_bits(kStatusWriteBufferOpen, kStatusReadEvent);
-  }
-  copy_in(mem_, mem_end_, physical(write_buffer_, address), in);
+  if (full_) return false;  // full mailbox: not written, no WKC (Section I §8.2)
+  copy_in(mem_, mem_end_, address, in);
+  acknowledge(side, sig);
+  set_status_bits(kStatusWriteBufferOpen, kStatusReadEvent);
   if (last) {
-    // Exchange: the written buffer becomes the latest; the writer continues
-    // with the buffer neither the reader holds nor the latest is in.
-    latest_ = write_buffer_;
-    for (std::uint8_t b = 0; b < 3; ++b) {
-      if (b != latest_ && b != read_buffer_) write_buffer_ = b;
-    }
-    write_open_ = false;
-    publish_buffer_status();
-    set_status_bits(kStatusWriteEvent, kStatusWriteBufferOpen);
-    signal_other_side(side, control(), sig);
+    full_ = true;
+    set_status_bits(kStatusMailboxFull | kStatusWriteEvent, kStatusWriteBufferOpen);
+    signal_other_side(side, ctl, sig);
     sig.watchdog_trigger = wd;
   }
   return true;

@@ -87,7 +87,6 @@ class SyncManager {
   bool writer(Side side) const noexcept { return (side == Side::Ecat) == ecat_writes(); }
   std::uint32_t physical(std::uint8_t buffer, std::uint16_t address) const noexcept;
   void set_status_bits(std::uint8_t set, std::uint8_t clear) noexcept;
-  void publish_buffer_status() noexcept;
 
   std::uint8_t* regs_ = nullptr;
   std::uint8_t* mem_ = nullptr;
