@@ -205,7 +205,7 @@ void MailboxServer::receive(const SmRegs& sm0) noexcept {
     // Same counter as the last request: a retry of a write whose WKC the
     // master did not see (ETG.1000.4 §5.6; SOES drops it too). The request
     // ran and its reply is on its way: drop the repeat. A second copy of the
-    // reply would answer the master's next request (SOEM, docs/e2e.md).
+    // reply could be taken for the answer to the master's next request.
     return;
   }
   last_request_counter_ = header->counter;

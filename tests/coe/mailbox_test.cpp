@@ -107,9 +107,9 @@ TEST(Mailbox, SameCounterIsARepeatNotANewRequest) {
 
 // SOEM re-sends a mailbox write whose frame came back late (ecx_FPWR with
 // EC_TIMEOUTRET3 = 3 x 2 ms); when the firmware had already emptied SM0 the
-// ESC takes the copy. Seen with SOEM's slaveinfo on a loaded machine: the
-// duplicate reply answered the next upload (same index 1A00h, other
-// subindex) and the PDO size came out wrong (AL 001Eh). Every request gets
+// ESC takes the copy. A second reply to it would be taken for the answer to
+// the next upload by a master that does not empty SM1 before each request
+// (SOEM checks only the index, and 1A00h:01..07 share it). Every request gets
 // exactly one reply, so the next request is answered by its own reply.
 TEST(Mailbox, RepeatedWriteDoesNotShiftTheRepliesOfLaterRequests) {
   test::Rig rig;
