@@ -63,6 +63,7 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
 }
 
 std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
+  ++polls_;
   const std::uint32_t events = esc_.read_u32(esc::reg::kAlEventRequest);
   if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) esm_.poll(events);
   const esc::AlState state = esm_.state();
@@ -128,6 +129,7 @@ SlaveStatus Firmware::status() const noexcept {
   s.error = esm_.error_indicated();
   s.code = esm_.status_code();
   s.application_cycles = cycles_;
+  s.firmware_polls = polls_;
   // The ESC counts process-data watchdog expiries itself (0x0442, saturating).
   s.watchdog_expiries = esc_.memory()[esc::reg::kWatchdogCounterProcessData];
   s.sync_errors = sync_.sm_events_missed();

@@ -81,6 +81,7 @@ class Firmware {
   std::uint32_t event_mask_ = 0;
   bool poll_each_frame_ = false;
   std::uint64_t cycles_ = 0;
+  std::uint64_t polls_ = 0;
 };
 
 }  // namespace ecat::slave

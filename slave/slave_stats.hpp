@@ -14,6 +14,7 @@ struct SlaveStatus {
   std::uint64_t application_cycles = 0;
   std::uint64_t watchdog_expiries = 0;
   std::uint32_t sync_errors = 0;  // 1C32h:0Bh SM-event-missed counter
+  std::uint64_t firmware_polls = 0;  // passes of the firmware (IRQ, deadline or Chain::poll)
 };
 
 struct ChainStats {
