@@ -188,12 +188,21 @@ class Esc final : public Pdi {
   std::array<bool, kMaxPorts> port_open_{};
   std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
   std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active
-  // Where a byte-aligned FMMU's physical range goes: SM n (>= 0), plain RAM,
-  // or the general byte-by-byte SM path.
+  // The active FMMUs decoded for the routed LRD/LWR/LRW path
+  // (esc/logical_access.cpp): logical byte range, physical start and where
+  // the physical range goes - SM n (>= 0), plain RAM, or mem_read/mem_write.
   static constexpr std::int8_t kRouteGeneral = -1;
   static constexpr std::int8_t kRouteRam = -2;
-  std::array<std::int8_t, kMaxFmmus> fmmu_route_{};
-  bool fmmus_byte_aligned_ = true;  // every active FMMU is whole bytes
+  struct FmmuRoute {
+    std::uint64_t first = 0;  // logical bytes [first, end)
+    std::uint64_t end = 0;
+    std::uint32_t physical = 0;
+    std::int8_t target = kRouteGeneral;
+  };
+  std::array<FmmuRoute, 2 * kMaxFmmus> routes_{};  // reads, then writes from kMaxFmmus
+  unsigned route_reads_ = 0;
+  unsigned route_writes_ = 0;
+  bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
   Nanoseconds next_timer_ = Nanoseconds::max();
   DcUnit dc_;
   SiiInterface sii_;

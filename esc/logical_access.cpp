@@ -38,131 +38,104 @@ std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept {
 
 }  // namespace
 
-// Active FMMUs and, for each byte-aligned one, where its physical range
-// goes: one SM (the lowest-numbered enabled SM overlapping the range covers
-// all of it), plain RAM (no enabled SM overlaps it), or the general path.
-// This is exactly what mem_read/mem_write would find byte by byte.
+// The routed path needs every active FMMU whole bytes on both sides and no
+// logical byte both read and written by this ESC (an LRW could otherwise
+// read over data it still has to write). For each FMMU, where its physical
+// range goes: one SM (the lowest-numbered enabled SM overlapping the range
+// covers all of it), plain RAM (no enabled SM overlaps it), or mem_read/
+// mem_write - exactly what those would find byte by byte.
 void Esc::update_fmmus() noexcept {
   fmmu_active_ = 0;
-  fmmus_byte_aligned_ = config_.fast_paths;  // off: every LRD/LWR/LRW takes the general path
+  route_reads_ = 0;
+  route_writes_ = 0;
+  fmmus_routed_ = config_.fast_paths;  // off: every LRD/LWR/LRW takes the general path
   for (unsigned k = 0; k < config_.fmmu_count; ++k) {
     const Fmmu& f = fmmus_[k];
-    fmmu_route_[k] = kRouteGeneral;
     if (!f.active()) continue;
     fmmu_active_ |= 1u << k;
-    if (!f.byte_aligned()) {
-      fmmus_byte_aligned_ = false;
-      continue;
+    if (!f.byte_aligned()) fmmus_routed_ = false;
+    FmmuRoute r{f.logical_start, std::uint64_t{f.logical_start} + f.length, f.physical_start, kRouteGeneral};
+    const std::uint32_t p1 = r.physical + f.length;
+    if (r.physical >= reg::kProcessRam && p1 <= ram_end()) {
+      r.target = kRouteRam;
+      for (std::uint32_t left = sm_enabled_; left != 0; left &= left - 1) {
+        const auto n = static_cast<unsigned>(std::countr_zero(left));
+        const std::uint32_t s0 = sms_[n].start();
+        const std::uint32_t s1 = sms_[n].end();
+        if (s1 <= r.physical || s0 >= p1) continue;  // no overlap
+        r.target = s0 <= r.physical && p1 <= s1 ? static_cast<std::int8_t>(n) : kRouteGeneral;
+        break;
+      }
     }
-    const std::uint32_t p0 = f.physical_start;
-    const std::uint32_t p1 = p0 + f.length;
-    if (p0 < reg::kProcessRam || p1 > ram_end()) continue;
-    std::int8_t route = kRouteRam;
-    for (std::uint32_t left = sm_enabled_; left != 0; left &= left - 1) {
-      const auto n = static_cast<unsigned>(std::countr_zero(left));
-      const std::uint32_t s0 = sms_[n].start();
-      const std::uint32_t s1 = sms_[n].end();
-      if (s1 <= p0 || s0 >= p1) continue;  // no overlap
-      route = s0 <= p0 && p1 <= s1 ? static_cast<std::int8_t>(n) : kRouteGeneral;
-      break;
+    if (f.read) routes_[route_reads_++] = r;
+    if (f.write) routes_[kMaxFmmus + route_writes_++] = r;
+  }
+  for (unsigned a = 0; a < route_reads_; ++a) {
+    for (unsigned b = 0; b < route_writes_; ++b) {
+      const FmmuRoute& rd = routes_[a];
+      const FmmuRoute& wr = routes_[kMaxFmmus + b];
+      if (rd.first < wr.end && wr.first < rd.end) fmmus_routed_ = false;
     }
-    fmmu_route_[k] = route;
   }
 }
 
+// The routed path: per FMMU a range compare and one copy through its SM.
+// All reads, then all writes, each in FMMU order, as the general path.
 std::uint16_t Esc::process_logical(DatagramView d) noexcept {
-  if (!fmmus_byte_aligned_) return process_logical_bits(d);
+  if (!fmmus_routed_) return process_logical_bits(d);
   const Command cmd = d.command();
   Bytes data = d.data();
-  if (data.empty() || fmmu_active_ == 0) return 0;
+  if (data.empty()) return 0;
   const std::uint64_t dg0 = d.logical_address();
   const std::uint64_t dg1 = dg0 + data.size();
-  struct Hit {
-    unsigned k;
-    std::uint32_t doff;  // first datagram byte mapped
-    std::uint32_t n;     // bytes
-    std::uint32_t paddr;
-  };
-  std::array<Hit, kMaxFmmus> hits;
-  std::size_t count = 0;
-  std::size_t wlo = data.size();  // datagram bytes the write FMMUs take
-  std::size_t whi = 0;
-  std::size_t rlo = data.size();  // ... and the read FMMUs
-  std::size_t rhi = 0;
-  for (std::uint32_t left = fmmu_active_; left != 0; left &= left - 1) {
-    const auto k = static_cast<unsigned>(std::countr_zero(left));
-    const Fmmu& f = fmmus_[k];
-    const std::uint64_t lo = std::max<std::uint64_t>(dg0, f.logical_start);
-    const std::uint64_t hi = std::min<std::uint64_t>(dg1, std::uint64_t{f.logical_start} + f.length);
-    if (lo >= hi) continue;
-    const auto paddr = static_cast<std::uint32_t>(f.physical_start + (lo - f.logical_start));
-    if (paddr >= kAddressSpace) continue;
-    const auto doff = static_cast<std::uint32_t>(lo - dg0);
-    const auto n = static_cast<std::uint32_t>(hi - lo);
-    hits[count++] = Hit{k, doff, n, paddr};
-    if (f.write) {
-      wlo = std::min<std::size_t>(wlo, doff);
-      whi = std::max<std::size_t>(whi, doff + n);
-    }
-    if (f.read) {
-      rlo = std::min<std::size_t>(rlo, doff);
-      rhi = std::max<std::size_t>(rhi, doff + n);
-    }
-  }
-  if (count == 0) return 0;
-  // LRW writes the data as it arrived while reads replace it: keep the
-  // bytes the writes need when a read lands on them.
-  Scratch incoming;
-  const std::uint8_t* wsrc = data.data();
-  std::size_t origin = 0;
-  if (cmd == Command::Lrw && wlo < whi && rlo < whi && wlo < rhi) {
-    std::memcpy(incoming.data(), data.data() + wlo, whi - wlo);
-    wsrc = incoming.data();
-    origin = wlo;
-  }
   bool read_hit = false;
   bool write_hit = false;
-  // All reads, then all writes: a byte read and written by one LRW returns its old value.
-  if (reads(cmd)) {
-    for (std::size_t h = 0; h < count; ++h) {
-      const Hit& hit = hits[h];
-      if (!fmmus_[hit.k].read) continue;
-      const std::span<std::uint8_t> out = data.subspan(hit.doff, hit.n);
-      const std::int8_t route = fmmu_route_[hit.k];
-      if (route >= 0) {
+  if (cmd != Command::Lwr) {
+    for (unsigned i = 0; i < route_reads_; ++i) {
+      const FmmuRoute& r = routes_[i];
+      const std::uint64_t lo = std::max(dg0, r.first);
+      const std::uint64_t hi = std::min(dg1, r.end);
+      if (lo >= hi) continue;
+      const std::uint64_t paddr = r.physical + (lo - r.first);
+      if (paddr >= kAddressSpace) continue;
+      const std::span<std::uint8_t> out = data.subspan(static_cast<std::size_t>(lo - dg0),
+                                                       static_cast<std::size_t>(hi - lo));
+      if (r.target >= 0) {
         SmSignals sig;
-        if (sms_[static_cast<unsigned>(route)].read(Side::Ecat, static_cast<std::uint16_t>(hit.paddr), out, sig)) {
-          read_hit = true;
-        }
-        apply(static_cast<unsigned>(route), sig);
-      } else if (route == kRouteRam) {
-        std::memcpy(out.data(), mem_.get() + hit.paddr, out.size());
+        const auto n = static_cast<unsigned>(r.target);
+        read_hit = sms_[n].read(Side::Ecat, static_cast<std::uint16_t>(paddr), out, sig) || read_hit;
+        apply(n, sig);
+      } else if (r.target == kRouteRam) {
+        std::memcpy(out.data(), mem_.get() + paddr, out.size());
         read_hit = true;
       } else {
-        read_hit = mem_read(static_cast<std::uint16_t>(hit.paddr), out, Side::Ecat) || read_hit;
+        read_hit = mem_read(static_cast<std::uint16_t>(paddr), out, Side::Ecat) || read_hit;
       }
     }
   }
-  if (writes(cmd)) {
+  if (cmd != Command::Lrd) {
     // ESC write protection (0x0031) covers the RAM (Section I §13).
     const bool ram_protected = (mem_[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_;
-    for (std::size_t h = 0; h < count; ++h) {
-      const Hit& hit = hits[h];
-      if (!fmmus_[hit.k].write) continue;
-      const std::span<const std::uint8_t> in(wsrc + (hit.doff - origin), hit.n);
-      const std::int8_t route = fmmu_route_[hit.k];
-      if (route == kRouteGeneral) {
-        write_hit = mem_write(static_cast<std::uint16_t>(hit.paddr), in, Side::Ecat) || write_hit;
+    for (unsigned i = 0; i < route_writes_; ++i) {
+      const FmmuRoute& r = routes_[kMaxFmmus + i];
+      const std::uint64_t lo = std::max(dg0, r.first);
+      const std::uint64_t hi = std::min(dg1, r.end);
+      if (lo >= hi) continue;
+      const std::uint64_t paddr = r.physical + (lo - r.first);
+      if (paddr >= kAddressSpace) continue;
+      const std::span<const std::uint8_t> in = data.subspan(static_cast<std::size_t>(lo - dg0),
+                                                            static_cast<std::size_t>(hi - lo));
+      if (r.target == kRouteGeneral) {
+        write_hit = mem_write(static_cast<std::uint16_t>(paddr), in, Side::Ecat) || write_hit;
       } else if (ram_protected) {
         continue;
-      } else if (route >= 0) {
+      } else if (r.target >= 0) {
         SmSignals sig;
-        if (sms_[static_cast<unsigned>(route)].write(Side::Ecat, static_cast<std::uint16_t>(hit.paddr), in, sig)) {
-          write_hit = true;
-        }
-        apply(static_cast<unsigned>(route), sig);
+        const auto n = static_cast<unsigned>(r.target);
+        write_hit = sms_[n].write(Side::Ecat, static_cast<std::uint16_t>(paddr), in, sig) || write_hit;
+        apply(n, sig);
       } else {
-        std::memcpy(mem_.get() + hit.paddr, in.data(), in.size());
+        std::memcpy(mem_.get() + paddr, in.data(), in.size());
         write_hit = true;
       }
     }
