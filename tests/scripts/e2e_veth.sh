@@ -8,6 +8,8 @@
 #  (c) DC Sync0 mode (--dc) on the 4 seed drives plus the generic servo: the
 #      master writes 1C32h:01 only where it is writable and differs, and skips
 #      leadshine-isv2-can, which has no DC unit; the CSP drives are moved.
+# Master and slave run with real-time priority where the kernel allows it
+# (e2e_use_realtime; E2E_NO_RT=1 to compare without).
 # The cycle statistics lines are printed (see docs/e2e.md for figures).
 # Usage: e2e_veth.sh SRCDIR BUILDDIR   (exit 77 = skipped: not root / no netns)
 set -uo pipefail
@@ -19,9 +21,10 @@ e2e_require_bins ecat-slave ecat-master
 e2e_require_netns
 cycles=${E2E_CYCLES:-2000}
 e2e_setup v
+e2e_use_realtime
 
 # (a) one generic servo, moved.
-if e2e_start_slave servo; then
+if e2e_start_slave servo "${E2E_SLAVE_RT[@]}"; then
   e2e_master servo 60 --cycles "$cycles" --period-us 1000 --expect-slaves 1 --move \
     || e2e_fail "(a) generic servo: ecat-master exit $?"
   echo "(a) generic servo, $cycles cycles at 1 ms, --move: $(e2e_cycle_line servo)"
@@ -34,7 +37,7 @@ fi
 # (b) the four seed drives in one chain (free run).
 d="$src/xml/devices"
 chain="$d/simtach-rse.xml,$d/yaskawa-sigma5-sd.xml,$d/welcon-servo.xml,$d/leadshine-isv2-can.xml"
-if e2e_start_slave chain --chain "$chain"; then
+if e2e_start_slave chain "${E2E_SLAVE_RT[@]}" --chain "$chain"; then
   e2e_master chain 90 --cycles "$cycles" --period-us 1000 --expect-slaves 4 \
     || e2e_fail "(b) chain of 4 seed drives: ecat-master exit $?"
   echo "(b) chain of 4 seed drives, $cycles cycles at 1 ms: $(e2e_cycle_line chain)"
@@ -46,7 +49,7 @@ fi
 
 # (c) DC Sync0 mode on the drives whose 1C32h:01 is writable.
 dc_chain="$chain,$d/generic-servo.xml"
-if e2e_start_slave dcslave --chain "$dc_chain"; then
+if e2e_start_slave dcslave "${E2E_SLAVE_RT[@]}" --chain "$dc_chain"; then
   e2e_master dc 90 --cycles "$cycles" --period-us 1000 --expect-slaves 5 --dc --move \
     || e2e_fail "(c) DC chain: ecat-master exit $?"
   echo "(c) 4 seed drives + generic servo, $cycles cycles at 1 ms, --dc --move: $(e2e_cycle_line dc)"
