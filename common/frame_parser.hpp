@@ -118,7 +118,7 @@ class FrameView {
   std::size_t size() const noexcept { return count_; }
   bool empty() const noexcept { return count_ == 0; }
   DatagramView front() const noexcept { return DatagramView(frame_.data() + first_offset()); }
-  Iterator begin() const noexcept { return Iterator(front(), count_); }
+  Iterator begin() const noexcept { return count_ == 0 ? end() : Iterator(front(), count_); }
   Iterator end() const noexcept { return Iterator(DatagramView(), 0); }
   DatagramView operator[](std::size_t i) const noexcept {
     DatagramView d = front();

@@ -144,6 +144,36 @@ TEST(FrameParser, Rejects) {
   }
 }
 
+TEST(FrameParser, WalksDatagramsInPlace) {
+  std::array<std::uint8_t, 128> buf{};
+  FrameBuilder b(buf);
+  ASSERT_TRUE(b.append_zeros(Command::Aprd, 7, 0, 3));
+  ASSERT_TRUE(b.append_zeros(Command::Lrw, 8, 0x10000, 5));
+  ASSERT_TRUE(b.append_zeros(Command::Nop, 9, 0, 0));
+  Bytes f = b.finish();
+  auto v = parse_frame(f);
+  ASSERT_TRUE(v);
+  ASSERT_EQ(v->size(), 3u);
+  // Ethernet 14 + frame header 2, then 12 + length per datagram.
+  EXPECT_EQ(v->offset(0), 16u);
+  EXPECT_EQ(v->offset(1), 16u + 12 + 3);
+  EXPECT_EQ(v->offset(2), 16u + 12 + 3 + 12 + 5);
+  std::vector<std::uint8_t> indices;
+  std::size_t i = 0;
+  for (DatagramView d : *v) {
+    EXPECT_EQ(d, (*v)[i]);
+    EXPECT_EQ(d.header_pointer(), f.data() + v->offset(i));
+    indices.push_back(d.index());
+    ++i;
+  }
+  EXPECT_EQ(indices, (std::vector<std::uint8_t>{7, 8, 9}));
+  EXPECT_EQ((*v)[1].logical_address(), 0x10000u);
+  EXPECT_EQ((*v)[2].length(), 0);
+  // A view of nothing walks nothing.
+  FrameView none;
+  EXPECT_TRUE(none.begin() == none.end());
+}
+
 TEST(FrameParser, AcceptsShortUnpaddedFrame) {
   auto f = one_datagram_frame();
   f.resize(14 + 2 + 16);
