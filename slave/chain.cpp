@@ -32,10 +32,7 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
   // The firmware of a slave reacts to what the frame left behind when its
   // ESC raised the IRQ (or it has work due), as its interrupt handler would
   // within microseconds; the others stay asleep.
-  for (auto& s : slaves_) {
-    Firmware& fw = s->firmware();
-    if (fw.wants_poll(now)) (void)fw.poll(now);
-  }
+  for (auto& s : slaves_) s->after_frame(now);
   return returned;
 }
 

@@ -65,7 +65,14 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
 std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
   ++polls_;
   const std::uint32_t events = esc_.read_u32(esc::reg::kAlEventRequest);
-  if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) esm_.poll(events);
+  // In Op the ESM and the synchronisation read 0x0220 again themselves (and
+  // the ESM the watchdog status): with the snapshot alone the e2e DC run over
+  // veth lost SYNC events (0x0034/0x001A) - not understood yet, see
+  // docs/performance.md; Esm::poll(events) and SyncController::poll(now,
+  // events) are the snapshot entry points for when it is.
+  if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending() || esm_.state() == esc::AlState::Op) {
+    esm_.poll();
+  }
   const esc::AlState state = esm_.state();
   const bool changed = state != state_seen_;
   if (changed) {
@@ -76,7 +83,7 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
   const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
   if (sms_changed) coe_.process_data().load_layout(esc_);
   if (changed || (events & kMailboxEvents) != 0 || coe_.mailbox().has_output()) coe_.poll(now);
-  const coe::SyncPoll sp = sync_.poll(now, events);
+  const coe::SyncPoll sp = sync_.poll(now);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed);
   next_ = sp.next;

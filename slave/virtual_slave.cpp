@@ -24,11 +24,22 @@ VirtualSlave::~VirtualSlave() = default;
 
 std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   std::optional<Nanoseconds> next = esc_->poll(now);
+  esc_next_ = next;
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
   const std::optional<Nanoseconds> fw =
       firmware_->wants_poll(now) ? firmware_->poll(now) : firmware_->next_deadline();
   if (fw && (!next || *fw < *next)) next = fw;
   return next;
+}
+
+void VirtualSlave::after_frame(Nanoseconds now) noexcept {
+  // SYNC pulses (and other ESC timers) due by now are raised before the
+  // firmware looks: silicon raises them in time, the emulation on demand.
+  if (esc_next_ && *esc_next_ <= now) {
+    (void)poll(now);
+  } else if (firmware_->wants_poll(now)) {
+    (void)firmware_->poll(now);
+  }
 }
 
 SlaveStatus VirtualSlave::status() const noexcept { return firmware_->status(); }

@@ -41,6 +41,10 @@ class VirtualSlave {
   // needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
+  // After a frame passed this slave's ESC at `now`: the ESC's timers if one
+  // is due, then the firmware if the ESC raised its IRQ or its deadline came.
+  void after_frame(Nanoseconds now) noexcept;
+
   SlaveStatus status() const noexcept;
 
   // Clean shutdown: nothing is lost (stored parameters are already on disk;
@@ -53,6 +57,7 @@ class VirtualSlave {
   std::unique_ptr<od::DeviceDescription> device_;
   std::unique_ptr<esc::Esc> esc_;
   std::unique_ptr<Firmware> firmware_;
+  std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
 };
 
 }  // namespace ecat::slave

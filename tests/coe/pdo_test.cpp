@@ -125,6 +125,23 @@ TEST_F(PdoTest, CyclicCopyBothWaysWithoutHeap) {
   EXPECT_EQ(Frame(mem.begin() + 0x1180, mem.begin() + 0x1185), (Frame{0xBE, 0xBA, 0xFE, 0xCA, 0x55}));
 }
 
+// Firmware that loads the SM layout at state/SM changes (as SSC reads the SM
+// settings at PreOp->SafeOp) keeps using it until it loads it again.
+TEST_F(PdoTest, LoadedLayoutServesTheCyclesUntilLoadedAgain) {
+  configure_sm(2, 3);
+  configure_sm(3, 5);
+  data.load_layout(rig.esc);
+  rig.esc.configure_sm(3, 0x1200, 5, 0x20);  // moved without the firmware reloading
+  ASSERT_TRUE(rig.store.set<std::uint32_t>(0x6000, 0, 0xCAFEBABE));
+  auto& mem = rig.esc.memory();
+  data.write_inputs(rig.esc);
+  EXPECT_EQ(Frame(mem.begin() + 0x1180, mem.begin() + 0x1185), (Frame{0xBE, 0xBA, 0xFE, 0xCA, 0x55}));
+  EXPECT_EQ(Frame(mem.begin() + 0x1200, mem.begin() + 0x1205), (Frame{0, 0, 0, 0, 0}));
+  data.load_layout(rig.esc);
+  data.write_inputs(rig.esc);
+  EXPECT_EQ(Frame(mem.begin() + 0x1200, mem.begin() + 0x1205), (Frame{0xBE, 0xBA, 0xFE, 0xCA, 0x55}));
+}
+
 TEST_F(PdoTest, BitPackedEntriesInTheImage) {
   // A TxPDO with BOOL + BIT3 + 4-bit gap + UINT16, through the store directly.
   od::DeviceDescription d = test::make_device();
