@@ -2,6 +2,7 @@
 
 #include "coe/sm_bits.hpp"
 #include "common/le.hpp"
+#include "esc/dc/dc_registers.hpp"
 #include "esc/registers.hpp"
 #include "slave/drive_application.hpp"
 #include "slave/esc_setup.hpp"
@@ -36,6 +37,8 @@ constexpr std::uint32_t kAlEventSmShift = 8;  // 0x0220 bit 8+n: SM n
 constexpr unsigned kSmsWithEvents = 4;        // mailbox and process-data SMs
 // Events every state handles: AL control, SM activation, watchdog, mailbox.
 constexpr std::uint32_t kBaseEvents = esc::Esm::kEventsHandled | coe::MailboxServer::kEventsHandled;
+// SYNC0/SYNC1 (0x0220 bits 2/3): the synchronisation runs on DC.
+constexpr std::uint32_t kDcSyncEvents = esc::dcreg::kAlEventSync0 | esc::dcreg::kAlEventSync1;
 // Events the mailbox reacts to, SM activation included (repeat request).
 constexpr std::uint32_t kMailboxEvents = coe::MailboxServer::kEventsHandled | esc::kAlEventSmActivation;
 
@@ -65,13 +68,15 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
 std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
   ++polls_;
   const std::uint32_t events = esc_.read_u32(esc::reg::kAlEventRequest);
-  // In Op the ESM and the synchronisation read 0x0220 again themselves (and
-  // the ESM the watchdog status): with the snapshot alone the e2e DC run over
-  // veth lost SYNC events (0x0034/0x001A) - not understood yet, see
-  // docs/performance.md; Esm::poll(events) and SyncController::poll(now,
-  // events) are the snapshot entry points for when it is.
-  if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending() || esm_.state() == esc::AlState::Op) {
+  // In DC mode the ESM and the synchronisation read 0x0220 again themselves
+  // (and the ESM the watchdog status in Op): with the one-read snapshot the
+  // e2e DC run over veth lost SYNC events (0x0034/0x001A) - cause not found
+  // yet (docs/performance.md). Free run and SM-synchronous use the snapshot.
+  const bool dc = (sync_.al_event_mask() & kDcSyncEvents) != 0;
+  if (dc) {
     esm_.poll();
+  } else if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) {
+    esm_.poll(events);
   }
   const esc::AlState state = esm_.state();
   const bool changed = state != state_seen_;
@@ -83,7 +88,7 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
   const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
   if (sms_changed) coe_.process_data().load_layout(esc_);
   if (changed || (events & kMailboxEvents) != 0 || coe_.mailbox().has_output()) coe_.poll(now);
-  const coe::SyncPoll sp = sync_.poll(now);
+  const coe::SyncPoll sp = dc ? sync_.poll(now) : sync_.poll(now, events);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed);
   next_ = sp.next;

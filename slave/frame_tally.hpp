@@ -10,7 +10,6 @@
 #include <span>
 
 #include "common/frame.hpp"
-#include "common/frame_parser.hpp"
 #include "common/le.hpp"
 
 namespace ecat::slave {
@@ -20,15 +19,28 @@ struct FrameTally {
   std::uint64_t wkc_total = 0;
 };
 
+namespace tally_detail {
+inline constexpr std::size_t kEtherTypeOffset = 2 * kMacSize;
+inline constexpr std::size_t kDatagramLengthOffset = 6;  // bytes 6-7 of the datagram header
+inline std::uint16_t be16(std::span<const std::uint8_t> f, std::size_t pos) noexcept {
+  return static_cast<std::uint16_t>((f[pos] << 8) | f[pos + 1]);
+}
+}  // namespace tally_detail
+
 inline FrameTally tally_frame(std::span<const std::uint8_t> frame) noexcept {
+  using namespace tally_detail;
   FrameTally t;
-  const auto at = locate_ethercat(frame);
-  if (!at || frame.size() - *at < kFrameHeaderSize) return t;
-  std::size_t pos = *at + kFrameHeaderSize;
-  const std::size_t length = load_le<std::uint16_t>(frame.data() + *at) & kFrameLengthMask;
+  // EtherType 0x88A4, optionally behind one 802.1Q tag (IEEE 802.3, big-endian).
+  if (frame.size() < kEthernetHeaderSize + kVlanTagSize + kFrameHeaderSize) return t;
+  std::size_t at = kEtherTypeOffset;
+  if (be16(frame, at) == kEtherTypeVlan) at += kVlanTagSize;
+  if (be16(frame, at) != kEtherTypeEtherCat) return t;
+  at += sizeof(std::uint16_t);
+  std::size_t pos = at + kFrameHeaderSize;
+  const std::size_t length = load_le<std::uint16_t>(frame.data() + at) & kFrameLengthMask;
   const std::size_t end = std::min(frame.size(), pos + length);
   while (end - pos >= kDatagramOverhead) {
-    const std::uint16_t word = load_le<std::uint16_t>(frame.data() + pos + DatagramView::kLengthOffset);
+    const std::uint16_t word = load_le<std::uint16_t>(frame.data() + pos + kDatagramLengthOffset);
     const std::size_t data = word & kDatagramLengthMask;
     if (end - pos < kDatagramOverhead + data) break;
     ++t.datagrams;
