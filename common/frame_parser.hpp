@@ -177,28 +177,43 @@ inline Expected<FrameView, FrameError> parse_ethercat(Bytes buffer, std::size_t 
   return v;
 }
 
-// Offset of the EtherCAT frame header in an Ethernet frame carrying
-// EtherCAT (EtherType 0x88A4, optionally behind one 802.1Q tag; both
-// big-endian on the wire, IEEE 802.3), read in place.
-inline Expected<std::size_t, FrameError> locate_ethercat(ConstBytes frame) noexcept {
+namespace detail {
+// Where the EtherCAT frame header starts in an Ethernet frame (EtherType
+// 0x88A4, optionally behind one 802.1Q tag; both big-endian on the wire,
+// IEEE 802.3), read in place. `error` is meaningful when !ok.
+struct EthercatAt {
+  bool ok = false;
+  FrameError error = FrameError::TooShort;
+  std::size_t offset = 0;
+};
+constexpr EthercatAt find_ethercat(ConstBytes frame) noexcept {
   constexpr std::size_t kTypeOffset = 2 * kMacSize;
-  if (frame.size() < kEthernetHeaderSize) return fail(FrameError::TooShort);
-  auto be16 = [&](std::size_t pos) { return static_cast<std::uint16_t>((frame[pos] << 8) | frame[pos + 1]); };
+  if (frame.size() < kEthernetHeaderSize) return {false, FrameError::TooShort, 0};
   std::size_t at = kTypeOffset;
-  if (be16(at) == kEtherTypeVlan) {
-    if (frame.size() < kEthernetHeaderSize + kVlanTagSize) return fail(FrameError::TooShort);
+  auto type = static_cast<std::uint16_t>((frame[at] << 8) | frame[at + 1]);
+  if (type == kEtherTypeVlan) {
+    if (frame.size() < kEthernetHeaderSize + kVlanTagSize) return {false, FrameError::TooShort, 0};
     at += kVlanTagSize;
+    type = static_cast<std::uint16_t>((frame[at] << 8) | frame[at + 1]);
   }
-  if (be16(at) != kEtherTypeEtherCat) return fail(FrameError::NotEtherCat);
-  return at + sizeof(std::uint16_t);
+  if (type != kEtherTypeEtherCat) return {false, FrameError::NotEtherCat, 0};
+  return {true, FrameError::TooShort, at + sizeof(std::uint16_t)};
+}
+}  // namespace detail
+
+// Offset of the EtherCAT frame header in an Ethernet frame carrying EtherCAT.
+inline Expected<std::size_t, FrameError> locate_ethercat(ConstBytes frame) noexcept {
+  const detail::EthercatAt at = detail::find_ethercat(frame);
+  if (!at.ok) return fail(at.error);
+  return at.offset;
 }
 
 // Parses an Ethernet frame carrying EtherCAT. Bytes after the EtherCAT
 // length are padding.
 inline Expected<FrameView, FrameError> parse_frame(Bytes frame) noexcept {
-  const auto at = locate_ethercat(frame);
-  if (!at) return fail(at.error());
-  return parse_ethercat(frame, *at);
+  const detail::EthercatAt at = detail::find_ethercat(frame);
+  if (!at.ok) return fail(at.error);
+  return parse_ethercat(frame, at.offset);
 }
 
 }  // namespace ecat

@@ -174,6 +174,23 @@ TEST(FrameParser, WalksDatagramsInPlace) {
   EXPECT_TRUE(none.begin() == none.end());
 }
 
+TEST(FrameParser, LocatesTheEtherCatHeader) {
+  auto plain = one_datagram_frame();
+  EXPECT_EQ(locate_ethercat(plain).value(), 14u);
+  std::vector<std::uint8_t> tagged(plain.begin(), plain.begin() + 12);
+  for (const int b : {0x81, 0x00, 0x20, 0x05}) tagged.push_back(static_cast<std::uint8_t>(b));  // 802.1Q, TCI 0x2005
+  tagged.insert(tagged.end(), plain.begin() + 12, plain.end());
+  EXPECT_EQ(locate_ethercat(tagged).value(), 18u);
+  ASSERT_TRUE(parse_frame(tagged));
+  EXPECT_EQ(parse_frame(tagged)->ethercat_offset(), 18u);
+  tagged.resize(17);
+  EXPECT_EQ(locate_ethercat(tagged).error(), FrameError::TooShort);
+  plain[12] = 0x08;  // EtherType 0x08A4
+  EXPECT_EQ(locate_ethercat(plain).error(), FrameError::NotEtherCat);
+  plain.resize(13);
+  EXPECT_EQ(locate_ethercat(plain).error(), FrameError::TooShort);
+}
+
 TEST(FrameParser, AcceptsShortUnpaddedFrame) {
   auto f = one_datagram_frame();
   f.resize(14 + 2 + 16);
