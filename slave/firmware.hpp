@@ -32,7 +32,8 @@ class Firmware {
 
   // One pass of the firmware at `now`, as an interrupt handler plus main
   // loop of SSC/SOES: AL event request 0x0220 is read once and dispatched
-  // (ESM, mailbox, synchronisation, application cycle); the AL event mask
+  // (ESM, mailbox, synchronisation, application cycle; in DC mode the ESM
+  // and the synchronisation read it again, see firmware.cpp); the AL event mask
   // 0x0204 is kept to what this pass found the firmware needs. Returns when
   // it next needs to run by time alone.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
