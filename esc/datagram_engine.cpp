@@ -60,11 +60,16 @@ bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
   }
   register_write_enabled_ = false;
   esc_write_enabled_ = false;
-  for (DatagramView d : frame) {
-    process_datagram(d);
-    const std::uint16_t irq = irq_field();
-    if (irq != 0) d.set_irq(static_cast<std::uint16_t>(d.irq() | irq));
-    if (reset_requested_) reset();
+  if (!frame.empty()) {
+    DatagramView d = frame.front();
+    for (std::size_t left = frame.size();;) {
+      process_datagram(d);
+      const std::uint16_t irq = irq_field();
+      if (irq != 0) d.set_irq(static_cast<std::uint16_t>(d.irq() | irq));
+      if (reset_requested_) reset();
+      if (--left == 0) break;
+      d = d.next();
+    }
   }
   // Write-enable releases last for one frame only (Section I §13).
   register_write_enabled_ = false;
