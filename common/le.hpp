@@ -2,6 +2,7 @@
 // little-endian (ETG.1000.4 §5.2), so every layer packs and unpacks through here.
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -15,9 +16,22 @@ using ConstBytes = std::span<const std::uint8_t>;
 
 // Reads an unsigned little-endian integer of sizeof(T) bytes at p.
 // The caller guarantees p points at sizeof(T) readable bytes.
+// On a little-endian host (not in constant evaluation) the load/store is
+// one std::memcpy of the whole integer, which compilers turn into a single
+// unaligned move; elsewhere the byte loop, with the same result.
+template <typename T>
+inline constexpr bool kNativeLe = std::endian::native == std::endian::little && !std::is_same_v<T, bool>;
+
 template <typename T>
 constexpr T load_le(const std::uint8_t* p) noexcept {
   static_assert(std::is_unsigned_v<T>);
+  if constexpr (kNativeLe<T>) {
+    if (!std::is_constant_evaluated()) {
+      T v;
+      std::memcpy(&v, p, sizeof(T));
+      return v;
+    }
+  }
   T v = 0;
   for (std::size_t i = 0; i < sizeof(T); ++i) {
     v = static_cast<T>(v | (static_cast<T>(p[i]) << (8 * i)));
@@ -28,6 +42,12 @@ constexpr T load_le(const std::uint8_t* p) noexcept {
 template <typename T>
 constexpr void store_le(std::uint8_t* p, T v) noexcept {
   static_assert(std::is_unsigned_v<T>);
+  if constexpr (kNativeLe<T>) {
+    if (!std::is_constant_evaluated()) {
+      std::memcpy(p, &v, sizeof(T));
+      return;
+    }
+  }
   for (std::size_t i = 0; i < sizeof(T); ++i) {
     p[i] = static_cast<std::uint8_t>(v >> (8 * i));
   }
