@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "esc/esc.hpp"
+#include "esc/register_map.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::esc {
@@ -16,6 +17,17 @@ namespace {
 
 // Scratch for one datagram's data (11-bit length), on the stack: no heap.
 using Scratch = std::array<std::uint8_t, kFrameLengthMask + 1>;
+
+// Register reads are mostly 1, 2, 4 or 8 bytes: copy those as one move.
+inline void copy_small(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) noexcept {
+  switch (n) {
+    case 1: dst[0] = src[0]; break;
+    case 2: std::memcpy(dst, src, 2); break;
+    case 4: std::memcpy(dst, src, 4); break;
+    case 8: std::memcpy(dst, src, 8); break;
+    default: std::memcpy(dst, src, n); break;
+  }
+}
 
 constexpr std::uint16_t kWkcRead = 1;
 constexpr std::uint16_t kWkcWrite = 1;
@@ -84,7 +96,43 @@ bool Esc::addressed_configured(std::uint16_t adp) const noexcept {
          adp == load_le<std::uint16_t>(m + reg::kConfiguredStationAlias);
 }
 
-void Esc::process_datagram(DatagramView d) noexcept {
+// An ECAT read of register bytes outside the DC block (the usual FPRD/APRD
+// of a status register): one copy, then the bytes whose read has an effect
+// (esc/register_map.hpp), in address order as in reg_read. The hot one, AL
+// status 0x0130, only acknowledges ECAT event request bit 3 (Section II
+// 0x0130/0x0210) and is handled directly; the others by their per-byte
+// handler. Anything else goes through mem_read.
+[[gnu::always_inline]] inline bool Esc::ecat_read(std::uint16_t address, Bytes out) noexcept {
+  const std::size_t n = out.size();
+  const std::uint32_t end = address + static_cast<std::uint32_t>(n);
+  if (!config_.fast_paths || n == 0 || end > reg::kProcessRam || (end > reg::kDcBase && address < reg::kDcEnd)) {
+    return mem_read(address, out, Side::Ecat);
+  }
+  copy_small(out.data(), mem_.get() + address, n);
+  constexpr std::size_t kScanBytes = 16;  // longer reads check the 16-byte blocks first
+  if (n > kScanBytes && !register_map::any_in(address, n, register_map::kReadEffectEcat)) return true;
+  const std::uint8_t* flags = register_map::kTable.byte.data() + address;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (flags[i] & register_map::kReadEffectEcat) {
+      ecat_read_effects(static_cast<std::uint16_t>(address + i), out.subspan(i));
+      break;
+    }
+  }
+  return true;
+}
+
+void Esc::ecat_read_effects(std::uint16_t address, Bytes out) noexcept {
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto a = static_cast<std::uint16_t>(address + i);
+    if (a == reg::kAlStatus) {
+      clear_ecat_event(bits::kEcatEventAlStatus);  // the stored byte is what is read
+    } else if (register_map::has(a, register_map::kReadEffectEcat)) {
+      out[i] = reg_read_byte(a, Side::Ecat);
+    }
+  }
+}
+
+[[gnu::always_inline]] inline void Esc::process_datagram(DatagramView d) noexcept {
   const Command cmd = d.command();
   const CommandTraits& traits = kCommandTraits[static_cast<std::uint8_t>(cmd)];
   const Addressing mode = traits.mode;
@@ -105,7 +153,7 @@ void Esc::process_datagram(DatagramView d) noexcept {
   Bytes data = d.data();
   // xRMW: read on the addressed slave, write on every other (Section I Table 7).
   if (traits.rmw) {
-    const bool ok = addressed ? mem_read(ado, data, Side::Ecat) : mem_write(ado, data, Side::Ecat);
+    const bool ok = addressed ? ecat_read(ado, data) : mem_write(ado, data, Side::Ecat);
     if (ok) d.add_wkc(kWkcRead);
     return;
   }
@@ -136,7 +184,7 @@ void Esc::process_datagram(DatagramView d) noexcept {
         wkc = kWkcRead;
         for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(data[i] | result[i]);
       }
-    } else if (mem_read(ado, data, Side::Ecat)) {
+    } else if (ecat_read(ado, data)) {
       wkc = kWkcRead;
     }
   } else if (traits.writes) {

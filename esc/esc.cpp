@@ -180,12 +180,6 @@ std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
 }
 
 
-void Esc::refresh_timers() noexcept {
-  Nanoseconds next = Nanoseconds::max();
-  if (const auto w = watchdogs_.next_deadline()) next = std::min(next, *w);
-  if (const auto s = sii_.next_deadline()) next = std::min(next, *s);
-  next_timer_ = next;
-}
 
 // Nothing is due before next_timer_: most frames skip this entirely.
 void Esc::run_due_timers(Nanoseconds now) noexcept {
@@ -271,34 +265,6 @@ void Esc::count_rx_error(unsigned port, bool forwarded) noexcept {
   std::uint8_t* m = mem_.get();
   std::uint8_t& c = forwarded ? m[reg::kForwardedRxErrorCounter + port] : m[reg::kRxErrorCounter + 2 * port];
   if (c < bits::kCounterMax) ++c;
-}
-
-// --- Events -------------------------------------------------------------------------
-
-// SyncManager interrupts: AL event bit 8+n, ECAT event bit 4+n (n < 8).
-// Each request register is read and written once (clear, then raise).
-void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
-  std::uint8_t* m = mem_.get();
-  if (sig.clear_al || sig.raise_al) {
-    const std::uint32_t al = 1u << (bits::kAlEventSmShift + n);
-    std::uint32_t v = load_le<std::uint32_t>(m + reg::kAlEventRequest);
-    if (sig.clear_al) v &= ~al;
-    if (sig.raise_al) v |= al;
-    store_le(m + reg::kAlEventRequest, v);
-  }
-  if ((sig.clear_ecat || sig.raise_ecat) && n < bits::kEcatEventSmCount) {
-    const auto ecat = static_cast<std::uint16_t>(1u << (bits::kEcatEventSmShift + n));
-    auto v = load_le<std::uint16_t>(m + reg::kEcatEventRequest);
-    if (sig.clear_ecat) v = static_cast<std::uint16_t>(v & ~ecat);
-    if (sig.raise_ecat) v = static_cast<std::uint16_t>(v | ecat);
-    store_le(m + reg::kEcatEventRequest, v);
-  }
-  if (sig.watchdog_trigger) {
-    watchdogs_.trigger_process_data(now_, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
-                                    load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
-    mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
-    refresh_timers();
-  }
 }
 
 }  // namespace ecat::esc

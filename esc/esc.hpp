@@ -15,6 +15,7 @@
 // without side effects are copied as a block (esc/register_map.hpp).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -124,6 +125,9 @@ class Esc final : public Pdi {
 
   // Datagram engine (esc/datagram_engine.cpp).
   void process_datagram(DatagramView d) noexcept;
+  // The data of an ECAT read (FPRD/APRD/xRMW): register bytes inline, else mem_read.
+  bool ecat_read(std::uint16_t address, Bytes out) noexcept;
+  void ecat_read_effects(std::uint16_t address, Bytes out) noexcept;
   // Logical addressing (esc/logical_access.cpp).
   std::uint16_t process_logical(DatagramView d) noexcept;
   std::uint16_t process_logical_bits(DatagramView d) noexcept;
@@ -157,6 +161,9 @@ class Esc final : public Pdi {
     std::uint8_t* p = mem_.get() + reg::kEcatEventRequest;
     store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) & ~b));
   }
+  // SyncManager interrupts: AL event bit 8+n, ECAT event bit 4+n (n < 8),
+  // and the process-data watchdog restart; inline, as it follows every SM
+  // access of a frame.
   void apply(unsigned sm, const SmSignals& sig) noexcept;
   // The IRQ field this ESC ORs into a datagram: (0x0210 | DC) & 0x0200.
   std::uint16_t irq_field() const noexcept {
@@ -167,7 +174,9 @@ class Esc final : public Pdi {
   void update_ports() noexcept;
   void update_sm_guards() noexcept;
   void update_fmmus() noexcept;
-  void refresh_timers() noexcept;
+  void refresh_timers() noexcept {
+    next_timer_ = std::min(watchdogs_.earliest(), sii_.next_deadline().value_or(Nanoseconds::max()));
+  }
   void load_eeprom(bool power_on) noexcept;
   // Runs the watchdogs and the SII busy time when one is due (now >= next_timer_).
   void run_timers(Nanoseconds now) noexcept {
@@ -217,5 +226,31 @@ class Esc final : public Pdi {
   // AL control written by ECAT and not yet read by the PDI (Section II 0x0120).
   bool al_control_pending_ = false;
 };
+
+// SyncManager interrupts (Section II 0x0210/0x0220).
+// Each request register is read and written once (clear, then raise).
+inline void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
+  std::uint8_t* m = mem_.get();
+  if (sig.clear_al || sig.raise_al) {
+    const std::uint32_t al = 1u << (bits::kAlEventSmShift + n);
+    std::uint32_t v = load_le<std::uint32_t>(m + reg::kAlEventRequest);
+    if (sig.clear_al) v &= ~al;
+    if (sig.raise_al) v |= al;
+    store_le(m + reg::kAlEventRequest, v);
+  }
+  if ((sig.clear_ecat || sig.raise_ecat) && n < bits::kEcatEventSmCount) {
+    const auto ecat = static_cast<std::uint16_t>(1u << (bits::kEcatEventSmShift + n));
+    auto v = load_le<std::uint16_t>(m + reg::kEcatEventRequest);
+    if (sig.clear_ecat) v = static_cast<std::uint16_t>(v & ~ecat);
+    if (sig.raise_ecat) v = static_cast<std::uint16_t>(v | ecat);
+    store_le(m + reg::kEcatEventRequest, v);
+  }
+  if (sig.watchdog_trigger) {
+    watchdogs_.trigger_process_data(now_, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
+                                    load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
+    mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
+    refresh_timers();
+  }
+}
 
 }  // namespace ecat::esc

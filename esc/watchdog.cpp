@@ -6,27 +6,23 @@
 namespace ecat::esc {
 
 void Watchdogs::reset() noexcept {
-  pd_deadline_.reset();
-  pdi_deadline_.reset();
+  pd_deadline_ = kNever;
+  pdi_deadline_ = kNever;
 }
 
 void Watchdogs::trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
-  if (time == 0) {
-    pdi_deadline_.reset();
-  } else {
-    pdi_deadline_ = now + timeout(divider, time);
-  }
+  pdi_deadline_ = time == 0 ? kNever : now + timeout(divider, time);
 }
 
 Watchdogs::Expired Watchdogs::check(Nanoseconds now) noexcept {
   Expired e;
-  if (pd_deadline_ && now >= *pd_deadline_) {
+  if (pd_deadline_ != kNever && now >= pd_deadline_) {
     e.process_data = true;
-    pd_deadline_.reset();  // expires once; the next trigger re-arms it
+    pd_deadline_ = kNever;  // expires once; the next trigger re-arms it
   }
-  if (pdi_deadline_ && now >= *pdi_deadline_) {
+  if (pdi_deadline_ != kNever && now >= pdi_deadline_) {
     e.pdi = true;
-    pdi_deadline_.reset();
+    pdi_deadline_ = kNever;
   }
   return e;
 }

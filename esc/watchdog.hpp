@@ -28,11 +28,7 @@ class Watchdogs {
   void reset() noexcept;
   // Restart on a trigger at `now` with the current register values.
   void trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
-    if (time == 0) {
-      pd_deadline_.reset();  // 0 = disabled
-    } else {
-      pd_deadline_ = now + timeout(divider, time);
-    }
+    pd_deadline_ = time == 0 ? kNever : now + timeout(divider, time);  // 0 = disabled
   }
   void trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept;
 
@@ -43,13 +39,19 @@ class Watchdogs {
   // Reports (once each) the watchdogs that expired by `now`.
   Expired check(Nanoseconds now) noexcept;
   std::optional<Nanoseconds> next_deadline() const noexcept {
-    if (pd_deadline_ && pdi_deadline_) return pd_deadline_ < pdi_deadline_ ? pd_deadline_ : pdi_deadline_;
-    return pd_deadline_ ? pd_deadline_ : pdi_deadline_;
+    const Nanoseconds t = earliest();
+    if (t == kNever) return std::nullopt;
+    return t;
   }
+  // The same as one compare: Nanoseconds::max() when neither is armed.
+  Nanoseconds earliest() const noexcept { return pd_deadline_ < pdi_deadline_ ? pd_deadline_ : pdi_deadline_; }
 
  private:
-  std::optional<Nanoseconds> pd_deadline_;
-  std::optional<Nanoseconds> pdi_deadline_;
+  // Deadlines stored as plain times (no std::optional on the per-frame
+  // path); kNever = not armed.
+  static constexpr Nanoseconds kNever = Nanoseconds::max();
+  Nanoseconds pd_deadline_ = kNever;
+  Nanoseconds pdi_deadline_ = kNever;
 };
 
 }  // namespace ecat::esc

@@ -124,6 +124,39 @@ TEST(EscFastPath, MixedRegisterRanges) {
   }
 }
 
+// The inline ECAT register read of the datagram engine (FPRD/APRD/FRMW):
+// every length from 1 to 40 bytes (both sides of its 16-byte scan limit)
+// starting on and around the bytes with read effects, with AL status and DL
+// status changes pending so their acknowledges show; also reads that end in
+// or start past the DC block and the last register bytes before the RAM.
+TEST(EscFastPath, EcatRegisterReadsOfEveryLength) {
+  Twin t;
+  constexpr std::uint16_t kStarts[] = {0x0108, 0x0110, 0x0111, 0x012F, 0x0130, 0x0131, 0x0200,
+                                       0x020F, 0x0210, 0x0211, 0x021F, 0x0220, 0x0440, 0x07F8,
+                                       0x08F0, 0x08FF, 0x09FE, 0x0A00, 0x0FF0, 0x0FFF};
+  constexpr std::uint16_t kMaxLength = 40;
+  t.frame([](TestFrame& f) {
+    for (std::uint16_t i = 0; i < kSlaves; ++i) {
+      f.add(Command::Apwr, ap(i, reg::kConfiguredStationAddress), le16(static_cast<std::uint16_t>(kFirstStation + i)));
+    }
+  });
+  std::uint8_t state = 0x01;
+  for (const std::uint16_t start : kStarts) {
+    for (std::uint16_t n = 1; n <= kMaxLength; ++n) {
+      SCOPED_TRACE(testing::Message() << "read 0x" << std::hex << start << std::dec << " + " << n);
+      // A PDI write of another AL status: ECAT event bit 3 pending again.
+      state = static_cast<std::uint8_t>(state == 0x01 ? 0x02 : 0x01);
+      t.pdi_write(0, reg::kAlStatus, Data{state});
+      t.frame([&](TestFrame& f) {
+        f.add(Command::Fprd, device_address(kFirstStation, start), n);
+        f.add(Command::Frmw, device_address(kFirstStation + 1, start), n);
+        f.add(Command::Fprd, device_address(kFirstStation, reg::kEcatEventRequest), 2);
+      });
+      ASSERT_NO_FATAL_FAILURE(t.expect_same("ECAT register read"));
+    }
+  }
+}
+
 // Plain register bytes become protected when 0x0021 is set and writable
 // again for the rest of a frame after 0x0020 (Section I §13).
 TEST(EscFastPath, WriteProtectionInsideOneDatagram) {
