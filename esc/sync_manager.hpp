@@ -6,7 +6,9 @@
 // live in the ESC memory; this object keeps the buffer state behind them.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "common/le.hpp"
@@ -101,5 +103,129 @@ class SyncManager {
   bool read_open_ = false;
   bool write_open_ = false;
 };
+
+// The buffer rules below are inline: they run for every SM access of a
+// frame (issue 8), and inlined into the FMMU route they cost no call.
+inline std::uint32_t SyncManager::physical(std::uint8_t buffer, std::uint16_t address) const noexcept {
+  return static_cast<std::uint32_t>(address) + static_cast<std::uint32_t>(buffer) * length();
+}
+
+inline void SyncManager::set_status_bits(std::uint8_t set, std::uint8_t clear) noexcept {
+  regs_[reg::sm::kStatus] = static_cast<std::uint8_t>((regs_[reg::sm::kStatus] & ~clear) | set);
+}
+
+namespace sm_detail {
+inline constexpr unsigned kBufferIndexSum = 0 + 1 + 2;  // the three buffers of buffered mode
+
+// Copies, clipped at the end of ESC memory (bytes past it read as 0 / are dropped).
+inline void copy_out(const std::uint8_t* mem, std::uint32_t mem_end, std::uint32_t at, std::span<std::uint8_t> out) {
+  std::size_t n = at >= mem_end ? 0 : std::min<std::size_t>(out.size(), mem_end - at);
+  if (n) std::memcpy(out.data(), mem + at, n);
+  if (n < out.size()) std::memset(out.data() + n, 0, out.size() - n);
+}
+inline void copy_in(std::uint8_t* mem, std::uint32_t mem_end, std::uint32_t at, std::span<const std::uint8_t> in) {
+  std::size_t n = at >= mem_end ? 0 : std::min<std::size_t>(in.size(), mem_end - at);
+  if (n) std::memcpy(mem + at, in.data(), n);
+}
+
+// The interrupt for the other side, when `side` completed a buffer.
+inline void signal_other_side(Side side, std::uint8_t control, SmSignals& sig) {
+  if (side == Side::Ecat) {
+    sig.raise_al = (control & sm_bits::kAlEventEnable) != 0;
+  } else {
+    sig.raise_ecat = (control & sm_bits::kEcatEventEnable) != 0;
+  }
+}
+
+// An access to the buffer acknowledges that side's pending interrupt.
+inline void acknowledge(Side side, SmSignals& sig) {
+  if (side == Side::Ecat) {
+    sig.clear_ecat = true;
+  } else {
+    sig.clear_al = true;
+  }
+}
+
+}  // namespace sm_detail
+
+inline bool SyncManager::read(Side side, std::uint16_t address, std::span<std::uint8_t> out, SmSignals& sig) noexcept {
+  // The writing side cannot read the buffer; a deactivated SM blocks both.
+  if (pdi_deactivated() || writer(side) || out.empty()) return false;
+  const bool first = address == start();
+  const bool last = static_cast<std::uint32_t>(address) + out.size() == end();
+  const std::uint8_t ctl = control();
+  if ((ctl & sm_bits::kModeMask) != sm_bits::kModeMailbox) {
+    // Buffered: the reader takes the latest complete buffer when it opens
+    // one. The status byte is updated once (same result as bit by bit).
+    std::uint8_t status = regs_[reg::sm::kStatus];
+    if (first || !read_open_) {
+      if (latest_ != sm_bits::kNoBufferWritten) read_buffer_ = latest_;
+      read_open_ = true;
+      sm_detail::acknowledge(side, sig);
+      status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusWriteEvent) | sm_bits::kStatusReadBufferOpen);
+    }
+    sm_detail::copy_out(mem_, mem_end_, physical(read_buffer_, address), out);
+    if (last) {
+      read_open_ = false;
+      status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadBufferOpen) | sm_bits::kStatusReadEvent);
+      sm_detail::signal_other_side(side, ctl, sig);
+    }
+    regs_[reg::sm::kStatus] = status;
+    return true;
+  }
+  if (!full_) return false;  // empty mailbox: no data, no WKC (Section I §8.2)
+  sm_detail::copy_out(mem_, mem_end_, address, out);
+  sm_detail::acknowledge(side, sig);
+  set_status_bits(sm_bits::kStatusReadBufferOpen, sm_bits::kStatusWriteEvent);
+  if (last) {
+    full_ = false;
+    set_status_bits(sm_bits::kStatusReadEvent, sm_bits::kStatusMailboxFull | sm_bits::kStatusReadBufferOpen);
+    sm_detail::signal_other_side(side, ctl, sig);
+  }
+  return true;
+}
+
+inline bool SyncManager::write(Side side, std::uint16_t address, std::span<const std::uint8_t> in, SmSignals& sig) noexcept {
+  if (pdi_deactivated() || !writer(side) || in.empty()) return false;
+  const bool first = address == start();
+  const bool last = static_cast<std::uint32_t>(address) + in.size() == end();
+  const std::uint8_t ctl = control();
+  const bool wd = side == Side::Ecat && (ctl & sm_bits::kWatchdogTrigger) != 0;
+  if ((ctl & sm_bits::kModeMask) != sm_bits::kModeMailbox) {
+    // Buffered; the status byte is updated once (same result as bit by bit).
+    std::uint8_t status = regs_[reg::sm::kStatus];
+    if (first || !write_open_) {
+      write_open_ = true;
+      sm_detail::acknowledge(side, sig);
+      status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadEvent) | sm_bits::kStatusWriteBufferOpen);
+    }
+    sm_detail::copy_in(mem_, mem_end_, physical(write_buffer_, address), in);
+    if (last) {
+      // Exchange: the written buffer becomes the latest; the writer continues
+      // with the buffer neither the reader holds nor the latest is in.
+      latest_ = write_buffer_;
+      write_buffer_ = static_cast<std::uint8_t>(sm_detail::kBufferIndexSum - latest_ - read_buffer_);
+      if (latest_ == read_buffer_) write_buffer_ = latest_ == 2 ? 1 : 2;
+      write_open_ = false;
+      status = static_cast<std::uint8_t>((status & ~(sm_bits::kStatusBufferMask | sm_bits::kStatusWriteBufferOpen)) |
+                                         (latest_ << sm_bits::kStatusBufferShift) | sm_bits::kStatusWriteEvent);
+      sm_detail::signal_other_side(side, ctl, sig);
+      sig.watchdog_trigger = wd;
+    }
+    regs_[reg::sm::kStatus] = status;
+    return true;
+  }
+  if (full_) return false;  // full mailbox: not written, no WKC (Section I §8.2)
+  sm_detail::copy_in(mem_, mem_end_, address, in);
+  sm_detail::acknowledge(side, sig);
+  set_status_bits(sm_bits::kStatusWriteBufferOpen, sm_bits::kStatusReadEvent);
+  if (last) {
+    full_ = true;
+    set_status_bits(sm_bits::kStatusMailboxFull | sm_bits::kStatusWriteEvent, sm_bits::kStatusWriteBufferOpen);
+    sm_detail::signal_other_side(side, ctl, sig);
+    sig.watchdog_trigger = wd;
+  }
+  return true;
+}
 
 }  // namespace ecat::esc
