@@ -19,16 +19,6 @@ void SyncManager::bind(std::uint8_t* regs, std::uint8_t* memory, std::uint32_t m
   reset_state();
 }
 
-bool SyncManager::mailbox() const noexcept { return (control() & kModeMask) == kModeMailbox; }
-bool SyncManager::ecat_writes() const noexcept { return (control() & kDirectionMask) == kDirectionWrite; }
-bool SyncManager::enabled() const noexcept {
-  return (regs_[reg::sm::kActivate] & kActivateEnable) != 0 && length() >= kMinActiveLength;
-}
-bool SyncManager::pdi_deactivated() const noexcept { return (regs_[reg::sm::kPdiControl] & kPdiDeactivate) != 0; }
-bool SyncManager::covers(std::uint32_t address) const noexcept {
-  return enabled() && address >= start() && address < end();
-}
-
 void SyncManager::reset_state() noexcept {
   full_ = false;
   read_buffer_ = 0;

@@ -69,13 +69,17 @@ class SyncManager {
   std::uint16_t start() const noexcept { return load_le<std::uint16_t>(regs_ + reg::sm::kStartAddress); }
   std::uint16_t length() const noexcept { return load_le<std::uint16_t>(regs_ + reg::sm::kLength); }
   std::uint8_t control() const noexcept { return regs_[reg::sm::kControl]; }
-  bool mailbox() const noexcept;
+  bool mailbox() const noexcept { return (control() & sm_bits::kModeMask) == sm_bits::kModeMailbox; }
   // True for master->slave buffers (ECAT writes, PDI reads).
-  bool ecat_writes() const noexcept;
+  bool ecat_writes() const noexcept {
+    return (control() & sm_bits::kDirectionMask) == sm_bits::kDirectionWrite;
+  }
   // Enabled by ECAT (0x0806 bit 0), length >= 2: guards its buffer area.
-  bool enabled() const noexcept;
-  bool pdi_deactivated() const noexcept;
-  bool covers(std::uint32_t address) const noexcept;
+  bool enabled() const noexcept {
+    return (regs_[reg::sm::kActivate] & sm_bits::kActivateEnable) != 0 && length() >= sm_bits::kMinActiveLength;
+  }
+  bool pdi_deactivated() const noexcept { return (regs_[reg::sm::kPdiControl] & sm_bits::kPdiDeactivate) != 0; }
+  bool covers(std::uint32_t address) const noexcept { return enabled() && address >= start() && address < end(); }
   std::uint32_t end() const noexcept { return static_cast<std::uint32_t>(start()) + length(); }
   bool mailbox_full() const noexcept { return full_; }
 
