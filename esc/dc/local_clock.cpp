@@ -2,11 +2,23 @@
 #include "esc/dc/local_clock.hpp"
 
 #include <cmath>
+#include <cstdint>
 
 namespace ecat::esc {
 namespace {
 constexpr double kPerPpm = 1e-6;
+// Farthest a when() answer may lie from the anchor (~127 years in ns): well
+// inside int64 nanoseconds, so at() stays exact around it. A local time
+// beyond it (a start time written ~2^63 ns away, e.g. a corrupted 0x0990)
+// is "never" in the future or "long ago" in the past.
+constexpr std::int64_t kHorizon = std::int64_t{4'000'000'000'000'000'000};
+
+std::int64_t saturating_add(std::int64_t a, std::int64_t b) noexcept {
+  std::int64_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) return b > 0 ? INT64_MAX : INT64_MIN;
+  return r;
 }
+}  // namespace
 
 LocalClock::LocalClock(double ppm, std::uint64_t start) noexcept { reset(ppm, start); }
 
@@ -28,7 +40,11 @@ std::uint64_t LocalClock::at(Nanoseconds t) const noexcept {
 
 Nanoseconds LocalClock::when(std::uint64_t local) const noexcept {
   const auto delta = static_cast<double>(static_cast<std::int64_t>(local - anchor_local_)) - anchor_frac_;
-  auto t = anchor_t_ + static_cast<std::int64_t>(std::ceil(delta / rate()));
+  const double steps = std::ceil(delta / rate());
+  if (!(std::fabs(steps) < static_cast<double>(kHorizon))) {
+    return Nanoseconds{saturating_add(anchor_t_, steps > 0 ? kHorizon : -kHorizon)};
+  }
+  auto t = anchor_t_ + static_cast<std::int64_t>(steps);
   // Rounding of the division may leave us one ns short or long.
   while (at(Nanoseconds{t}) < local) ++t;
   while (at(Nanoseconds{t - 1}) >= local) --t;

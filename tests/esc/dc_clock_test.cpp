@@ -113,5 +113,17 @@ TEST_F(DcUnitTest, LoopSlowsAClockThatIsAhead) {
   EXPECT_LT(speed, -10);
 }
 
+// A local time ~2^63 ns away (fuzz finding: a start time far from the local
+// clock) is answered at the horizon instead of overflowing int64 time.
+TEST(LocalClock, WhenFarAwayStaysInRange) {
+  LocalClock c(0.0, 0);
+  // Local time is modular: 2^63-1 ahead is the future, 2^63 ahead the past.
+  const Nanoseconds future = c.when((std::uint64_t{1} << 63) - 1);
+  EXPECT_GT(future.count(), std::int64_t{3'000'000'000'000'000'000});
+  const Nanoseconds past = c.when(std::uint64_t{1} << 63);
+  EXPECT_LT(past.count(), std::int64_t{-3'000'000'000'000'000'000});
+  EXPECT_EQ(c.when(1000).count(), 1000);
+}
+
 }  // namespace
 }  // namespace ecat::esc::test
