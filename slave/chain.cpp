@@ -19,6 +19,12 @@ Expected<void, std::string> Chain::add(od::DeviceDescription device, const Slave
 }
 
 bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+  const bool returned = pass_frame(frame, now);
+  run_firmware(now);
+  return returned;
+}
+
+bool Chain::pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
   ++stats_.frames_received;
   const bool returned = segment_.process_frame(frame, now);
   if (returned) {
@@ -29,11 +35,14 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
   } else {
     ++stats_.frames_lost;
   }
+  return returned;
+}
+
+void Chain::run_firmware(Nanoseconds now) noexcept {
   // The firmware of a slave reacts to what the frame left behind when its
   // ESC raised the IRQ (or it has work due), as its interrupt handler would
   // within microseconds; the others stay asleep.
   for (auto& s : slaves_) s->after_frame(now);
-  return returned;
 }
 
 void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {

@@ -33,6 +33,12 @@ class Chain {
   // place, then lets each slave's firmware react. Returns true when the frame
   // comes back to the master (send it), false when it is malformed or lost.
   bool process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept;
+  // process_frame in two halves, for a live wire: pass_frame() is what the
+  // ESCs do while the frame streams through (send the frame as soon as it
+  // returns true), run_firmware() is each slave's interrupt handler that
+  // runs afterwards on the µC, off the frame's round trip.
+  bool pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept;
+  void run_firmware(Nanoseconds now) noexcept;
 
   // Timers and firmware of every slave; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;

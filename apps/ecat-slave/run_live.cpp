@@ -109,11 +109,14 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     auto n = t.receive(buffer, wait);
     if (n) {
       std::span<std::uint8_t> frame(buffer.data(), *n);
-      if (line.process_frame(frame, clock.now())) {
+      // The frame goes back as soon as the ESCs are done with it; the
+      // firmware reacts afterwards, as a µC behind a real ESC does.
+      if (line.pass_frame(frame, clock.now())) {
         if (auto s = t.send(frame); !s && !o.quiet) {
           std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
         }
       }
+      line.run_firmware(clock.now());
     } else if (n.error() != transport::TransportError::Timeout &&
                n.error() != transport::TransportError::BufferTooSmall) {
       std::fprintf(stderr, "ecat-slave: receive failed: %s\n", std::string(transport::describe(n.error())).c_str());

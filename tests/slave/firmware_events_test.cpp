@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 
+#include "common/frame_builder.hpp"
 #include "common/le.hpp"
 #include "esc/registers.hpp"
 #include "slave/firmware.hpp"
@@ -27,6 +28,7 @@ constexpr std::uint32_t kSm2 = 1u << 10;
 constexpr std::uint32_t kSync0 = 1u << 2;
 constexpr std::uint32_t kAlwaysHandled = kAlControl | kSmActivation | kWatchdog | kSm0 | kSm1;
 constexpr std::uint16_t kAlStatePreOp = 2;
+constexpr std::uint16_t kAlStateOp = 8;
 constexpr std::uint16_t kEscResetEcat = 0x0040;
 constexpr std::array<std::uint8_t, 3> kResetSequence{'R', 'E', 'S'};
 
@@ -99,6 +101,31 @@ TEST(FirmwareEvents, AlControlIsServedOnTheFrameThatWritesIt) {
   EXPECT_EQ(polls(p.chain[1]), before1);
   // PreOp waits for nothing cyclic: the mask is back to the base set.
   EXPECT_EQ(mask_in_esc(p.chain[0]), kAlwaysHandled);
+}
+
+// Chain::pass_frame is the ESCs' part only (what a live wire sends back at
+// once); the firmware answers the AL control request in run_firmware().
+TEST(FirmwareEvents, PassFrameLeavesTheFirmwareToRunFirmware) {
+  InProcess p;
+  p.add_default(1);
+  ASSERT_EQ(p.bring_up(), "");
+  clear_deadlines(p, std::chrono::microseconds(100));
+  std::array<std::uint8_t, kMinEthernetFrame> buffer{};
+  FrameBuilder b(buffer, kBroadcastMac, MacAddress{0x02, 0, 0, 0, 0, 1});
+  std::array<std::uint8_t, 2> pre_op{};
+  store_le(pre_op.data(), kAlStatePreOp);
+  const auto at = b.append(Command::Fpwr, 0, device_address(p.master.slave(0).station_address, esc::reg::kAlControl),
+                           pre_op);
+  ASSERT_TRUE(at);
+  auto frame = b.finish();
+  const std::uint64_t before = polls(p.chain[0]);
+  ASSERT_TRUE(p.chain.pass_frame(frame, p.clock.now()));
+  EXPECT_EQ(load_le<std::uint16_t>(frame.data() + *at + kDatagramHeaderSize + pre_op.size()), 1u);  // WKC
+  EXPECT_EQ(polls(p.chain[0]), before);
+  EXPECT_EQ(p.chain[0].esc().register_u16(esc::reg::kAlStatus), kAlStateOp);
+  p.chain.run_firmware(p.clock.now());
+  EXPECT_EQ(polls(p.chain[0]), before + 1);
+  EXPECT_EQ(p.chain[0].esc().register_u16(esc::reg::kAlStatus), kAlStatePreOp);
 }
 
 TEST(FirmwareEvents, MaskIsRestoredAfterAnEscReset) {
