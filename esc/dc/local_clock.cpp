@@ -45,9 +45,14 @@ Nanoseconds LocalClock::when(std::uint64_t local) const noexcept {
     return Nanoseconds{saturating_add(anchor_t_, steps > 0 ? kHorizon : -kHorizon)};
   }
   auto t = anchor_t_ + static_cast<std::int64_t>(steps);
-  // Rounding of the division may leave us one ns short or long.
-  while (at(Nanoseconds{t}) < local) ++t;
-  while (at(Nanoseconds{t - 1}) >= local) --t;
+  // Rounding of the division may leave us one ns short or long. Local time
+  // is a 64-bit counter that wraps (Section I §9: system time), so "before"
+  // is a signed difference, not an unsigned compare.
+  const auto before = [&](std::int64_t when_t) {
+    return static_cast<std::int64_t>(at(Nanoseconds{when_t}) - local) < 0;
+  };
+  while (before(t)) ++t;
+  while (!before(t - 1)) --t;
   return Nanoseconds{t};
 }
 

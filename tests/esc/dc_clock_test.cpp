@@ -125,5 +125,15 @@ TEST(LocalClock, WhenFarAwayStaysInRange) {
   EXPECT_EQ(c.when(1000).count(), 1000);
 }
 
+// The local clock wraps at 2^64 (fuzz finding: a start time just past the
+// wrap made when() walk backwards forever): 150 ns after a clock that
+// started 100 ns before the wrap is local time 50.
+TEST(LocalClock, WhenAcrossTheWrap) {
+  LocalClock c(0.0, ~std::uint64_t{0} - 99);
+  EXPECT_EQ(c.at(Nanoseconds{150}), 50u);
+  EXPECT_EQ(c.when(50).count(), 150);
+  EXPECT_EQ(c.when(~std::uint64_t{0}).count(), 99);
+}
+
 }  // namespace
 }  // namespace ecat::esc::test
