@@ -9,8 +9,9 @@
 //  - moves the next queued reply into SM1 when it is empty;
 //  - reads a full SM0, checks the header and hands the payload to the
 //    service registered for its type; a request with the same non-zero
-//    counter as the previous one is a repeat: not executed again, its reply
-//    is sent again.
+//    counter as the previous one is a repeat: dropped, neither executed
+//    nor answered again (ETG.1000.4 mailbox counter; a lost reply is
+//    recovered by the SM1 repeat request below).
 // Replies wait in a fixed-capacity FIFO; while it is full SM0 is not read,
 // so the master's next write is refused by the ESC instead of a reply being
 // dropped. Unsolicited messages (emergencies) wait in their own FIFO and go
