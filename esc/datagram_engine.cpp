@@ -10,6 +10,7 @@
 #include "esc/esc.hpp"
 #include "esc/register_map.hpp"
 #include "esc/registers.hpp"
+#include "esc/small_copy.hpp"
 
 namespace ecat::esc {
 
@@ -17,17 +18,6 @@ namespace {
 
 // Scratch for one datagram's data (11-bit length), on the stack: no heap.
 using Scratch = std::array<std::uint8_t, kFrameLengthMask + 1>;
-
-// Register reads are mostly 1, 2, 4 or 8 bytes: copy those as one move.
-inline void copy_small(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) noexcept {
-  switch (n) {
-    case 1: dst[0] = src[0]; break;
-    case 2: std::memcpy(dst, src, 2); break;
-    case 4: std::memcpy(dst, src, 4); break;
-    case 8: std::memcpy(dst, src, 8); break;
-    default: std::memcpy(dst, src, n); break;
-  }
-}
 
 constexpr std::uint16_t kWkcRead = 1;
 constexpr std::uint16_t kWkcWrite = 1;

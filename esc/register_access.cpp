@@ -10,6 +10,7 @@
 #include "esc/register_map.hpp"
 #include "esc/register_masks.hpp"
 #include "esc/registers.hpp"
+#include "esc/small_copy.hpp"
 
 namespace ecat::esc {
 
@@ -18,18 +19,6 @@ using namespace reg_layout;
 namespace {
 
 bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { return a >= first && a < end; }
-
-// Register accesses are mostly 1, 2, 4 or 8 bytes: copy those inline
-// instead of through a library call.
-void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) noexcept {
-  switch (n) {
-    case 1: dst[0] = src[0]; break;
-    case 2: std::memcpy(dst, src, 2); break;
-    case 4: std::memcpy(dst, src, 4); break;
-    case 8: std::memcpy(dst, src, 8); break;
-    default: std::memcpy(dst, src, n); break;
-  }
-}
 
 }  // namespace
 
@@ -45,7 +34,7 @@ bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
     return reg_read_checked(address, out, side);
   }
   const std::uint8_t effect = register_map::read_effect_flag(side);
-  copy_bytes(out.data(), mem_.get() + address, out.size());
+  copy_small(out.data(), mem_.get() + address, out.size());
   if (register_map::any_in(address, out.size(), effect)) {
     for (std::size_t i = 0; i < out.size(); ++i) {
       const auto a = static_cast<std::uint16_t>(address + i);
@@ -129,7 +118,7 @@ bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_byte
   if (in_bytes.empty()) return false;
   const bool checked = !config_.fast_paths || (side == Side::Ecat && write_protection_active());
   if (!checked && register_map::all_in(address, in_bytes.size(), register_map::write_plain_flag(side))) {
-    copy_bytes(mem_.get() + address, in_bytes.data(), in_bytes.size());
+    copy_small(mem_.get() + address, in_bytes.data(), in_bytes.size());
     return true;
   }
   return reg_write_checked(address, in_bytes, side, checked);
