@@ -7,6 +7,7 @@
 #include <array>
 #include <cstring>
 
+#include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
 #include "esc/register_map.hpp"
 #include "esc/registers.hpp"
@@ -15,13 +16,6 @@
 namespace ecat::esc {
 
 namespace {
-
-// Scratch for one datagram's data (11-bit length), on the stack: no heap.
-using Scratch = std::array<std::uint8_t, kFrameLengthMask + 1>;
-
-constexpr std::uint16_t kWkcRead = 1;
-constexpr std::uint16_t kWkcWrite = 1;
-constexpr std::uint16_t kWkcReadWriteWrite = 2;  // the write part of an xRW
 
 // What each command code does (ETG.1000.4 §5.4, Table 5), looked up once per
 // datagram instead of several switches. Codes are <= kLastCommand in a
@@ -152,9 +146,9 @@ void Esc::ecat_read_effects(std::uint16_t address, Bytes out) noexcept {
   if (traits.read_write) {
     // Read first (data returned is the memory before the write), then write
     // the incoming data.
-    Scratch incoming;
+    DatagramScratch incoming;
     std::memcpy(incoming.data(), data.data(), data.size());
-    Scratch result;
+    DatagramScratch result;
     std::memset(result.data(), 0, data.size());
     if (mem_read(ado, std::span(result.data(), data.size()), Side::Ecat)) {
       wkc = static_cast<std::uint16_t>(wkc + kWkcRead);
@@ -168,7 +162,7 @@ void Esc::ecat_read_effects(std::uint16_t address, Bytes out) noexcept {
   } else if (traits.reads) {
     if (broadcast) {
       // BRD: the data of all slaves ORed together.
-      Scratch result;
+      DatagramScratch result;
       std::memset(result.data(), 0, data.size());
       if (mem_read(ado, std::span(result.data(), data.size()), Side::Ecat)) {
         wkc = kWkcRead;

@@ -9,19 +9,13 @@
 #include <bit>
 #include <cstring>
 
+#include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::esc {
 
 namespace {
-
-// Scratch for one datagram's data (11-bit length), on the stack: no heap.
-using Scratch = std::array<std::uint8_t, kFrameLengthMask + 1>;
-
-constexpr std::uint16_t kWkcRead = 1;
-constexpr std::uint16_t kWkcWrite = 1;
-constexpr std::uint16_t kWkcReadWriteWrite = 2;  // the write part of an LRW
 
 bool get_bit(const std::uint8_t* p, std::uint64_t bit) noexcept { return (p[bit / 8] >> (bit % 8)) & 1u; }
 void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
@@ -184,7 +178,7 @@ std::uint16_t Esc::process_logical_bits(DatagramView d) noexcept {
   // LRW writes the data as it arrived while reads replace it: keep the
   // bytes the writes need when a read lands on them. `wsrc[i - origin]` is
   // incoming byte i.
-  Scratch incoming;
+  DatagramScratch incoming;
   const std::uint8_t* wsrc = data.data();
   std::size_t origin = 0;
   if (cmd == Command::Lrw && wlo < whi && rlo < whi && wlo < rhi) {
@@ -194,7 +188,7 @@ std::uint16_t Esc::process_logical_bits(DatagramView d) noexcept {
   }
   bool read_hit = false;
   bool write_hit = false;
-  Scratch phys;
+  DatagramScratch phys;
   // Two passes: all reads, then all writes, so a byte read and written by
   // the same LRW returns its old value.
   for (int pass = 0; pass < 2; ++pass) {
