@@ -30,8 +30,7 @@ MailboxServer::MailboxServer(esc::Pdi& pdi, std::size_t max_mailbox_bytes, std::
       unsolicited_(std::max<std::size_t>(queue_capacity, 1), max_mailbox_bytes),
       request_(max_mailbox_bytes),
       reply_(max_mailbox_bytes),
-      sm1_image_(max_mailbox_bytes),
-      last_reply_(max_mailbox_bytes) {
+      sm1_image_(max_mailbox_bytes) {
   written_[0].resize(max_mailbox_bytes);
   written_[1].resize(max_mailbox_bytes);
 }
@@ -72,7 +71,6 @@ void MailboxServer::close() noexcept {
   unsolicited_.clear();
   continuing_ = nullptr;
   last_request_counter_ = 0;
-  last_reply_length_ = 0;
   have_written_[0] = have_written_[1] = false;
   for (std::size_t i = 0; i < service_count_; ++i) services_[i]->reset();
 }
@@ -238,8 +236,6 @@ void MailboxServer::queue_reply(MailboxType type, std::size_t payload_length) no
   h.counter = reply_counter_;
   h.pack({reply_.data(), MailboxHeader::kSize});
   const std::size_t length = MailboxHeader::kSize + payload_length;
-  std::memcpy(last_reply_.data(), reply_.data(), length);
-  last_reply_length_ = length;
   (void)queue_.push_back({reply_.data(), length});
 }
 

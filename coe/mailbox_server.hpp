@@ -109,8 +109,6 @@ class MailboxServer {
   std::vector<std::uint8_t> request_;     // SM0 image
   std::vector<std::uint8_t> reply_;       // reply being built
   std::vector<std::uint8_t> sm1_image_;   // what is written to SM1 (padded)
-  std::vector<std::uint8_t> last_reply_;  // last direct reply, for counter repeats
-  std::size_t last_reply_length_ = 0;
   // The last two frames written into SM1, for the repeat protocol.
   std::vector<std::uint8_t> written_[2];
   std::size_t written_length_[2] = {0, 0};
