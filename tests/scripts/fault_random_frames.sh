@@ -10,9 +10,9 @@
 #     must not crash; afterwards a new master scans it and reaches Op cleanly.
 #     The fuzz ends with one frame that switches the ESC write protection
 #     (0x0020/0x0021, 0x0030/0x0031) off again: random writes switch it on
-#     (about once in 10^6 frames), a real ESC keeps it until reset, and
-#     ecat-master does not clear it, so its scan would fail (APWR 0x0010
-#     refused, "unexpected working counter").
+#     (about once in 10^6 frames) and a real ESC keeps it until reset.
+#     ecat-master's scan clears it too now; the fuzz clears it itself so
+#     that this script does not depend on the master doing so.
 # Usage: fault_random_frames.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
 src=${1:?srcdir}
