@@ -47,6 +47,7 @@ void ObjectStore::load_default(Slot& s) noexcept {
 }
 
 void ObjectStore::reset_to_defaults() noexcept {
+  ++generation_;
   for (Slot& s : slots_) load_default(s);
 }
 
@@ -100,6 +101,7 @@ Expected<void, SdoAbort> ObjectStore::assign(Slot& s, ConstBytes data) noexcept 
   if (data.size() > s.capacity) return fail(SdoAbort::LengthTooHigh);
   if (!s.variable() && data.size() < s.capacity) return fail(SdoAbort::LengthTooLow);
   std::uint8_t* p = buffer_.data() + s.offset;
+  ++generation_;
   if (!data.empty()) std::memcpy(p, data.data(), data.size());
   if (s.variable()) {
     std::fill(p + data.size(), p + s.capacity, std::uint8_t{0});

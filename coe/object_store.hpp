@@ -66,7 +66,15 @@ class ObjectStore {
   ConstBytes value(const Slot& s) const noexcept { return {buffer_.data() + s.offset, s.length}; }
   ConstBytes value(std::uint16_t index, std::uint8_t subindex) const noexcept;
   // Writable view of the whole capacity (application-side fast path).
+  // Writes through it are not counted in generation(): its users are the
+  // cyclic copies (the RxPDO copy, the drive binding), which track their
+  // own entries.
   Bytes storage(Slot& s) noexcept { return {buffer_.data() + s.offset, s.capacity}; }
+  // Counts the writes through set/assign/write/reset_to_defaults: a value
+  // that did not change since a reader saw the same generation was written by
+  // none of them (issue 8: the drive binding copies the unmapped entries
+  // again only then).
+  std::uint64_t generation() const noexcept { return generation_; }
 
   // ---- application side -------------------------------------------------
   // Typed read of an integer/real entry (0 if missing). Narrow signed types
@@ -111,6 +119,7 @@ class ObjectStore {
     }
     std::uint8_t* p = buffer_.data() + s.offset;
     for (std::uint32_t i = 0; i < s.capacity && i < 8; ++i) p[i] = static_cast<std::uint8_t>(raw >> (8 * i));
+    ++generation_;
   }
   // Raw write of the wire bytes (no hooks, no range check). Fixed-size entries
   // need exactly their size; variable ones up to their capacity.
@@ -151,6 +160,7 @@ class ObjectStore {
   std::vector<Slot> slots_;           // sorted by (index, subindex)
   std::vector<ObjectRange> objects_;  // sorted by index
   std::uint32_t max_capacity_ = 0;
+  std::uint64_t generation_ = 0;
 };
 
 }  // namespace ecat::coe

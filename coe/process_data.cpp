@@ -6,34 +6,41 @@
 #include "coe/bit_copy.hpp"
 #include "coe/sm_bits.hpp"
 #include "esc/registers.hpp"
+#include "esc/small_copy.hpp"
 
 namespace ecat::coe {
 namespace {
 
 constexpr unsigned kBitsPerByte = 8;
 
-void copy_out(std::uint8_t* value, const std::uint8_t* image, const PdoItem& item) noexcept {
-  if (item.bit_offset == 0 && item.bits % kBitsPerByte == 0) {
-    std::memcpy(value, image + item.byte_offset, item.bits / kBitsPerByte);
-  } else {
-    get_bits(value, image, item.bit_position(), item.bits);
-  }
-}
-
-void copy_in(std::uint8_t* image, const std::uint8_t* value, const PdoItem& item) noexcept {
-  if (item.bit_offset == 0 && item.bits % kBitsPerByte == 0) {
-    std::memcpy(image + item.byte_offset, value, item.bits / kBitsPerByte);
-  } else {
-    put_bits(image, item.bit_position(), value, item.bits);
-  }
-}
-
 }  // namespace
 
 ProcessData::ProcessData(ObjectStore& store, PdoConfig& config)
     : store_(store),
       config_(config),
-      buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))) {}
+      buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))) {
+  out_plan_.copies.reserve(config.outputs().capacity());
+  in_plan_.copies.reserve(config.inputs().capacity());
+}
+
+const ProcessData::Plan& ProcessData::plan(const ProcessDataImage& image, Plan& p) noexcept {
+  if (p.generation == image.generation()) return p;
+  p.copies.clear();
+  for (const PdoItem& item : image.items()) {
+    if (!item.entry) continue;  // a gap
+    Copy c;
+    c.value = store_.storage(*item.entry).data();
+    c.byte_offset = item.byte_offset;
+    if (item.bit_offset == 0 && item.bits % kBitsPerByte == 0) {
+      c.bytes = static_cast<std::uint16_t>(item.bits / kBitsPerByte);
+    } else {
+      c.item = &item;
+    }
+    p.copies.push_back(c);  // within the reserved capacity: the image holds at most that many
+  }
+  p.generation = image.generation();
+  return p;
+}
 
 ProcessData::SmArea ProcessData::area(esc::Pdi& pdi, unsigned sm) noexcept {
   if (layout_loaded_) return areas_[sm == kOutputsSm ? 0 : 1];
@@ -54,8 +61,13 @@ void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
   const SmArea sm = area(pdi, kOutputsSm);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
   pdi.read(sm.start, {buffer_.data(), sm.length});
-  for (const PdoItem& item : image.items()) {
-    if (item.entry) copy_out(store_.storage(*item.entry).data(), buffer_.data(), item);
+  const std::uint8_t* buffer = buffer_.data();
+  for (const Copy& c : plan(image, out_plan_).copies) {
+    if (c.bytes != 0) {
+      esc::copy_small(c.value, buffer + c.byte_offset, c.bytes);
+    } else {
+      get_bits(c.value, buffer, c.item->bit_position(), c.item->bits);
+    }
   }
 }
 
@@ -64,8 +76,13 @@ void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
   const SmArea sm = area(pdi, kInputsSm);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
   std::fill(buffer_.begin(), buffer_.begin() + sm.length, std::uint8_t{0});
-  for (const PdoItem& item : image.items()) {
-    if (item.entry) copy_in(buffer_.data(), store_.value(*item.entry).data(), item);
+  std::uint8_t* buffer = buffer_.data();
+  for (const Copy& c : plan(image, in_plan_).copies) {
+    if (c.bytes != 0) {
+      esc::copy_small(buffer + c.byte_offset, c.value, c.bytes);
+    } else {
+      put_bits(buffer, c.item->bit_position(), c.value, c.item->bits);
+    }
   }
   pdi.write(sm.start, {buffer_.data(), sm.length});
 }

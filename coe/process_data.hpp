@@ -44,11 +44,29 @@ class ProcessData {
     bool enabled = false;
   };
   SmArea area(esc::Pdi& pdi, unsigned sm) noexcept;
+  // The copies of one image decoded once (issue 8): per mapped entry its
+  // value bytes and its place in the SM buffer; whole bytes are copied as
+  // such, other items bit by bit from their PdoItem. Rebuilt when the
+  // image's generation changes; sized for the image's capacity, so a rebuild
+  // does not allocate either.
+  struct Copy {
+    std::uint8_t* value = nullptr;
+    std::uint32_t byte_offset = 0;
+    std::uint16_t bytes = 0;            // 0: bit copy of *item
+    const PdoItem* item = nullptr;
+  };
+  struct Plan {
+    std::vector<Copy> copies;
+    std::uint64_t generation = ~std::uint64_t{0};
+  };
+  const Plan& plan(const ProcessDataImage& image, Plan& p) noexcept;
 
   ObjectStore& store_;
   PdoConfig& config_;
   std::vector<std::uint8_t> buffer_;
   std::array<SmArea, 2> areas_{};  // [0] SM2, [1] SM3, from load_layout()
+  Plan out_plan_;
+  Plan in_plan_;
   bool layout_loaded_ = false;
 };
 

@@ -27,23 +27,29 @@ class ProcessDataImage {
   void clear() noexcept {
     items_.clear();
     bits_ = 0;
+    ++generation_;
   }
   // False (and nothing added) when the capacity is reached.
   bool add(std::uint16_t bits, ObjectStore::Slot* entry) noexcept {
     if (items_.size() == capacity_) return false;
     items_.push_back({bits_ / 8u, static_cast<std::uint8_t>(bits_ % 8u), bits, entry});
     bits_ += bits;
+    ++generation_;
     return true;
   }
   std::span<const PdoItem> items() const noexcept { return items_; }
   std::uint32_t bit_length() const noexcept { return bits_; }
   std::uint32_t byte_length() const noexcept { return (bits_ + 7u) / 8u; }
   std::size_t capacity() const noexcept { return capacity_; }
+  // Changes with every clear()/add(): a copy plan made from the items stays
+  // valid while it is the same (coe::ProcessData).
+  std::uint64_t generation() const noexcept { return generation_; }
 
  private:
   std::vector<PdoItem> items_;
   std::size_t capacity_ = 0;
   std::uint32_t bits_ = 0;
+  std::uint64_t generation_ = 0;
 };
 
 }  // namespace ecat::coe

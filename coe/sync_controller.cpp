@@ -47,6 +47,13 @@ void SyncController::install() noexcept {
   }
   load_modes();
   cycle_slot_ = store_.slot(kSmOutputParameter, syncsub::kCycleTime);
+  // UNSIGNED32 as the dictionaries define it: its 4 value bytes are the
+  // value, read in place each free-run cycle (issue 8).
+  constexpr std::uint32_t kU32 = sizeof(std::uint32_t);
+  cycle_bytes_ = cycle_slot_ != nullptr && cycle_slot_->capacity == kU32 && cycle_slot_->length == kU32 &&
+                         !od::is_signed(cycle_slot_->entry->type)
+                     ? store_.value(*cycle_slot_).data()
+                     : nullptr;
 }
 
 void SyncController::load_modes() noexcept {
@@ -188,7 +195,9 @@ SyncPoll SyncController::poll(Nanoseconds now, std::uint32_t al_events) noexcept
 }
 
 Nanoseconds SyncController::cycle_time() noexcept {
-  const std::uint32_t written = cycle_slot_ != nullptr ? store_.get<std::uint32_t>(*cycle_slot_) : 0;
+  const std::uint32_t written = cycle_bytes_ != nullptr  ? load_le<std::uint32_t>(cycle_bytes_)
+                                : cycle_slot_ != nullptr ? store_.get<std::uint32_t>(*cycle_slot_)
+                                                         : 0;
   const Nanoseconds wanted = written != 0 ? Nanoseconds{written} : kDefaultFreeRunCycle;
   return std::max(wanted, Nanoseconds{limits_.min_cycle_time_ns});
 }

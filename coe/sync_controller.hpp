@@ -130,6 +130,7 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   Nanoseconds last_now_{0};
   std::uint32_t events_ = 0;  // AL event request of the current poll
   const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()
+  const std::uint8_t* cycle_bytes_ = nullptr;      // its value bytes when it is a plain UNSIGNED32
   std::optional<Nanoseconds> op_wait_start_;
 };
 

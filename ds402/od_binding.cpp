@@ -1,10 +1,13 @@
 #include "ds402/od_binding.hpp"
 
+#include <bit>
+#include <cstring>
 #include <tuple>
 #include <type_traits>
 
-#include "common/le.hpp"
 #include <utility>
+
+#include "common/le.hpp"
 
 namespace ecat::ds402 {
 
@@ -85,6 +88,15 @@ void store_field(std::uint8_t* p, T v) noexcept {
   store_le(p, static_cast<std::make_unsigned_t<T>>(v));
 }
 
+void copy_value(std::uint8_t* field, const std::uint8_t* bytes, std::uint8_t size) noexcept {
+  switch (size) {
+    case 1: *field = *bytes; break;
+    case 2: std::memcpy(field, bytes, 2); break;
+    case 4: std::memcpy(field, bytes, 4); break;
+    default: std::memcpy(field, bytes, 8); break;
+  }
+}
+
 constexpr std::uint16_t kErrorRegister = 0x1001;
 constexpr std::uint16_t kSupportedHomingMethods = 0x60E3;
 
@@ -120,18 +132,89 @@ void DriveBinding::publish(const DriveConfig& config) {
   }
 }
 
+template <std::size_t N>
+void DriveBinding::read_input(DriveInputs& in) const noexcept {
+  const auto& fld = std::get<N>(kInputs);
+  using T = std::remove_cvref_t<decltype(in.*fld.member)>;
+  if (const std::uint8_t* p = in_bytes_[N]) {
+    in.*fld.member = load_field<T>(p);
+  } else if (const auto* s = in_[N]) {
+    in.*fld.member = store_.get<T>(*s);
+  }
+}
+
 void DriveBinding::read(DriveInputs& in) const noexcept {
+  [&]<std::size_t... N>(std::index_sequence<N...>) {
+    (read_input<N>(in), ...);
+  }(std::make_index_sequence<kInputCount>{});
+}
+
+// One typed read per input, callable through a table.
+template <std::size_t N>
+void DriveBinding::read_one(const DriveBinding& b, DriveInputs& in) noexcept {
+  b.read_input<N>(in);
+}
+
+void DriveBinding::read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept {
+  if (store_.generation() != seen_ || rx_pdo.data() != rx_pdo_.data() || rx_pdo.size() != rx_pdo_.size()) {
+    read_all(in, rx_pdo);
+    return;
+  }
+  auto* base = reinterpret_cast<std::uint8_t*>(&in);
+  for (std::size_t k = 0; k < mapped_count_; ++k) {
+    const Mapped& m = mapped_[k];
+    if (m.bytes != nullptr) {
+      copy_value(base + m.field_offset, m.bytes, m.size);
+    } else {
+      m.reader(*this, in);
+    }
+  }
+}
+
+// Every entry, and which of them `rx_pdo` maps (set-up and after changes only).
+// A mapped entry of its field's width is copied as bytes on a little-endian
+// host (the same as load_field: the two's complement bits of the value).
+DriveBinding::Reader DriveBinding::reader(std::size_t i) noexcept {
+  static constexpr auto kReaders = []<std::size_t... N>(std::index_sequence<N...>) {
+    return std::array<Reader, kInputCount>{&DriveBinding::read_one<N>...};
+  }(std::make_index_sequence<kInputCount>{});
+  return kReaders[i];
+}
+
+void DriveBinding::read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept {
+  read(in);
+  seen_ = store_.generation();
+  rx_pdo_ = rx_pdo;
+  mapped_count_ = 0;
+  const DriveInputs layout{};
+  const auto* base = reinterpret_cast<const std::uint8_t*>(&layout);
   each(kInputs, [&](const auto& fld, std::size_t i) {
-    using T = std::remove_cvref_t<decltype(in.*fld.member)>;
-    if (const std::uint8_t* p = in_bytes_[i]) {
-      in.*fld.member = load_field<T>(p);
-    } else if (const auto* s = in_[i]) {
-      in.*fld.member = store_.get<T>(*s);
+    if (in_[i] == nullptr) return;
+    for (const coe::PdoItem& item : rx_pdo) {
+      if (item.entry != in_[i]) continue;
+      Mapped& m = mapped_[mapped_count_++];
+      m = Mapped{};
+      if (std::endian::native == std::endian::little && in_bytes_[i] != nullptr) {
+        m.bytes = in_bytes_[i];
+        m.field_offset = static_cast<std::uint16_t>(reinterpret_cast<const std::uint8_t*>(&(layout.*fld.member)) - base);
+        m.size = static_cast<std::uint8_t>(sizeof(layout.*fld.member));
+      } else {
+        m.reader = reader(i);
+      }
+      break;
     }
   });
 }
 
 void DriveBinding::write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept {
+  // The outputs, 1001h and the emergency objects are no inputs: writing them
+  // leaves the inputs read_cycle() saw unchanged.
+  const bool inputs_current = store_.generation() == seen_;
+  write_objects(out, emergencies, now);
+  if (inputs_current) seen_ = store_.generation();
+}
+
+void DriveBinding::write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept {
   each(kOutputs, [&](const auto& fld, std::size_t i) {
     if (std::uint8_t* p = out_bytes_[i]) {
       store_field(p, out.*fld.member);

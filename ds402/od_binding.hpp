@@ -8,9 +8,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 #include "coe/emergency.hpp"
 #include "coe/object_store.hpp"
+#include "coe/process_data_image.hpp"
 #include "common/clock.hpp"
 #include "ds402/drive_config.hpp"
 #include "ds402/faults.hpp"
@@ -35,8 +37,18 @@ class DriveBinding {
   // SDO checks of DriveObjectHooks on 6060h, 6098h, 605Ah-605Eh. Set-up only.
   void publish(const DriveConfig& config);
 
-  // Store -> inputs, before Drive::step. `in.sync_lost` is not touched.
+  // Store -> inputs, before Drive::step: every bound entry. `in.sync_lost`
+  // is not touched.
   void read(DriveInputs& in) const noexcept;
+  // The same for a cycle (issue 8): every bound entry when the store was
+  // written through anything but storage() since the last call or write()
+  // (ObjectStore::generation: SDO downloads, parameters, the application)
+  // or when `rx_pdo` changed, else only the entries mapped in `rx_pdo` - the
+  // ones the RxPDO copy (coe::ProcessData::read_outputs) writes each cycle.
+  // `in` must hold what the last call left in it.
+  void read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept;
+  // The next read_cycle() copies every entry (the caller changed `in`).
+  void invalidate() noexcept { seen_ = kNotRead; }
   // Outputs -> store, after Drive::step, then the emergency requests.
   void write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now = Nanoseconds{0}) noexcept;
 
@@ -56,6 +68,29 @@ class DriveBinding {
   std::array<std::uint8_t*, kInputCount> in_bytes_{};
   std::array<std::uint8_t*, kOutputCount> out_bytes_{};
   coe::ObjectStore::Slot* error_register_ = nullptr;
+  // read_cycle: the generation the inputs were last read at (kNotRead:
+  // never), the RxPDO table they were read for, and the inputs it maps.
+  template <std::size_t N>
+  void read_input(DriveInputs& in) const noexcept;
+  [[gnu::noinline]] void read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept;
+  void write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept;
+  static constexpr std::uint64_t kNotRead = ~std::uint64_t{0};
+  std::uint64_t seen_ = kNotRead;
+  std::span<const coe::PdoItem> rx_pdo_;
+  template <std::size_t N>
+  static void read_one(const DriveBinding& b, DriveInputs& in) noexcept;
+  using Reader = void (*)(const DriveBinding&, DriveInputs&) noexcept;
+  static Reader reader(std::size_t i) noexcept;
+  // A mapped input: its value bytes and the field they go to, or (another
+  // width) the typed reader to call.
+  struct Mapped {
+    const std::uint8_t* bytes = nullptr;
+    Reader reader = nullptr;
+    std::uint16_t field_offset = 0;
+    std::uint8_t size = 0;
+  };
+  std::array<Mapped, kInputCount> mapped_{};
+  std::size_t mapped_count_ = 0;
   DriveObjectHooks hooks_;
   std::uint32_t emergencies_lost_ = 0;
 };

@@ -3,6 +3,7 @@
 #include "esc/esc.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include "esc/registers.hpp"
@@ -134,36 +135,93 @@ void Esc::load_eeprom(bool power_on) noexcept {
 
 // --- PDI side ---------------------------------------------------------------------
 
+// Speed (issue 8): with EscConfig::fast_paths, the accesses a firmware
+// makes every cycle skip the general memory walk - the AL event request
+// 0x0220-0x0223 (read without side effect from the PDI, so the value with the
+// DC bits ORed in is the whole answer) and an access that lies inside one
+// enabled SM's area (the SM rules directly, as mem_read would do in its first
+// and only step) - and no PDI access recomputes the DL status: every input of
+// 0x0110 (link, loop, EEPROM loaded, enhanced link, PDI watchdog) already
+// updates it where it changes (set_link, DL control and EEPROM writes, SII
+// reload, reset, watchdog expiry), and the one bit a PDI access sets is set
+// in pdi_watchdog_trigger. Without fast_paths every access takes the general
+// path and recomputes 0x0110, and tests/esc/esc_pdi_fast_path_test.cpp
+// compares the two.
 void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
   const Nanoseconds t = clock_.now();
   run_timers(t);
   now_ = t;
-  // Bytes that are not there (past the RAM or the address space) or that a
-  // sync manager refuses read as 0.
-  std::fill(out.begin(), out.end(), std::uint8_t{0});
-  const std::size_t n = std::min<std::size_t>(out.size(), kAddressSpace - address);
-  mem_read(address, out.first(n), Side::Pdi);
+  if (!config_.fast_paths || !pdi_read_fast(address, out)) {
+    // Bytes that are not there (past the RAM or the address space) or that a
+    // sync manager refuses read as 0.
+    std::fill(out.begin(), out.end(), std::uint8_t{0});
+    const std::size_t n = std::min<std::size_t>(out.size(), kAddressSpace - address);
+    mem_read(address, out.first(n), Side::Pdi);
+  }
   pdi_watchdog_trigger(t);
-  update_dl_status();
+  if (!config_.fast_paths) update_dl_status();
 }
-
 
 void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
   const Nanoseconds t = clock_.now();
   run_timers(t);
   now_ = t;
-  const std::size_t n = std::min<std::size_t>(in.size(), kAddressSpace - address);
-  mem_write(address, in.first(n), Side::Pdi);
+  if (!config_.fast_paths || !pdi_write_fast(address, in)) {
+    const std::size_t n = std::min<std::size_t>(in.size(), kAddressSpace - address);
+    mem_write(address, in.first(n), Side::Pdi);
+  }
   pdi_watchdog_trigger(t);
-  if (reset_requested_) reset();
-  update_dl_status();
+  if (reset_requested_) reset();  // recomputes 0x0110 itself
+  if (!config_.fast_paths) update_dl_status();
+}
+
+// The lowest-numbered enabled SM whose area holds [address, end), or -1 when
+// the access starts outside every SM, crosses an area's end or the RAM's:
+// then mem_read/mem_write split it (find_guard takes the lowest SM too).
+int Esc::pdi_sm_for(std::uint32_t address, std::uint32_t end) const noexcept {
+  if (address < reg::kProcessRam || end > ram_end()) return -1;
+  for (std::uint32_t left = sm_enabled_; left != 0; left &= left - 1) {
+    const auto n = static_cast<unsigned>(std::countr_zero(left));
+    const SyncManager& sm = sms_[n];
+    if (address >= sm.start() && address < sm.end()) return end <= sm.end() ? static_cast<int>(n) : -1;
+  }
+  return -1;
+}
+
+bool Esc::pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
+  const std::uint32_t end = address + static_cast<std::uint32_t>(out.size());
+  if (out.empty()) return false;
+  if (address >= reg::kAlEventRequest && end <= reg::kAlEventRequest + sizeof(std::uint32_t)) {
+    const std::uint32_t v = al_event() >> (8 * (address - reg::kAlEventRequest));
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(v >> (8 * i));
+    return true;
+  }
+  const int n = pdi_sm_for(address, end);
+  if (n < 0) return false;
+  SmSignals sig;
+  if (!sms_[n].read(Side::Pdi, address, out, sig)) std::fill(out.begin(), out.end(), std::uint8_t{0});
+  apply(static_cast<unsigned>(n), sig);
+  return true;
+}
+
+bool Esc::pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
+  if (in.empty()) return false;
+  const int n = pdi_sm_for(address, address + static_cast<std::uint32_t>(in.size()));
+  if (n < 0) return false;
+  SmSignals sig;
+  (void)sms_[n].write(Side::Pdi, address, in, sig);
+  apply(static_cast<unsigned>(n), sig);
+  return true;
 }
 
 // Any PDI access restarts the PDI watchdog and shows it in DL status bit 1.
+// 0x0400 and 0x0410 lie outside the DC block: their bytes are the values.
 void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
-  watchdogs_.trigger_pdi(t, register_u16(reg::kWatchdogDivider), register_u16(reg::kWatchdogTimePdi));
+  std::uint8_t* m = mem_.get();
+  watchdogs_.trigger_pdi(t, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
+                         load_le<std::uint16_t>(m + reg::kWatchdogTimePdi));
   refresh_timers();
-  std::uint8_t* p = mem_.get() + reg::kDlStatus;
+  std::uint8_t* p = m + reg::kDlStatus;
   store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | bits::kDlPdiWatchdogOk));
 }
 

@@ -184,6 +184,10 @@ class Esc final : public Pdi {
   }
   void run_due_timers(Nanoseconds now) noexcept;
   void pdi_watchdog_trigger(Nanoseconds t) noexcept;
+  // PDI fast paths (esc.cpp): true when the access was carried out.
+  bool pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noexcept;
+  bool pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in) noexcept;
+  int pdi_sm_for(std::uint32_t address, std::uint32_t end) const noexcept;
   void sii_action(SiiInterface::Action a) noexcept;
   std::uint32_t dl_control() const noexcept;
   std::uint32_t ram_end() const noexcept { return reg::kProcessRam + config_.process_ram_size; }

@@ -10,10 +10,6 @@ void Watchdogs::reset() noexcept {
   pdi_deadline_ = kNever;
 }
 
-void Watchdogs::trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
-  pdi_deadline_ = time == 0 ? kNever : now + timeout(divider, time);
-}
-
 Watchdogs::Expired Watchdogs::check(Nanoseconds now) noexcept {
   Expired e;
   if (pd_deadline_ != kNever && now >= pd_deadline_) {

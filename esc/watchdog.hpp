@@ -30,7 +30,9 @@ class Watchdogs {
   void trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
     pd_deadline_ = time == 0 ? kNever : now + timeout(divider, time);  // 0 = disabled
   }
-  void trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept;
+  void trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
+    pdi_deadline_ = time == 0 ? kNever : now + timeout(divider, time);  // 0 = disabled
+  }
 
   struct Expired {
     bool process_data = false;

@@ -35,7 +35,10 @@ class DriveApplication final : public Application {
  public:
   DriveApplication(ds402::DriveConfig config, const ds402::PlantParameters& plant, coe::CoeServer& coe,
                    bool trace)
-      : drive_(std::move(config), plant), binding_(coe.objects(), &coe.emergency()), trace_(trace ? kTraceRows : 0),
+      : drive_(std::move(config), plant),
+        binding_(coe.objects(), &coe.emergency()),
+        process_data_(coe.process_data()),
+        trace_(trace ? kTraceRows : 0),
         tracing_(trace) {
     binding_.publish(drive_.config());
     // Inputs are valid from the first SafeOp cycle: fill them once now.
@@ -45,11 +48,15 @@ class DriveApplication final : public Application {
   }
 
   void cycle(Nanoseconds dt, bool outputs_valid) noexcept override {
-    binding_.read(in_);
+    // The mapped inputs every cycle, the others when something else wrote
+    // the dictionary (DriveBinding::read_cycle).
+    binding_.read_cycle(in_, process_data_.outputs().items());
     if (!outputs_valid) {
       // SafeOp: outputs are kept in their safe state (ETG.1000.6 §6.4.1):
-      // the drive sees no enable command.
+      // the drive sees no enable command. A full copy next cycle restores
+      // the controlword if it is not mapped.
       in_.controlword = 0;
+      binding_.invalidate();
     }
     drive_.step(in_, out_, dt);
     binding_.write(out_, drive_.emergencies(), elapsed_);
@@ -64,6 +71,7 @@ class DriveApplication final : public Application {
  private:
   ds402::Drive drive_;
   ds402::DriveBinding binding_;
+  const coe::ProcessData& process_data_;
   ds402::MotionTrace trace_;
   ds402::DriveInputs in_{};
   ds402::DriveOutputs out_{};

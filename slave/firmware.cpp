@@ -92,6 +92,8 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed);
   next_ = sp.next;
+  wake_ = sp.next.value_or(Nanoseconds::max());
+  pass_work_ = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
   return sp.next;
 }
 

@@ -47,6 +47,13 @@ class Firmware {
     return esc_.irq() || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() ||
            coe_.mailbox().has_output() || mask_lost();
   }
+  // A cheap superset of wants_poll() for the check after every frame of a
+  // chain (issue 8): the IRQ and a lost mask as they are now, the deadline
+  // and the pass-by-pass work as the last poll() left them - they change
+  // only in poll() (the firmware's own state) or by time.
+  bool may_want_poll(Nanoseconds now) const noexcept {
+    return esc_.irq() || now >= wake_ || pass_work_ || mask_lost();
+  }
   // The time poll() last asked to run again at.
   std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }
   // The AL event mask the firmware last programmed.
@@ -78,6 +85,10 @@ class Firmware {
   esc::VcdProbe* trace_ = nullptr;
   std::optional<Nanoseconds> last_cycle_;
   std::optional<Nanoseconds> next_;  // deadline returned by the last poll
+  // For may_want_poll(): next_ (max when none), and whether the last poll
+  // left work it finishes pass by pass.
+  Nanoseconds wake_ = Nanoseconds::max();
+  bool pass_work_ = true;
   esc::AlState state_seen_ = esc::AlState::Init;
   std::uint32_t event_mask_ = 0;
   bool poll_each_frame_ = false;

@@ -25,6 +25,7 @@ VirtualSlave::~VirtualSlave() = default;
 std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   std::optional<Nanoseconds> next = esc_->poll(now);
   esc_next_ = next;
+  esc_wake_ = next.value_or(Nanoseconds::max());
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
   const std::optional<Nanoseconds> fw =
       firmware_->wants_poll(now) ? firmware_->poll(now) : firmware_->next_deadline();

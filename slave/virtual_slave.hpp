@@ -13,12 +13,11 @@
 #include "common/expected.hpp"
 #include "esc/esc.hpp"
 #include "od/device.hpp"
+#include "slave/firmware.hpp"
 #include "slave/slave_options.hpp"
 #include "slave/slave_stats.hpp"
 
 namespace ecat::slave {
-
-class Firmware;
 
 class VirtualSlave {
  public:
@@ -44,6 +43,9 @@ class VirtualSlave {
   // After a frame passed this slave's ESC at `now`: the ESC's timers if one
   // is due, then the firmware if the ESC raised its IRQ or its deadline came.
   void after_frame(Nanoseconds now) noexcept;
+  // Whether after_frame(now) may have anything to do: a few loads, so a
+  // chain asks every slave after every frame cheaply (issue 8).
+  bool after_frame_due(Nanoseconds now) const noexcept { return now >= esc_wake_ || firmware_->may_want_poll(now); }
 
   SlaveStatus status() const noexcept;
 
@@ -58,6 +60,7 @@ class VirtualSlave {
   std::unique_ptr<esc::Esc> esc_;
   std::unique_ptr<Firmware> firmware_;
   std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
+  Nanoseconds esc_wake_ = Nanoseconds::max();  // the same, max when none
 };
 
 }  // namespace ecat::slave

@@ -142,6 +142,34 @@ TEST_F(PdoTest, LoadedLayoutServesTheCyclesUntilLoadedAgain) {
   EXPECT_EQ(Frame(mem.begin() + 0x1200, mem.begin() + 0x1205), (Frame{0xBE, 0xBA, 0xFE, 0xCA, 0x55}));
 }
 
+// The copies are decoded once per layout (issue 8): a remap between cycles
+// is used from the next cycle on.
+TEST_F(PdoTest, CyclesFollowARemap) {
+  configure_sm(2, 3);
+  configure_sm(3, 5);
+  auto& mem = rig.esc.memory();
+  mem[0x1100] = 0x34;
+  mem[0x1101] = 0x12;
+  mem[0x1102] = 0xAB;
+  data.read_outputs(rig.esc);
+  EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x1234);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xAB);
+  // 1600h: 7001h first, then 7000h.
+  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 1, 0x70010008, 4), 0u);
+  EXPECT_EQ(write(0x1600, 2, 0x70000010, 4), 0u);
+  EXPECT_EQ(write(0x1600, 0, 2, 1), 0u);
+  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
+  ASSERT_EQ(pdo.outputs().byte_length(), 3u);
+  mem[0x1100] = 0xCD;
+  mem[0x1101] = 0x78;
+  mem[0x1102] = 0x56;
+  data.read_outputs(rig.esc);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xCD);
+  EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x5678);
+}
+
 TEST_F(PdoTest, BitPackedEntriesInTheImage) {
   // A TxPDO with BOOL + BIT3 + 4-bit gap + UINT16, through the store directly.
   od::DeviceDescription d = test::make_device();

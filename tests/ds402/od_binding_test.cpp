@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <new>
+#include <random>
+
 #include "ds402/drive.hpp"
 #include "tests/coe/rig.hpp"
 
@@ -165,6 +169,132 @@ TEST(DriveBinding, DriveFaultBecomesACoeEmergency) {
   EXPECT_EQ((*msg)[8], 0x11);
   EXPECT_EQ((*msg)[9], 0x86);
   EXPECT_EQ((*msg)[10], 0x21);
+}
+
+// The RxPDO entries a test maps: 6040h, 607Ah, 6060h (as the generic servo's
+// 1600h), laid out as ProcessDataImage would.
+std::vector<coe::PdoItem> rx_pdo(coe::ObjectStore& store) {
+  return {{0, 0, 16, store.slot(0x6040, 0)}, {2, 0, 32, store.slot(0x607A, 0)}, {6, 0, 8, store.slot(0x6060, 0)}};
+}
+
+// What the RxPDO copy does: the value bytes through storage(), not counted
+// in the store's generation.
+void pdo_write(coe::ObjectStore& store, std::uint16_t index, std::uint8_t sub, std::uint32_t v) {
+  coe::ObjectStore::Slot* s = store.slot(index, sub);
+  ASSERT_NE(s, nullptr);
+  auto bytes = store.storage(*s);
+  for (std::size_t i = 0; i < bytes.size() && i < 4; ++i) bytes[i] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+
+TEST(DriveBinding, ReadCycleCopiesMappedEntriesAndTheRestAfterStoreWrites) {
+  coe::test::Rig rig(servo());
+  DriveBinding b(rig.store);
+  const auto items = rx_pdo(rig.store);
+  DriveInputs in;
+  ASSERT_TRUE(rig.store.set<std::int32_t>(0x6065, 0, 500));
+  b.read_cycle(in, items);  // first call: every entry
+  EXPECT_EQ(in.following_error_window, 500u);
+  // Mapped entries follow the PDO copy every cycle; an unmapped entry
+  // written behind the store's back (storage()) is not looked at - which
+  // shows the cycle copies the mapped ones only.
+  pdo_write(rig.store, 0x6040, 0, 0x000F);
+  pdo_write(rig.store, 0x607A, 0, 0xFFFFFF85);  // -123
+  pdo_write(rig.store, 0x6060, 0, 8);
+  pdo_write(rig.store, 0x6065, 0, 777);
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.controlword, 0x000F);
+  EXPECT_EQ(in.target_position, -123);
+  EXPECT_EQ(in.modes_of_operation, 8);
+  EXPECT_EQ(in.following_error_window, 500u);
+  // The binding's own output writes (and 1001h) do not count as a change...
+  DriveOutputs out;
+  out.statusword = 0x0237;
+  out.error_register = 0x01;
+  EmcyQueue none;
+  b.write(out, none);
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.following_error_window, 500u);
+  // ... an SDO download does: every entry is copied again.
+  const std::vector<std::uint8_t> window{0x10, 0x00, 0x00, 0x00};
+  ASSERT_TRUE(rig.store.write(coe::WriteRequest{0x6065, 0, window, od::EsmState::Op}));
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.following_error_window, 16u);
+  // So do set(), assign() and reset_to_defaults().
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x605A, 0, 6));
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.quick_stop_option, 6);
+  const std::uint8_t limit[] = {0x18, 0xFC, 0xFF, 0xFF};  // -1000
+  ASSERT_TRUE(rig.store.assign(0x607D, 1, limit));
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.software_limit_min, -1000);
+  rig.store.reset_to_defaults();
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.following_error_window, 10000u);
+  EXPECT_EQ(in.quick_stop_option, 2);
+  // Another RxPDO table (a new mapping): every entry, then its entries.
+  pdo_write(rig.store, 0x6065, 0, 99);
+  const std::vector<coe::PdoItem> other{{0, 0, 32, rig.store.slot(0x6065, 0)}};
+  b.read_cycle(in, other);
+  EXPECT_EQ(in.following_error_window, 99u);
+  pdo_write(rig.store, 0x6065, 0, 98);
+  pdo_write(rig.store, 0x6040, 0, 0x0006);
+  b.read_cycle(in, other);
+  EXPECT_EQ(in.following_error_window, 98u);
+  EXPECT_EQ(in.controlword, 0);  // the default since the reset: no longer mapped, 6 not seen
+  // invalidate(): the caller changed `in`, the next cycle copies everything.
+  in.controlword = 0x1234;
+  b.invalidate();
+  b.read_cycle(in, other);
+  EXPECT_EQ(in.controlword, 0x0006);
+}
+
+// Random store writes of every kind between cycles: read_cycle() always
+// leaves the inputs equal to a full read().
+TEST(DriveBinding, ReadCycleEqualsFullRead) {
+  coe::test::Rig rig(servo());
+  DriveBinding b(rig.store);
+  const auto items = rx_pdo(rig.store);
+  std::mt19937 rng(7);
+  auto pick = [&](std::uint32_t hi) { return std::uniform_int_distribution<std::uint32_t>(0, hi)(rng); };
+  const std::pair<std::uint16_t, std::uint8_t> kEntries[] = {{0x6040, 0}, {0x6060, 0}, {0x607A, 0}, {0x605A, 0},
+                                                             {0x6065, 0}, {0x607D, 1}, {0x607D, 2}, {0x6098, 0},
+                                                             {0x6099, 1}, {0x6099, 2}};
+  // Padding zeroed before the members get their defaults, so two inputs
+  // compare with memcmp.
+  alignas(DriveInputs) unsigned char cyc_bytes[sizeof(DriveInputs)] = {};
+  alignas(DriveInputs) unsigned char full_bytes[sizeof(DriveInputs)] = {};
+  DriveInputs& cyc = *new (cyc_bytes) DriveInputs;
+  DriveOutputs out;
+  EmcyQueue none;
+  for (int step = 0; step < 2000; ++step) {
+    SCOPED_TRACE(step);
+    const auto [index, sub] = kEntries[pick(std::size(kEntries) - 1)];
+    const std::uint32_t v = pick(0xFFFFFFFF);
+    switch (pick(4)) {
+      case 0:  // the PDO copy, mapped entries only
+        if (index == 0x6040 || index == 0x6060 || index == 0x607A) pdo_write(rig.store, index, sub, v);
+        break;
+      case 1: ASSERT_TRUE(rig.store.set<std::uint32_t>(index, sub, v)); break;
+      case 2: {
+        const coe::ObjectStore::Slot* s = rig.store.slot(index, sub);
+        std::vector<std::uint8_t> bytes(s->capacity);
+        for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<std::uint8_t>(v >> (8 * (i % 4)));
+        ASSERT_TRUE(rig.store.assign(index, sub, bytes));
+        break;
+      }
+      case 3:
+        out.statusword = static_cast<std::uint16_t>(v);
+        out.position_actual = static_cast<std::int32_t>(v);
+        b.write(out, none);
+        break;
+      default: break;
+    }
+    b.read_cycle(cyc, items);
+    std::memset(full_bytes, 0, sizeof full_bytes);
+    DriveInputs& full = *new (full_bytes) DriveInputs;
+    b.read(full);
+    ASSERT_EQ(0, std::memcmp(&cyc, &full, sizeof(DriveInputs)));
+  }
 }
 
 }  // namespace

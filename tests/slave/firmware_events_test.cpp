@@ -128,6 +128,44 @@ TEST(FirmwareEvents, PassFrameLeavesTheFirmwareToRunFirmware) {
   EXPECT_EQ(p.chain[0].esc().register_u16(esc::reg::kAlStatus), kAlStatePreOp);
 }
 
+// The check a chain makes after every frame (Firmware::may_want_poll, a
+// few loads) must be true whenever wants_poll() is: through bring-up,
+// cyclic exchange, mailbox traffic, state changes and time between frames.
+TEST(FirmwareEvents, CheapCheckAfterEachFrameCoversEveryReasonToPoll) {
+  InProcess p;
+  p.add_default(2);
+  auto covered = [&](const char* what) {
+    for (std::size_t i = 0; i < p.chain.size(); ++i) {
+      const slave::Firmware& fw = p.chain[i].firmware();
+      for (const Nanoseconds later : {Nanoseconds{0}, Nanoseconds{500'000}, Nanoseconds{1'000'000},
+                                      Nanoseconds{3'000'000}}) {
+        const Nanoseconds t = p.clock.now() + later;
+        if (fw.wants_poll(t)) {
+          ASSERT_TRUE(fw.may_want_poll(t)) << what << ": slave " << i << " at +" << later.count() << " ns";
+        }
+      }
+    }
+  };
+  ASSERT_NO_FATAL_FAILURE(covered("power-on"));
+  ASSERT_EQ(p.bring_up(), "");
+  ASSERT_NO_FATAL_FAILURE(covered("Op"));
+  for (int c = 0; c < 20; ++c) {
+    ASSERT_TRUE(p.cycle_once(std::chrono::microseconds(250 * (c % 5 + 1))));
+    ASSERT_NO_FATAL_FAILURE(covered("cycle"));
+    if (c % 7 == 3) {
+      master::CoeClient coe(p.master, static_cast<std::size_t>(c % 2));
+      ASSERT_TRUE(coe.upload_value(0x1018, 1));
+      ASSERT_NO_FATAL_FAILURE(covered("SDO upload"));
+    }
+  }
+  ASSERT_TRUE(p.master.fpwr_u16(p.master.slave(1).station_address, esc::reg::kAlControl, kAlStatePreOp));
+  ASSERT_NO_FATAL_FAILURE(covered("PreOp request"));
+  for (int c = 0; c < 5; ++c) {
+    ASSERT_TRUE(p.cycle_once(std::chrono::milliseconds(1)));
+    ASSERT_NO_FATAL_FAILURE(covered("cycle after PreOp"));
+  }
+}
+
 TEST(FirmwareEvents, MaskIsRestoredAfterAnEscReset) {
   InProcess p;
   p.add_default(1);
