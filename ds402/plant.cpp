@@ -12,8 +12,54 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // 50° phase margin with the current-loop lag (a common servo tuning rule).
 constexpr double kIntegralZeroRatio = 0.25;
 constexpr double kStandstill = 1e-9;  // rad/s below which the rotor counts as stopped
+// The closed form is taken only while every clamp and friction switch stays
+// clear of acting by this share of the magnitudes involved (far more than
+// the rounding of either path), so the sub-steps would not have hit one.
+constexpr double kMargin = 1e-9;
+constexpr int kN = 4;  // closed-form state and input size
 
 double sign(double v) noexcept { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); }
+
+double dot(const double (&a)[kN], const double (&b)[kN]) noexcept {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+}
+
+// out = a · b (out may not alias a or b).
+void multiply(const double (&a)[kN][kN], const double (&b)[kN][kN], double (&out)[kN][kN]) noexcept {
+  for (int i = 0; i < kN; ++i) {
+    for (int j = 0; j < kN; ++j) {
+      double sum = 0;
+      for (int k = 0; k < kN; ++k) sum += a[i][k] * b[k][j];
+      out[i][j] = sum;
+    }
+  }
+}
+
+// Solves m · x = rhs for x (Gauss-Jordan with partial pivoting; m and rhs
+// are destroyed). False if m is singular.
+bool solve(double (&m)[kN][kN], double (&rhs)[kN][kN], double (&x)[kN][kN]) noexcept {
+  for (int col = 0; col < kN; ++col) {
+    int pivot = col;
+    for (int r = col + 1; r < kN; ++r) {
+      if (std::abs(m[r][col]) > std::abs(m[pivot][col])) pivot = r;
+    }
+    if (!(std::abs(m[pivot][col]) > 0)) return false;
+    std::swap(m[col], m[pivot]);
+    std::swap(rhs[col], rhs[pivot]);
+    for (int r = 0; r < kN; ++r) {
+      if (r == col) continue;
+      const double f = m[r][col] / m[col][col];
+      for (int c = 0; c < kN; ++c) {
+        m[r][c] -= f * m[col][c];
+        rhs[r][c] -= f * rhs[col][c];
+      }
+    }
+  }
+  for (int r = 0; r < kN; ++r) {
+    for (int c = 0; c < kN; ++c) x[r][c] = rhs[r][c] / m[r][r];
+  }
+  return true;
+}
 }  // namespace
 
 Plant::Plant(const PlantParameters& p) noexcept
@@ -24,19 +70,204 @@ Plant::Plant(const PlantParameters& p) noexcept
   position_ = previous_position_ = last_position_ref_ = p_.initial_position;
 }
 
+void Plant::configure(double dt) noexcept {
+  dt_ = dt;
+  n_ = std::max(1, static_cast<int>(std::ceil(dt / p_.sub_step - 1e-9)));
+  h_ = dt / n_;
+  inv_n_ = 1.0 / n_;
+  lag_factor_ = 1.0 - std::exp(-h_ / p_.current_time_constant);
+  build_linear(position_loop_, true);
+  build_linear(velocity_loop_, false);
+}
+
+// sub_step() without its clamps and friction switch, on the closed-form
+// state and inputs (see Linear): the same arithmetic, in the same order.
+void Plant::linear_sub_step(double s[4], const double u[4], bool position) const noexcept {
+  const double kp = position ? p_.position_gain : 0.0;
+  const double vcmd = kp * (s[0] + u[0]) + u[1];
+  const double e = vcmd - s[1];
+  const double integral = s[3] + ki_ * e * h_;
+  const double tc = kv_ * e + integral + u[2];
+  const double torque = s[2] + (tc - s[2]) * lag_factor_;
+  const double w = s[1] * rad_per_inc_;
+  const double w_new = w + (torque + u[3] - p_.viscous_friction * w) / p_.total_inertia() * h_;
+  const double v = w_new / rad_per_inc_;
+  s[0] = position ? s[0] + u[0] - v * h_ : 0.0;
+  s[1] = v;
+  s[2] = torque;
+  s[3] = integral;
+}
+
+void Plant::build_linear(Linear& m, bool position) const noexcept {
+  m = Linear{};
+  double a[kN][kN], b[kN][kN];  // column j: the sub-step's response to unit state j / unit input j
+  for (int j = 0; j < kN; ++j) {
+    double s[kN] = {}, u[kN] = {}, zero[kN] = {};
+    s[j] = 1;
+    linear_sub_step(s, zero, position);
+    double s_in[kN] = {};
+    u[j] = 1;
+    linear_sub_step(s_in, u, position);
+    for (int i = 0; i < kN; ++i) {
+      a[i][j] = s[i];
+      b[i][j] = s_in[i];
+    }
+  }
+  double one_minus_a[kN][kN];
+  for (int i = 0; i < kN; ++i) {
+    for (int j = 0; j < kN; ++j) one_minus_a[i][j] = (i == j ? 1.0 : 0.0) - a[i][j];
+  }
+  if (!solve(one_minus_a, b, m.ss)) return;  // valid stays false
+
+  const double kp = position ? p_.position_gain : 0.0;
+  const double g = kv_ + ki_ * h_;  // torque command per velocity error
+  const double c_vcmd[kN] = {kp, 0, 0, 0};
+  const double c_tc[kN] = {g * kp, -g, 0, 1};
+  double power[kN][kN] = {};  // A^i
+  for (int i = 0; i < kN; ++i) power[i][i] = 1;
+  for (int i = 0; i <= n_; ++i) {
+    for (int k = 0; k < kN; ++k) {
+      m.v_bound[k] = std::max(m.v_bound[k], std::abs(power[1][k]));
+      if (i >= 1) m.travel[k] += h_ * power[1][k];
+    }
+    if (i == n_) break;
+    // Sub-step i + 1 commands from the state after i sub-steps.
+    for (int k = 0; k < kN; ++k) {
+      double vcmd = 0, tc = 0;
+      for (int r = 0; r < kN; ++r) {
+        vcmd += c_vcmd[r] * power[r][k];
+        tc += c_tc[r] * power[r][k];
+      }
+      m.vcmd_bound[k] = std::max(m.vcmd_bound[k], std::abs(vcmd));
+      m.tc_bound[k] = std::max(m.tc_bound[k], std::abs(tc));
+      if (i == n_ - 1) m.tc_end[k] = tc;
+    }
+    double next[kN][kN];
+    multiply(a, power, next);
+    std::copy(&next[0][0], &next[0][0] + kN * kN, &power[0][0]);
+  }
+  std::copy(&power[0][0], &power[0][0] + kN * kN, &m.phi[0][0]);
+  m.valid = std::isfinite(m.phi[0][0] + m.phi[1][1] + m.phi[2][2] + m.phi[3][3]);
+}
+
 void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
+  if (dt != dt_) configure(dt);
   previous_position_ = position_;
   const bool position_mode = demand.kind == LoopDemand::Kind::Position;
   const double start_ref = (position_mode && last_was_position_) ? last_position_ref_ : demand.position;
-  const int n = std::max(1, static_cast<int>(std::ceil(dt / p_.sub_step - 1e-9)));
-  const double h = dt / n;
   torque_limited_ = false;
-  for (int i = 1; i <= n; ++i) {
-    const double ref = start_ref + (demand.position - start_ref) * static_cast<double>(i) / n;
-    sub_step(demand, limits, ref, h);
+  if (at_rest(demand, limits, start_ref)) {
+    last_path_ = Path::Rest;
+  } else if ((position_mode || demand.kind == LoopDemand::Kind::Velocity) && closed_form(demand, limits, start_ref)) {
+    last_path_ = Path::ClosedForm;
+  } else {
+    run_sub_steps(demand, limits, start_ref);
+    last_path_ = Path::SubSteps;
   }
   last_was_position_ = position_mode;
   last_position_ref_ = demand.position;
+}
+
+void Plant::step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
+  if (dt != dt_) configure(dt);
+  previous_position_ = position_;
+  const bool position_mode = demand.kind == LoopDemand::Kind::Position;
+  const double start_ref = (position_mode && last_was_position_) ? last_position_ref_ : demand.position;
+  torque_limited_ = false;
+  run_sub_steps(demand, limits, start_ref);
+  last_path_ = Path::SubSteps;
+  last_was_position_ = position_mode;
+  last_position_ref_ = demand.position;
+}
+
+void Plant::run_sub_steps(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept {
+  for (int i = 1; i <= n_; ++i) {
+    const double ref = start_ref + (d.position - start_ref) * static_cast<double>(i) / n_;
+    sub_step(d, lim, ref, h_);
+  }
+}
+
+// The rest point: the rotor stands (and friction holds it), the reference
+// stays where the rotor is, nothing commands a velocity and the torque has
+// settled on the command. Then every sub-step leaves the state exactly as it
+// is (sub_step() computes e = 0, the same command, no torque change and
+// w = 0), so the cycle is done without running them.
+bool Plant::at_rest(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept {
+  using Kind = LoopDemand::Kind;
+  if (velocity_ != 0.0 || !(std::abs(torque_ - external_torque_) <= p_.coulomb_friction)) return false;
+  double tc = 0;
+  switch (d.kind) {
+    case Kind::Off: break;
+    case Kind::Torque: {
+      const double upper = kv_ * lim.velocity;
+      const double lower = kv_ * -lim.velocity;
+      tc = std::clamp(d.torque, std::min(lower, upper), std::max(lower, upper));
+      break;
+    }
+    case Kind::Position:
+      if (start_ref != position_ || d.position != position_ ||
+          p_.velocity_feed_forward * d.velocity + d.velocity_offset != 0.0)
+        return false;
+      tc = integral_ + d.torque;
+      break;
+    case Kind::Velocity:
+      if (d.velocity + d.velocity_offset != 0.0) return false;
+      tc = integral_ + d.torque;
+      break;
+  }
+  if (torque_ != tc || !(tc <= lim.torque_positive && tc >= -lim.torque_negative)) return false;
+  if (d.kind == Kind::Off || d.kind == Kind::Torque) integral_ = 0;
+  torque_command_ = tc;
+  velocity_ = 0.0;
+  return true;
+}
+
+// All n sub-steps at once while they are linear (see Linear): the velocity
+// and torque commands stay inside their limits and the rotor turns the same
+// way throughout, by bounds on the transient s_0 - ss that hold for every
+// sub-step. Otherwise false, and the sub-steps run one by one.
+bool Plant::closed_form(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept {
+  const bool position = d.kind == LoopDemand::Kind::Position;
+  const Linear& m = position ? position_loop_ : velocity_loop_;
+  if (!m.valid || !(std::abs(velocity_ * rad_per_inc_) >= kStandstill)) return false;
+  const double turning = velocity_ > 0 ? 1.0 : -1.0;
+  const double u[kN] = {position ? (d.position - start_ref) * inv_n_ : 0.0,
+                        position ? p_.velocity_feed_forward * d.velocity + d.velocity_offset
+                                 : d.velocity + d.velocity_offset,
+                        d.torque, -external_torque_ - p_.coulomb_friction * turning};
+  const double s0[kN] = {position ? start_ref - position_ : 0.0, velocity_, torque_, integral_};
+  double ss[kN], delta[kN], size[kN];
+  for (int i = 0; i < kN; ++i) {
+    ss[i] = dot(m.ss[i], u);
+    delta[i] = s0[i] - ss[i];
+    size[i] = std::abs(delta[i]);
+  }
+  const double kp = position ? p_.position_gain : 0.0;
+  // Velocity command: never clamped.
+  const double vcmd = kp * (ss[0] + u[0]) + u[1];
+  const double vcmd_swing = dot(m.vcmd_bound, size);
+  const double vcmd_margin =
+      kMargin * (std::abs(vcmd) + vcmd_swing + kp * (std::abs(ss[0]) + std::abs(u[0])) + std::abs(u[1]));
+  if (!(std::abs(vcmd) + vcmd_swing + vcmd_margin <= lim.velocity)) return false;
+  // Torque command: never at a limit (so the integral is never held either).
+  const double g = kv_ + ki_ * h_;
+  const double tc = g * (vcmd - ss[1]) + ss[3] + u[2];
+  const double tc_swing = dot(m.tc_bound, size);
+  const double tc_margin =
+      kMargin * (std::abs(tc) + tc_swing + g * (std::abs(vcmd) + std::abs(ss[1])) + std::abs(ss[3]) + std::abs(u[2]));
+  if (!(tc - tc_swing - tc_margin >= -lim.torque_negative && tc + tc_swing + tc_margin <= lim.torque_positive))
+    return false;
+  // Velocity: the same sign, clear of standstill, before and after every sub-step.
+  const double v_swing = dot(m.v_bound, size);
+  if (!((turning * ss[1] - v_swing - kMargin * (std::abs(ss[1]) + v_swing)) * rad_per_inc_ >= 2 * kStandstill))
+    return false;
+
+  position_ += ss[1] * dt_ + dot(m.travel, delta);
+  velocity_ = ss[1] + dot(m.phi[1], delta);
+  torque_ = ss[2] + dot(m.phi[2], delta);
+  integral_ = ss[3] + dot(m.phi[3], delta);
+  torque_command_ = tc + dot(m.tc_end, delta);
+  return true;
 }
 
 void Plant::sub_step(const LoopDemand& d, const LoopLimits& lim, double position_ref, double h) noexcept {
@@ -67,10 +298,6 @@ void Plant::sub_step(const LoopDemand& d, const LoopLimits& lim, double position
   if (d.kind != Kind::Off && limited != tc) torque_limited_ = true;
   torque_command_ = d.kind == Kind::Off ? 0.0 : limited;
 
-  if (h != lag_h_) {
-    lag_h_ = h;
-    lag_factor_ = 1.0 - std::exp(-h / p_.current_time_constant);
-  }
   torque_ += (torque_command_ - torque_) * lag_factor_;
 
   const double w = velocity_ * rad_per_inc_;

@@ -1,0 +1,213 @@
+// The plant's fast paths against its sub-step reference: Plant::step (rest
+// point, closed form, sub-steps) and Plant::step_by_sub_steps, fed the same
+// demands, must agree to rounding in every cycle, whatever the mode, limits,
+// friction, load torque, parameters and cycle length; the rest point must
+// agree exactly. Each scenario also checks that the fast paths were taken.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "ds402/plant.hpp"
+
+namespace ecat::ds402::test {
+namespace {
+
+using Kind = LoopDemand::Kind;
+using Path = Plant::Path;
+
+struct Counts {
+  int rest = 0, closed = 0, sub = 0;
+};
+
+struct Scenario {
+  std::string name;
+  PlantParameters p;
+  double dt = 1e-3;
+  int cycles = 4000;
+  // Demand, limits and load torque of cycle k.
+  std::function<LoopDemand(int)> demand;
+  std::function<LoopLimits(int, const PlantParameters&)> limits = [](int, const PlantParameters& pp) {
+    return LoopLimits{pp.peak_torque, pp.peak_torque, pp.max_speed * pp.encoder_resolution / 60.0};
+  };
+  std::function<double(int)> load = [](int) { return 0.0; };
+};
+
+// Runs both plants side by side and compares them after every cycle.
+void compare(const Scenario& s, Counts& c) {
+  Plant fast(s.p), reference(s.p);
+  const double rpm_scale = s.p.encoder_resolution / 60.0;  // increments/s per rpm
+  for (int k = 0; k < s.cycles; ++k) {
+    const LoopDemand d = s.demand(k);
+    const LoopLimits lim = s.limits(k, s.p);
+    fast.set_external_torque(s.load(k));
+    reference.set_external_torque(s.load(k));
+    fast.step(d, lim, s.dt);
+    reference.step_by_sub_steps(d, lim, s.dt);
+    switch (fast.last_path()) {
+      case Path::Rest:
+        ++c.rest;
+        // Exactly what the sub-steps leave.
+        EXPECT_EQ(fast.position(), reference.position()) << s.name << " cycle " << k;
+        EXPECT_EQ(fast.torque(), reference.torque()) << s.name << " cycle " << k;
+        break;
+      case Path::ClosedForm: ++c.closed; break;
+      case Path::SubSteps: ++c.sub; break;
+    }
+    const std::string at = s.name + " cycle " + std::to_string(k);
+    ASSERT_NEAR(fast.position(), reference.position(), 1e-6 + 1e-12 * std::abs(reference.position())) << at;
+    ASSERT_NEAR(fast.velocity(), reference.velocity(), 1e-6 * rpm_scale) << at;  // 1e-6 rpm
+    ASSERT_NEAR(fast.torque(), reference.torque(), 1e-10) << at;
+    ASSERT_NEAR(fast.torque_command(), reference.torque_command(), 1e-10) << at;
+    ASSERT_EQ(fast.torque_limited(), reference.torque_limited()) << at;
+  }
+}
+
+Counts run(const Scenario& s) {
+  Counts c;
+  compare(s, c);
+  return c;
+}
+
+// A back-and-forth trapezoid set-point of `top` increments/s at time t (s):
+// 0.1 s ramps, 0.8 s at speed, then the way back.
+double trapezoid(double t, double top, double* velocity = nullptr) {
+  constexpr double kRamp = 0.1, kCruise = 0.8, kLeg = 2 * kRamp + kCruise;
+  const double acc = top / kRamp;
+  auto leg = [&](double u, double& v) {  // position u seconds into one leg
+    if (u <= kRamp) {
+      v = acc * u;
+      return acc * u * u / 2;
+    }
+    if (u <= kRamp + kCruise) {
+      v = top;
+      return acc * kRamp * kRamp / 2 + top * (u - kRamp);
+    }
+    const double d = u - kRamp - kCruise;
+    v = top - acc * d;
+    return acc * kRamp * kRamp / 2 + top * kCruise + top * d - acc * d * d / 2;
+  };
+  const double in_period = std::fmod(t, 2 * kLeg);
+  double v = 0, v_end = 0;
+  double pos;
+  if (in_period < kLeg) {
+    pos = leg(in_period, v);
+  } else {
+    pos = leg(kLeg, v_end) - leg(in_period - kLeg, v);
+    v = -v;
+  }
+  if (velocity) *velocity = v;
+  return pos;
+}
+
+TEST(PlantClosedForm, CspMoveMatchesTheSubSteps) {
+  Scenario s;
+  s.name = "csp move";
+  s.demand = [](int k) {
+    double v = 0;
+    const double x = std::round(trapezoid(k * 1e-3, 2.0e6, &v));
+    return LoopDemand{Kind::Position, x, v, 0, 0};
+  };
+  const Counts c = run(s);
+  EXPECT_GT(c.closed, s.cycles / 2);  // cruising is linear
+  EXPECT_GT(c.sub, 0);                // starting from rest and reversing are not
+}
+
+TEST(PlantClosedForm, FeedForwardOffsetsAndOtherCycleTimes) {
+  for (const double dt : {1e-3, 250e-6, 2e-3, 125e-6, 62.5e-6}) {
+    Scenario s;
+  s.name = "feed-forward dt " + std::to_string(dt);
+    s.p.velocity_feed_forward = 0.7;
+    s.p.sub_step = 1e-4;  // 1 ms: 10 sub-steps
+    s.dt = dt;
+    s.cycles = static_cast<int>(4.0 / dt);
+    s.demand = [dt](int k) {
+      double v = 0;
+      const double x = trapezoid((k + 1) * dt, 1.0e6, &v);
+      return LoopDemand{Kind::Position, x, v, 0.05, 3000};
+    };
+    s.load = [dt](int k) { return (k * dt > 1.5 && k * dt < 2.5) ? 0.3 : 0.0; };  // a load torque for a second
+    const Counts c = run(s);
+    EXPECT_GT(c.closed, s.cycles / 4) << s.name;
+  }
+}
+
+TEST(PlantClosedForm, VelocityModeAndTorqueLimit) {
+  Scenario s;
+  s.name = "velocity";
+  s.demand = [](int k) {
+    const double v = k < 1000 ? 500000.0 : (k < 2000 ? -800000.0 : (k < 3000 ? 3.0e6 : 0.0));
+    return LoopDemand{Kind::Velocity, 0, v, 0, k < 1500 ? 0.0 : 1000.0};
+  };
+  // A low torque limit for a while: the steps to a new speed saturate.
+  s.limits = [](int k, const PlantParameters& p) {
+    const double t = (k > 500 && k < 2500) ? 0.4 : p.peak_torque;
+    return LoopLimits{t, t * 0.5, 4000 * p.encoder_resolution / 60.0};
+  };
+  const Counts c = run(s);
+  EXPECT_GT(c.closed, s.cycles / 2);
+  EXPECT_GT(c.sub, 10);
+}
+
+TEST(PlantClosedForm, VelocityLimitClampsTheCommand) {
+  Scenario s;
+  s.name = "velocity limit";
+  s.demand = [](int k) {
+    double v = 0;
+    const double x = trapezoid(k * 1e-3, 2.5e6, &v);
+    return LoopDemand{Kind::Position, x, v, 0, 0};
+  };
+  s.limits = [](int, const PlantParameters& p) {
+    return LoopLimits{p.peak_torque, p.peak_torque, 1000 * p.encoder_resolution / 60.0};  // below the demand
+  };
+  run(s);
+}
+
+TEST(PlantClosedForm, TorqueModeOffAndRest) {
+  Scenario s;
+  s.name = "torque, off, rest";
+  s.cycles = 6000;
+  s.demand = [](int k) {
+    if (k < 500) return LoopDemand{Kind::Off, 0, 0, 0, 0};  // a new plant, switched off: at rest
+    if (k < 1000) return LoopDemand{Kind::Torque, 0, 0, 0.2, 0};
+    if (k < 2000) return LoopDemand{Kind::Off, 0, 0, 0, 0};  // coasts to a stop
+    if (k < 3000) return LoopDemand{Kind::Torque, 0, 0, 0.01, 0};  // below Coulomb friction: stands
+    if (k < 4000) return LoopDemand{Kind::Position, 5000, 0, 0, 0};
+    return LoopDemand{Kind::Velocity, 0, 0, 0, 0};
+  };
+  const Counts c = run(s);
+  EXPECT_EQ(c.rest, 500);
+}
+
+TEST(PlantClosedForm, HoldingWhereItStandsIsTheRestPoint) {
+  PlantParameters p;
+  p.initial_position = 123456;
+  Plant fast(p), reference(p);
+  const LoopLimits lim{p.peak_torque, p.peak_torque, 1e7};
+  const LoopDemand hold{Kind::Position, 123456, 0, 0, 0};
+  for (int k = 0; k < 100; ++k) {
+    fast.step(hold, lim, 1e-3);
+    reference.step_by_sub_steps(hold, lim, 1e-3);
+    ASSERT_EQ(fast.last_path(), Path::Rest);
+    ASSERT_EQ(fast.position(), reference.position());
+    ASSERT_EQ(fast.velocity(), reference.velocity());
+    ASSERT_EQ(fast.torque(), reference.torque());
+    ASSERT_EQ(fast.torque_command(), reference.torque_command());
+  }
+  // A load torque above the friction is no rest point: the rotor moves.
+  fast.set_external_torque(0.5);
+  fast.step(hold, lim, 1e-3);
+  EXPECT_EQ(fast.last_path(), Path::SubSteps);
+  EXPECT_LT(fast.position(), 123456);
+  // Nor is a reference one increment away.
+  Plant other(p);
+  other.step(LoopDemand{Kind::Position, 123457, 0, 0, 0}, lim, 1e-3);
+  EXPECT_EQ(other.last_path(), Path::SubSteps);
+  EXPECT_GT(other.torque_command(), 0);
+}
+
+}  // namespace
+}  // namespace ecat::ds402::test
