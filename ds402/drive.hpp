@@ -95,6 +95,21 @@ class Drive {
     std::uint16_t max_torque, positive_torque_limit, negative_torque_limit;
     bool operator==(const LimitInputs&) const = default;
   };
+  // What the numeric outputs (positions, velocities, torques, following
+  // error, 60FDh) are computed from; they are recomputed only when it changes
+  // (a drive at rest reports the same values every cycle).
+  struct OutputSources {
+    double position_demand, velocity_demand, position, velocity, torque_command, torque, home_shift, increments_per_unit;
+    bool operator==(const OutputSources&) const = default;
+  };
+  struct NumericOutputs {
+    std::int32_t position_demand, position_demand_internal, position_actual_internal, position_actual;
+    std::int32_t velocity_demand, velocity_actual, following_error;
+    std::int16_t torque_demand, torque_actual;
+    std::uint32_t digital_inputs;
+  };
+  void update_numeric_outputs(const OutputSources& from) noexcept;
+
   void update_scaling(const DriveInputs& in) noexcept;
   void update_limits(const DriveInputs& in) noexcept;
 
@@ -137,6 +152,9 @@ class Drive {
   LimitInputs limit_inputs_{};
   bool scaling_set_ = false;  // scaling_inputs_ holds what units_ came from
   bool limits_set_ = false;   // limit_inputs_ holds what limits_ came from
+  OutputSources output_sources_{};
+  NumericOutputs numeric_{};
+  bool numeric_set_ = false;  // numeric_ was computed from output_sources_
 };
 
 }  // namespace ecat::ds402
