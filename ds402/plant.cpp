@@ -76,6 +76,14 @@ void Plant::configure(double dt) noexcept {
   h_ = dt / n_;
   inv_n_ = 1.0 / n_;
   lag_factor_ = 1.0 - std::exp(-h_ / p_.current_time_constant);
+  standstill_ = Standstill{1.0, {0, 0, 0}};
+  for (int k = 1; k <= n_; ++k) {
+    standstill_.decay *= 1.0 - lag_factor_;
+    const double w = lag_factor_ * std::pow(1.0 - lag_factor_, n_ - k);
+    standstill_.weight[0] += w;
+    standstill_.weight[1] += w * k;
+    standstill_.weight[2] += w * k * k;
+  }
   build_linear(position_loop_, true);
   build_linear(velocity_loop_, false);
 }
@@ -160,6 +168,8 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     last_path_ = Path::Rest;
   } else if ((position_mode || demand.kind == LoopDemand::Kind::Velocity) && closed_form(demand, limits, start_ref)) {
     last_path_ = Path::ClosedForm;
+  } else if (standstill(demand, limits, start_ref)) {
+    last_path_ = Path::Standstill;
   } else {
     run_sub_steps(demand, limits, start_ref);
     last_path_ = Path::SubSteps;
@@ -267,6 +277,80 @@ bool Plant::closed_form(const LoopDemand& d, const LoopLimits& lim, double start
   torque_ = ss[2] + dot(m.phi[2], delta);
   integral_ = ss[3] + dot(m.phi[3], delta);
   torque_command_ = tc + dot(m.tc_end, delta);
+  return true;
+}
+
+// The rotor stands (velocity exactly 0) and friction holds it in every
+// sub-step: the position and velocity stay, and only the controller moves.
+// Its velocity error is then the velocity command, linear in the sub-step
+// k (the reference ramps), so the integral and the torque command tc_k are
+// quadratic in k, and the lagged torque T_k, a running weighted mean of
+// T_0 and the tc_k, stays between their extremes. The sub-steps would hold
+// the rotor if that range is inside the friction band |T - load| <= Fc; the
+// commands must stay inside their clamps as in closed_form().
+bool Plant::standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept {
+  using Kind = LoopDemand::Kind;
+  if (velocity_ != 0.0) return false;
+  const double n = n_;
+  double c0 = 0, c1 = 0, c2 = 0;  // torque command of sub-step k: c0 + c1 k + c2 k², k = 1..n
+  double integral_end = 0;
+  bool limited = false;
+  switch (d.kind) {
+    case Kind::Off: break;
+    case Kind::Torque: {
+      const double upper = kv_ * lim.velocity;
+      const double lower = kv_ * -lim.velocity;
+      const double tc = std::clamp(d.torque, std::min(lower, upper), std::max(lower, upper));
+      c0 = std::clamp(tc, -lim.torque_negative, lim.torque_positive);
+      limited = c0 != tc;
+      break;
+    }
+    case Kind::Position:
+    case Kind::Velocity: {
+      const bool position = d.kind == Kind::Position;
+      const double kp = p_.position_gain;
+      // Velocity command (= error) of sub-step k: a + b k.
+      const double a = position ? kp * (start_ref - position_) + p_.velocity_feed_forward * d.velocity + d.velocity_offset
+                                : d.velocity + d.velocity_offset;
+      const double b = position ? kp * (d.position - start_ref) * inv_n_ : 0.0;
+      const double first = a + b, last = a + b * n;
+      if (!(std::max(std::abs(first), std::abs(last)) + kMargin * (std::abs(a) + std::abs(b) * n) <= lim.velocity))
+        return false;
+      const double kih = ki_ * h_;
+      c2 = kih * b / 2;
+      c1 = kv_ * b + kih * (a + b / 2);
+      c0 = kv_ * a + integral_ + d.torque;
+      integral_end = integral_ + kih * (a * n + b * n * (n + 1) / 2);
+      break;
+    }
+  }
+  // Extremes of tc_k over k in [1, n] (the whole interval: a superset).
+  const double tc_first = c0 + c1 + c2, tc_last = c0 + c1 * n + c2 * n * n;
+  double lo = std::min(tc_first, tc_last), hi = std::max(tc_first, tc_last);
+  if (c2 != 0) {
+    const double vertex = -c1 / (2 * c2);
+    if (vertex > 1 && vertex < n) {
+      const double at = c0 + c1 * vertex + c2 * vertex * vertex;
+      lo = std::min(lo, at);
+      hi = std::max(hi, at);
+    }
+  }
+  const double margin = kMargin * (std::abs(c0) + std::abs(c1) * n + std::abs(c2) * n * n + std::abs(torque_) +
+                                   std::abs(external_torque_) + p_.coulomb_friction);
+  if ((d.kind == Kind::Position || d.kind == Kind::Velocity) &&
+      !(lo - margin >= -lim.torque_negative && hi + margin <= lim.torque_positive))
+    return false;
+  // Friction holds: net torque (velocity 0, so no viscous part) in the band.
+  const double t_lo = std::min(lo, torque_) - margin, t_hi = std::max(hi, torque_) + margin;
+  if (!(t_hi - external_torque_ <= p_.coulomb_friction && t_lo - external_torque_ >= -p_.coulomb_friction))
+    return false;
+
+  const Standstill& s = standstill_;
+  torque_ = s.decay * torque_ + s.weight[0] * c0 + s.weight[1] * c1 + s.weight[2] * c2;
+  torque_command_ = d.kind == Kind::Off ? 0.0 : tc_last;
+  integral_ = integral_end;
+  torque_limited_ = limited;
+  velocity_ = 0.0;
   return true;
 }
 

@@ -94,9 +94,10 @@ class Plant {
 
   // How the last step() was computed (the result is the same either way, up
   // to floating-point rounding): the state was the exact rest point, the
-  // sub-steps were linear and applied in closed form, or they were run one
-  // by one (a clamp, a friction switch or the stiction band in play).
-  enum class Path : std::uint8_t { Rest, ClosedForm, SubSteps };
+  // sub-steps were linear and applied in closed form, the rotor stood held
+  // by friction throughout (closed form of the controller alone), or they
+  // were run one by one (a clamp or a friction switch in play).
+  enum class Path : std::uint8_t { Rest, ClosedForm, Standstill, SubSteps };
 
   // Advances by `dt` seconds in equal sub-steps no longer than sub_step.
   void step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept;
@@ -144,6 +145,13 @@ class Plant {
     double v_bound[4];
     bool valid;  // false: 1 - A is singular (e.g. a zero-length cycle); always sub-steps
   };
+  // The standstill closed form: over n sub-steps of the torque lag,
+  // T_n = decay·T_0 + Σ_k weight_k·tc_k with tc_k = c0 + c1·k + c2·k².
+  struct Standstill {
+    double decay;      // (1 - λ)^n
+    double weight[3];  // Σ_k λ(1 - λ)^(n-k)·k^m, m = 0, 1, 2
+  };
+  bool standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void configure(double dt) noexcept;
   void build_linear(Linear& m, bool position) const noexcept;
   void linear_sub_step(double s[4], const double u[4], bool position) const noexcept;
@@ -176,6 +184,7 @@ class Plant {
   double h_ = 0;
   double inv_n_ = 1;
   double lag_factor_ = 0;
+  Standstill standstill_{};
   Linear position_loop_{};
   Linear velocity_loop_{};
 };
