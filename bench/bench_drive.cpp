@@ -8,9 +8,11 @@
 //                  (2000 cycles a period, +-15 revolutions), so most cycles
 //                  move at constant speed and some accelerate or reverse;
 //   Plant_Hold / Plant_Move  the same two demands given to Plant::step
-//                  directly (position loop, velocity PI, torque lag, load).
+//                  directly (position loop, velocity PI, torque lag, load);
+//   Plant_HoldAfterMove  holding where one leg of the move ended.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -142,6 +144,30 @@ void BM_Plant_Move(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Plant_Move)->Apply(iterations_from_env);
+
+// Holding after a move: the rotor stopped next to the target, friction
+// holds it while the velocity integral unwinds (the usual state of a drive
+// that has arrived).
+void BM_Plant_HoldAfterMove(benchmark::State& state) {
+  const ds402::PlantParameters p;
+  ds402::Plant plant(p);
+  const ds402::LoopLimits lim = default_limits(p);
+  const std::vector<std::int32_t> profile = move_profile(p.encoder_resolution);
+  double last = plant.position();
+  for (std::size_t k = 0; k < profile.size() / 2 + 1000; ++k) {  // out, then 1 s standing
+    const double target = profile[std::min(k, profile.size() / 2 - 1)];
+    plant.step(ds402::LoopDemand{ds402::LoopDemand::Kind::Position, target, (target - last) / kCycleS, 0, 0}, lim,
+               kCycleS);
+    last = target;
+  }
+  const ds402::LoopDemand hold{ds402::LoopDemand::Kind::Position, last, 0, 0, 0};
+  for (auto _ : state) {
+    plant.step(hold, lim, kCycleS);
+    benchmark::DoNotOptimize(plant.position());
+  }
+  state.counters["standstill"] = plant.last_path() == ds402::Plant::Path::Standstill;
+}
+BENCHMARK(BM_Plant_HoldAfterMove)->Apply(iterations_from_env);
 
 }  // namespace
 }  // namespace ecat::bench

@@ -166,10 +166,11 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
   torque_limited_ = false;
   if (at_rest(demand, limits, start_ref)) {
     last_path_ = Path::Rest;
-  } else if ((position_mode || demand.kind == LoopDemand::Kind::Velocity) && closed_form(demand, limits, start_ref)) {
-    last_path_ = Path::ClosedForm;
-  } else if (standstill(demand, limits, start_ref)) {
+  } else if (velocity_ == 0.0 && standstill(demand, limits, start_ref)) {
     last_path_ = Path::Standstill;
+  } else if (velocity_ != 0.0 && (position_mode || demand.kind == LoopDemand::Kind::Velocity) &&
+             closed_form(demand, limits, start_ref)) {
+    last_path_ = Path::ClosedForm;
   } else {
     run_sub_steps(demand, limits, start_ref);
     last_path_ = Path::SubSteps;
