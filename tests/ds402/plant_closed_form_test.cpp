@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -232,6 +234,86 @@ TEST(PlantClosedForm, HoldingWhereItStandsIsTheRestPoint) {
   EXPECT_NEAR(other.torque_command(), other_reference.torque_command(), 1e-12);
   EXPECT_NEAR(other.torque(), other_reference.torque(), 1e-12);
   EXPECT_EQ(other.position(), 123456);
+}
+
+}  // namespace
+}  // namespace ecat::ds402::test
+
+namespace ecat::ds402::test {
+namespace {
+
+// Deterministic pseudo-random numbers (no std::random: same on every run).
+struct Lcg {
+  std::uint64_t s = 0x2545F4914F6CDD1Dull;
+  double uniform(double lo, double hi) {
+    s = s * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * static_cast<double>(s >> 11) / 9007199254740992.0;
+  }
+  int below(int n) { return static_cast<int>(uniform(0, n)); }
+};
+
+// Random plants, demands, limits and loads; before every cycle the plant
+// under test is a copy of the reference, so each step is compared from the
+// same state (differences cannot accumulate) with tight tolerances.
+TEST(PlantClosedForm, RandomisedSingleStepsAgree) {
+  Lcg rng;
+  Counts c;
+  for (int plant_no = 0; plant_no < 40; ++plant_no) {
+    PlantParameters p;
+    p.rotor_inertia = rng.uniform(1e-5, 1e-3);
+    p.load_inertia = rng.uniform(0, 5e-3);
+    p.viscous_friction = rng.uniform(0, 1e-3);
+    p.coulomb_friction = rng.below(4) == 0 ? 0.0 : rng.uniform(0, 0.2);
+    p.peak_torque = rng.uniform(0.5, 20);
+    p.velocity_bandwidth = rng.uniform(20, 300);
+    p.position_gain = rng.uniform(10, 300);
+    p.velocity_feed_forward = rng.below(2) ? 0.0 : rng.uniform(0, 1);
+    p.current_time_constant = rng.uniform(5e-5, 1e-3);
+    p.sub_step = rng.uniform(3e-5, 1.25e-4);
+    const double dt = std::array<double, 4>{1e-3, 5e-4, 2e-3, 250e-6}[static_cast<std::size_t>(rng.below(4))];
+    Plant reference(p);
+    double target = 0, velocity = 0;
+    Kind kind = Kind::Position;
+    LoopLimits lim{p.peak_torque, p.peak_torque, p.max_speed * p.encoder_resolution / 60.0};
+    double load = 0, torque_ff = 0, velocity_offset = 0;
+    for (int k = 0; k < 1500; ++k) {
+      if (rng.below(200) == 0) kind = static_cast<Kind>(rng.below(4));
+      if (rng.below(100) == 0) velocity = rng.below(3) == 0 ? 0.0 : rng.uniform(-3e6, 3e6);  // a new speed
+      if (rng.below(300) == 0) lim.torque_positive = rng.below(2) ? p.peak_torque : rng.uniform(0, p.peak_torque);
+      if (rng.below(300) == 0) lim.torque_negative = rng.below(2) ? p.peak_torque : rng.uniform(0, p.peak_torque);
+      if (rng.below(300) == 0) lim.velocity = rng.uniform(1e5, 1e7);
+      if (rng.below(300) == 0) load = rng.below(2) ? 0.0 : rng.uniform(-0.5, 0.5);
+      if (rng.below(300) == 0) torque_ff = rng.below(2) ? 0.0 : rng.uniform(-0.3, 0.3);
+      if (rng.below(300) == 0) velocity_offset = rng.below(2) ? 0.0 : rng.uniform(-1e4, 1e4);
+      target = std::round(target + velocity * dt);
+      const double torque = kind == Kind::Torque ? rng.uniform(-0.5, 0.5) * (rng.below(20) == 0) + torque_ff : torque_ff;
+      const LoopDemand d{kind, target, velocity, torque, velocity_offset};
+      Plant fast = reference;
+      fast.set_external_torque(load);
+      reference.set_external_torque(load);
+      fast.step(d, lim, dt);
+      reference.step_by_sub_steps(d, lim, dt);
+      switch (fast.last_path()) {
+        case Path::Rest: ++c.rest; break;
+        case Path::ClosedForm: ++c.closed; break;
+        case Path::Standstill: ++c.standstill; break;
+        case Path::SubSteps: ++c.sub; break;
+      }
+      const std::string at = "plant " + std::to_string(plant_no) + " cycle " + std::to_string(k);
+      const double v_scale = std::abs(reference.velocity()) + std::abs(velocity) + 1.0;
+      ASSERT_NEAR(fast.position(), reference.position(), 1e-7 + 1e-12 * std::abs(reference.position())) << at;
+      ASSERT_NEAR(fast.velocity(), reference.velocity(), 1e-9 * v_scale) << at;
+      ASSERT_NEAR(fast.torque(), reference.torque(), 1e-9 * (std::abs(reference.torque()) + 1e-3)) << at;
+      ASSERT_NEAR(fast.torque_command(), reference.torque_command(), 1e-9 * (std::abs(reference.torque()) + 1e-3))
+          << at;
+      ASSERT_EQ(fast.torque_limited(), reference.torque_limited()) << at;
+      if (std::abs(reference.position()) > 1e12) break;  // ran away (torque mode): enough of this plant
+    }
+  }
+  EXPECT_GT(c.closed, 5000);
+  EXPECT_GT(c.standstill, 1000);
+  EXPECT_GT(c.sub, 1000);
+  std::printf("paths: rest %d, closed form %d, standstill %d, sub-steps %d\n", c.rest, c.closed, c.standstill, c.sub);
 }
 
 }  // namespace
