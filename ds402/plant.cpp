@@ -35,31 +35,6 @@ void multiply(const double (&a)[kN][kN], const double (&b)[kN][kN], double (&out
   }
 }
 
-// Solves m · x = rhs for x (Gauss-Jordan with partial pivoting; m and rhs
-// are destroyed). False if m is singular.
-bool solve(double (&m)[kN][kN], double (&rhs)[kN][kN], double (&x)[kN][kN]) noexcept {
-  for (int col = 0; col < kN; ++col) {
-    int pivot = col;
-    for (int r = col + 1; r < kN; ++r) {
-      if (std::abs(m[r][col]) > std::abs(m[pivot][col])) pivot = r;
-    }
-    if (!(std::abs(m[pivot][col]) > 0)) return false;
-    std::swap(m[col], m[pivot]);
-    std::swap(rhs[col], rhs[pivot]);
-    for (int r = 0; r < kN; ++r) {
-      if (r == col) continue;
-      const double f = m[r][col] / m[col][col];
-      for (int c = 0; c < kN; ++c) {
-        m[r][c] -= f * m[col][c];
-        rhs[r][c] -= f * rhs[col][c];
-      }
-    }
-  }
-  for (int r = 0; r < kN; ++r) {
-    for (int c = 0; c < kN; ++c) x[r][c] = rhs[r][c] / m[r][r];
-  }
-  return true;
-}
 }  // namespace
 
 Plant::Plant(const PlantParameters& p) noexcept
@@ -108,30 +83,19 @@ void Plant::linear_sub_step(double s[4], const double u[4], bool position) const
 
 void Plant::build_linear(Linear& m, bool position) const noexcept {
   m = Linear{};
-  double a[kN][kN], b[kN][kN];  // column j: the sub-step's response to unit state j / unit input j
+  double a[kN][kN];  // column j: the sub-step's response to unit state j
   for (int j = 0; j < kN; ++j) {
-    double s[kN] = {}, u[kN] = {}, zero[kN] = {};
+    double s[kN] = {}, zero[kN] = {};
     s[j] = 1;
     linear_sub_step(s, zero, position);
-    double s_in[kN] = {};
-    u[j] = 1;
-    linear_sub_step(s_in, u, position);
-    for (int i = 0; i < kN; ++i) {
-      a[i][j] = s[i];
-      b[i][j] = s_in[i];
-    }
+    for (int i = 0; i < kN; ++i) a[i][j] = s[i];
   }
-  double one_minus_a[kN][kN];
-  for (int i = 0; i < kN; ++i) {
-    for (int j = 0; j < kN; ++j) one_minus_a[i][j] = (i == j ? 1.0 : 0.0) - a[i][j];
-  }
-  if (!solve(one_minus_a, b, m.ss)) return;  // valid stays false
-
   const double kp = position ? p_.position_gain : 0.0;
   const double g = kv_ + ki_ * h_;  // torque command per velocity error
   const double c_vcmd[kN] = {kp, 0, 0, 0};
   const double c_tc[kN] = {g * kp, -g, 0, 1};
   double power[kN][kN] = {};  // A^i
+  double before_last[kN][kN] = {};  // A^(n-1)
   for (int i = 0; i < kN; ++i) power[i][i] = 1;
   for (int i = 0; i <= n_; ++i) {
     for (int k = 0; k < kN; ++k) {
@@ -139,6 +103,7 @@ void Plant::build_linear(Linear& m, bool position) const noexcept {
       if (i >= 1) m.travel[k] += h_ * power[1][k];
     }
     if (i == n_) break;
+    if (i == n_ - 1) std::copy(&power[0][0], &power[0][0] + kN * kN, &before_last[0][0]);
     // Sub-step i + 1 commands from the state after i sub-steps.
     for (int k = 0; k < kN; ++k) {
       double vcmd = 0, tc = 0;
@@ -155,7 +120,38 @@ void Plant::build_linear(Linear& m, bool position) const noexcept {
     std::copy(&next[0][0], &next[0][0] + kN * kN, &power[0][0]);
   }
   std::copy(&power[0][0], &power[0][0] + kN * kN, &m.phi[0][0]);
-  m.valid = std::isfinite(m.phi[0][0] + m.phi[1][1] + m.phi[2][2] + m.phi[3][3]);
+  m.valid = h_ > 0 && std::isfinite(m.phi[0][0] + m.phi[1][1] + m.phi[2][2] + m.phi[3][3]);
+
+  // The chord bounds: a second pass over the powers, now that the last
+  // values (A^(n-1) rows for the commands, A^n for the velocity) are known.
+  for (int k = 0; k < kN; ++k) {
+    m.vcmd_last[k] = 0;
+    for (int r = 0; r < kN; ++r) m.vcmd_last[k] += c_vcmd[r] * before_last[r][k];
+  }
+  for (int i = 0; i < kN; ++i) {
+    for (int j = 0; j < kN; ++j) power[i][j] = i == j ? 1.0 : 0.0;
+  }
+  for (int i = 0; i <= n_; ++i) {
+    for (int k = 0; k < kN; ++k) {
+      const double first = k == 1 ? 1.0 : 0.0;  // velocity row of A^0
+      const double line = first + (m.phi[1][k] - first) * i / n_;
+      m.v_chord[k] = std::max(m.v_chord[k], std::abs(power[1][k] - line));
+    }
+    if (i == n_) break;
+    const double share = n_ > 1 ? static_cast<double>(i) / (n_ - 1) : 0.0;
+    for (int k = 0; k < kN; ++k) {
+      double vcmd = 0, tc = 0;
+      for (int r = 0; r < kN; ++r) {
+        vcmd += c_vcmd[r] * power[r][k];
+        tc += c_tc[r] * power[r][k];
+      }
+      m.vcmd_chord[k] = std::max(m.vcmd_chord[k], std::abs(vcmd - (c_vcmd[k] + (m.vcmd_last[k] - c_vcmd[k]) * share)));
+      m.tc_chord[k] = std::max(m.tc_chord[k], std::abs(tc - (c_tc[k] + (m.tc_end[k] - c_tc[k]) * share)));
+    }
+    double next[kN][kN];
+    multiply(a, power, next);
+    std::copy(&next[0][0], &next[0][0] + kN * kN, &power[0][0]);
+  }
 }
 
 void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
@@ -247,30 +243,51 @@ bool Plant::closed_form(const LoopDemand& d, const LoopLimits& lim, double start
                                  : d.velocity + d.velocity_offset,
                         d.torque, -external_torque_ - p_.coulomb_friction * turning};
   const double s0[kN] = {position ? start_ref - position_ : 0.0, velocity_, torque_, integral_};
-  double ss[kN], delta[kN], size[kN];
+  // The steady state: the velocity of the reference ramp (or the velocity
+  // command), no velocity error, the torque that balances friction and load
+  // at that velocity, the integral that gives it.
+  const double kp = position ? p_.position_gain : 0.0;
+  const double v_ss = position ? u[0] / h_ : u[1];
+  const double t_ss = p_.viscous_friction * rad_per_inc_ * v_ss - u[3];
+  const double ss[kN] = {position ? (v_ss - u[1]) / kp - u[0] : 0.0, v_ss, t_ss, t_ss - u[2]};
+  double delta[kN], size[kN];
   for (int i = 0; i < kN; ++i) {
-    ss[i] = dot(m.ss[i], u);
     delta[i] = s0[i] - ss[i];
     size[i] = std::abs(delta[i]);
   }
-  const double kp = position ? p_.position_gain : 0.0;
+  // Whether a quantity stays inside [low, high] in every sub-step: its
+  // steady value ± the swing bound, or else (tighter for slow transients)
+  // between its first and last values ± the chord bound, or both.
+  auto inside = [&](double steady, const double (&swing)[kN], const double (&first)[kN], const double (&last)[kN],
+                    const double (&chord)[kN], double low, double high, double scale) {
+    const double r = dot(swing, size);
+    const double margin = kMargin * (scale + std::abs(steady) + r);
+    double lo = steady - r - margin, hi = steady + r + margin;
+    if (lo >= low && hi <= high) return true;
+    const double a = steady + dot(first, delta), b = steady + dot(last, delta), c = dot(chord, size);
+    const double chord_margin = kMargin * (scale + std::abs(a) + std::abs(b) + c);
+    lo = std::max(lo, std::min(a, b) - c - chord_margin);
+    hi = std::min(hi, std::max(a, b) + c + chord_margin);
+    return lo >= low && hi <= high;
+  };
   // Velocity command: never clamped.
   const double vcmd = kp * (ss[0] + u[0]) + u[1];
-  const double vcmd_swing = dot(m.vcmd_bound, size);
-  const double vcmd_margin =
-      kMargin * (std::abs(vcmd) + vcmd_swing + kp * (std::abs(ss[0]) + std::abs(u[0])) + std::abs(u[1]));
-  if (!(std::abs(vcmd) + vcmd_swing + vcmd_margin <= lim.velocity)) return false;
+  const double c_vcmd[kN] = {kp, 0, 0, 0};
+  if (!inside(vcmd, m.vcmd_bound, c_vcmd, m.vcmd_last, m.vcmd_chord, -lim.velocity, lim.velocity,
+              kp * (std::abs(ss[0]) + std::abs(u[0])) + std::abs(u[1])))
+    return false;
   // Torque command: never at a limit (so the integral is never held either).
   const double g = kv_ + ki_ * h_;
   const double tc = g * (vcmd - ss[1]) + ss[3] + u[2];
-  const double tc_swing = dot(m.tc_bound, size);
-  const double tc_margin =
-      kMargin * (std::abs(tc) + tc_swing + g * (std::abs(vcmd) + std::abs(ss[1])) + std::abs(ss[3]) + std::abs(u[2]));
-  if (!(tc - tc_swing - tc_margin >= -lim.torque_negative && tc + tc_swing + tc_margin <= lim.torque_positive))
+  const double c_tc[kN] = {g * kp, -g, 0, 1};
+  if (!inside(tc, m.tc_bound, c_tc, m.tc_end, m.tc_chord, -lim.torque_negative, lim.torque_positive,
+              g * (std::abs(vcmd) + std::abs(ss[1])) + std::abs(ss[3]) + std::abs(u[2])))
     return false;
   // Velocity: the same sign, clear of standstill, before and after every sub-step.
-  const double v_swing = dot(m.v_bound, size);
-  if (!((turning * ss[1] - v_swing - kMargin * (std::abs(ss[1]) + v_swing)) * rad_per_inc_ >= 2 * kStandstill))
+  const double c_v[kN] = {0, 1, 0, 0};
+  const double clear = 2 * kStandstill / rad_per_inc_;
+  if (!(turning > 0 ? inside(ss[1], m.v_bound, c_v, m.phi[1], m.v_chord, clear, HUGE_VAL, 0.0)
+                    : inside(ss[1], m.v_bound, c_v, m.phi[1], m.v_chord, -HUGE_VAL, -clear, 0.0)))
     return false;
 
   position_ += ss[1] * dt_ + dot(m.travel, delta);

@@ -131,10 +131,10 @@ class Plant {
   // increment per sub-step, velocity command offset, torque feed-forward,
   // -(external + Coulomb) torque. One sub-step is s' = A s + B u, so over
   // the n sub-steps of a cycle s_i = ss + A^i (s_0 - ss) with the steady
-  // state ss = (1 - A)^-1 B u. Built once per cycle length.
+  // state ss = A ss + B u (closed_form() writes it out). Built once per
+  // cycle length.
   struct Linear {
     double phi[4][4];   // A^n
-    double ss[4][4];    // (1 - A)^-1 B
     double travel[4];   // position change of the cycle per unit of s_0 - ss
     double tc_end[4];   // torque command of the last sub-step per unit of s_0 - ss
     // max over the sub-steps of |coefficient| of s_0 - ss in the velocity
@@ -143,7 +143,17 @@ class Plant {
     double vcmd_bound[4];
     double tc_bound[4];
     double v_bound[4];
-    bool valid;  // false: 1 - A is singular (e.g. a zero-length cycle); always sub-steps
+    // Second bounds, tight when the transient is slow against the cycle:
+    // each quantity stays within its first and last sub-step's values, plus
+    // max over the sub-steps of |coefficient| of the distance from the
+    // straight line between those two (chord). vcmd_last: the velocity
+    // command of the last sub-step per unit of s_0 - ss (tc_end and phi[1]
+    // are the others' last values).
+    double vcmd_last[4];
+    double vcmd_chord[4];
+    double tc_chord[4];
+    double v_chord[4];
+    bool valid;  // false: a zero-length cycle or an overflowing A^n; always sub-steps
   };
   // The standstill closed form: over n sub-steps of the torque lag,
   // T_n = decay·T_0 + Σ_k weight_k·tc_k with tc_k = c0 + c1·k + c2·k².
