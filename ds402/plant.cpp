@@ -59,13 +59,25 @@ void Plant::configure(double dt) noexcept {
     standstill_.weight[1] += w * k;
     standstill_.weight[2] += w * k * k;
   }
-  build_linear(position_loop_, true);
-  build_linear(velocity_loop_, false);
+  build_linear(position_loop_, LoopDemand::Kind::Position);
+  build_linear(velocity_loop_, LoopDemand::Kind::Velocity);
+  build_linear(torque_loop_, LoopDemand::Kind::Torque);
 }
 
 // sub_step() without its clamps and friction switch, on the closed-form
 // state and inputs (see Linear): the same arithmetic, in the same order.
-void Plant::linear_sub_step(double s[4], const double u[4], bool position) const noexcept {
+void Plant::linear_sub_step(double s[4], const double u[4], LoopDemand::Kind mode) const noexcept {
+  if (mode == LoopDemand::Kind::Torque) {  // the command is the demand u[2]; no integral, no position loop
+    const double torque = s[2] + (u[2] - s[2]) * lag_factor_;
+    const double w = s[1] * rad_per_inc_;
+    const double w_new = w + (torque + u[3] - p_.viscous_friction * w) / p_.total_inertia() * h_;
+    s[0] = 0.0;
+    s[1] = w_new / rad_per_inc_;
+    s[2] = torque;
+    s[3] = 0.0;
+    return;
+  }
+  const bool position = mode == LoopDemand::Kind::Position;
   const double kp = position ? p_.position_gain : 0.0;
   const double vcmd = kp * (s[0] + u[0]) + u[1];
   const double e = vcmd - s[1];
@@ -81,13 +93,14 @@ void Plant::linear_sub_step(double s[4], const double u[4], bool position) const
   s[3] = integral;
 }
 
-void Plant::build_linear(Linear& m, bool position) const noexcept {
+void Plant::build_linear(Linear& m, LoopDemand::Kind mode) const noexcept {
+  const bool position = mode == LoopDemand::Kind::Position;
   m = Linear{};
   double a[kN][kN];  // column j: the sub-step's response to unit state j
   for (int j = 0; j < kN; ++j) {
     double s[kN] = {}, zero[kN] = {};
     s[j] = 1;
-    linear_sub_step(s, zero, position);
+    linear_sub_step(s, zero, mode);
     for (int i = 0; i < kN; ++i) a[i][j] = s[i];
   }
   const double kp = position ? p_.position_gain : 0.0;
@@ -164,8 +177,9 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     last_path_ = Path::Rest;
   } else if (velocity_ == 0.0 && standstill(demand, limits, start_ref)) {
     last_path_ = Path::Standstill;
-  } else if (velocity_ != 0.0 && (position_mode || demand.kind == LoopDemand::Kind::Velocity) &&
-             closed_form(demand, limits, start_ref)) {
+  } else if (velocity_ != 0.0 && (demand.kind == LoopDemand::Kind::Torque
+                                       ? closed_form_torque(demand, limits)
+                                       : demand.kind != LoopDemand::Kind::Off && closed_form(demand, limits, start_ref))) {
     last_path_ = Path::ClosedForm;
   } else {
     run_sub_steps(demand, limits, start_ref);
@@ -265,7 +279,7 @@ bool Plant::closed_form(const LoopDemand& d, const LoopLimits& lim, double start
     double lo = steady - r - margin, hi = steady + r + margin;
     if (lo >= low && hi <= high) return true;
     const double a = steady + dot(first, delta), b = steady + dot(last, delta), c = dot(chord, size);
-    const double chord_margin = kMargin * (scale + std::abs(a) + std::abs(b) + c);
+    const double chord_margin = kMargin * (scale + std::abs(steady) + std::abs(a) + std::abs(b) + c);
     lo = std::max(lo, std::min(a, b) - c - chord_margin);
     hi = std::min(hi, std::max(a, b) + c + chord_margin);
     return lo >= low && hi <= high;
@@ -369,6 +383,47 @@ bool Plant::standstill(const LoopDemand& d, const LoopLimits& lim, double start_
   integral_ = integral_end;
   torque_limited_ = limited;
   velocity_ = 0.0;
+  return true;
+}
+
+// The torque modes while turning: the same closed form (see closed_form())
+// with the command fixed at the demand. It holds while the demand is inside
+// the torque limits and the speed limitation does not act, i.e. the
+// velocity stays within ±limit − demand/Kv, and the rotor turns one way.
+bool Plant::closed_form_torque(const LoopDemand& d, const LoopLimits& lim) noexcept {
+  const Linear& m = torque_loop_;
+  const double b = p_.viscous_friction * rad_per_inc_;
+  if (!m.valid || !(b > 0) || !(std::abs(velocity_ * rad_per_inc_) >= kStandstill)) return false;
+  if (!(d.torque <= lim.torque_positive && d.torque >= -lim.torque_negative)) return false;
+  const double turning = velocity_ > 0 ? 1.0 : -1.0;
+  // Steady state: the torque at the demand, the speed where viscous friction
+  // takes what Coulomb friction and load leave of it.
+  const double t_ss = d.torque;
+  const double v_ss = (t_ss - external_torque_ - p_.coulomb_friction * turning) / b;
+  // Far beyond the motion at hand the sums would cancel too much: sub-steps.
+  if (!(std::abs(v_ss) <= 1e3 * (std::abs(velocity_) + lim.velocity))) return false;
+  const double delta[kN] = {0.0, velocity_ - v_ss, torque_ - t_ss, 0.0};
+  const double size[kN] = {0.0, std::abs(delta[1]), std::abs(delta[2]), 0.0};
+  const double shift = d.torque / kv_;
+  const double clear = 2 * kStandstill / rad_per_inc_;
+  const double low = turning > 0 ? std::max(clear, -lim.velocity - shift) : -lim.velocity - shift;
+  const double high = turning > 0 ? lim.velocity - shift : std::min(-clear, lim.velocity - shift);
+  const double r = dot(m.v_bound, size);
+  const double margin = kMargin * (lim.velocity + std::abs(shift) + std::abs(v_ss) + r);
+  double lo = v_ss - r - margin, hi = v_ss + r + margin;
+  if (!(lo >= low && hi <= high)) {
+    const double first = velocity_, last = v_ss + dot(m.phi[1], delta), c = dot(m.v_chord, size);
+    const double chord_margin =
+        kMargin * (lim.velocity + std::abs(shift) + std::abs(v_ss) + std::abs(first) + std::abs(last) + c);
+    lo = std::max(lo, std::min(first, last) - c - chord_margin);
+    hi = std::min(hi, std::max(first, last) + c + chord_margin);
+    if (!(lo >= low && hi <= high)) return false;
+  }
+  position_ += v_ss * dt_ + dot(m.travel, delta);
+  velocity_ = v_ss + dot(m.phi[1], delta);
+  torque_ = t_ss + dot(m.phi[2], delta);
+  integral_ = 0;
+  torque_command_ = d.torque;
   return true;
 }
 

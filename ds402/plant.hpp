@@ -163,10 +163,11 @@ class Plant {
   };
   bool standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void configure(double dt) noexcept;
-  void build_linear(Linear& m, bool position) const noexcept;
-  void linear_sub_step(double s[4], const double u[4], bool position) const noexcept;
+  void build_linear(Linear& m, LoopDemand::Kind mode) const noexcept;
+  void linear_sub_step(double s[4], const double u[4], LoopDemand::Kind mode) const noexcept;
   bool at_rest(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   bool closed_form(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
+  bool closed_form_torque(const LoopDemand& d, const LoopLimits& lim) noexcept;
   void run_sub_steps(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void sub_step(const LoopDemand& d, const LoopLimits& lim, double position_ref, double h) noexcept;
 
@@ -197,6 +198,7 @@ class Plant {
   Standstill standstill_{};
   Linear position_loop_{};
   Linear velocity_loop_{};
+  Linear torque_loop_{};  // state (0, v, T, 0): the torque modes' lag and mechanics
 };
 
 }  // namespace ecat::ds402
