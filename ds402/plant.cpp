@@ -177,9 +177,9 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     last_path_ = Path::Rest;
   } else if (velocity_ == 0.0 && standstill(demand, limits, start_ref)) {
     last_path_ = Path::Standstill;
-  } else if (velocity_ != 0.0 && (demand.kind == LoopDemand::Kind::Torque
+  } else if (velocity_ != 0.0 && (demand.kind == LoopDemand::Kind::Torque || demand.kind == LoopDemand::Kind::Off
                                        ? closed_form_torque(demand, limits)
-                                       : demand.kind != LoopDemand::Kind::Off && closed_form(demand, limits, start_ref))) {
+                                       : closed_form(demand, limits, start_ref))) {
     last_path_ = Path::ClosedForm;
   } else {
     run_sub_steps(demand, limits, start_ref);
@@ -390,24 +390,28 @@ bool Plant::standstill(const LoopDemand& d, const LoopLimits& lim, double start_
 // with the command fixed at the demand. It holds while the demand is inside
 // the torque limits and the speed limitation does not act, i.e. the
 // velocity stays within ±limit − demand/Kv, and the rotor turns one way.
+// Switched off (coasting) is the same with a command of 0 and no limits.
 bool Plant::closed_form_torque(const LoopDemand& d, const LoopLimits& lim) noexcept {
   const Linear& m = torque_loop_;
   const double b = p_.viscous_friction * rad_per_inc_;
   if (!m.valid || !(b > 0) || !(std::abs(velocity_ * rad_per_inc_) >= kStandstill)) return false;
-  if (!(d.torque <= lim.torque_positive && d.torque >= -lim.torque_negative)) return false;
+  const bool off = d.kind == LoopDemand::Kind::Off;
+  const double command = off ? 0.0 : d.torque;
+  if (!off && !(command <= lim.torque_positive && command >= -lim.torque_negative)) return false;
   const double turning = velocity_ > 0 ? 1.0 : -1.0;
   // Steady state: the torque at the demand, the speed where viscous friction
   // takes what Coulomb friction and load leave of it.
-  const double t_ss = d.torque;
+  const double t_ss = command;
   const double v_ss = (t_ss - external_torque_ - p_.coulomb_friction * turning) / b;
   // Far beyond the motion at hand the sums would cancel too much: sub-steps.
   if (!(std::abs(v_ss) <= 1e3 * (std::abs(velocity_) + lim.velocity))) return false;
   const double delta[kN] = {0.0, velocity_ - v_ss, torque_ - t_ss, 0.0};
   const double size[kN] = {0.0, std::abs(delta[1]), std::abs(delta[2]), 0.0};
-  const double shift = d.torque / kv_;
+  const double shift = command / kv_;
   const double clear = 2 * kStandstill / rad_per_inc_;
-  const double low = turning > 0 ? std::max(clear, -lim.velocity - shift) : -lim.velocity - shift;
-  const double high = turning > 0 ? lim.velocity - shift : std::min(-clear, lim.velocity - shift);
+  const double reach = off ? HUGE_VAL : lim.velocity;  // no speed limitation when off
+  const double low = turning > 0 ? std::max(clear, -reach - shift) : -reach - shift;
+  const double high = turning > 0 ? reach - shift : std::min(-clear, reach - shift);
   const double r = dot(m.v_bound, size);
   const double margin = kMargin * (lim.velocity + std::abs(shift) + std::abs(v_ss) + r);
   double lo = v_ss - r - margin, hi = v_ss + r + margin;
@@ -423,7 +427,7 @@ bool Plant::closed_form_torque(const LoopDemand& d, const LoopLimits& lim) noexc
   velocity_ = v_ss + dot(m.phi[1], delta);
   torque_ = t_ss + dot(m.phi[2], delta);
   integral_ = 0;
-  torque_command_ = d.torque;
+  torque_command_ = command;
   return true;
 }
 
