@@ -9,6 +9,7 @@
 //                  move at constant speed and some accelerate or reverse;
 //   Plant_Hold / Plant_Move  the same two demands given to Plant::step
 //                  directly (position loop, velocity PI, torque lag, load);
+//   Plant_MoveJitter  the move with a cycle time jittering by +-1 us;
 //   Plant_HoldAfterMove  holding where one leg of the move ended.
 #include <benchmark/benchmark.h>
 
@@ -144,6 +145,27 @@ void BM_Plant_Move(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Plant_Move)->Apply(iterations_from_env);
+
+// The move with a cycle time that jitters by +-1 us, as a free-running loop
+// timed by the real clock sees it: the closed form is not rebuilt for each
+// new cycle time, the sub-steps run (bench_cycle's clock is exact).
+void BM_Plant_MoveJitter(benchmark::State& state) {
+  const ds402::PlantParameters p;
+  ds402::Plant plant(p);
+  const ds402::LoopLimits lim = default_limits(p);
+  const std::vector<std::int32_t> profile = move_profile(p.encoder_resolution);
+  std::size_t k = 0;
+  double last = plant.position();
+  for (auto _ : state) {
+    const double target = profile[k];
+    const double dt = kCycleS + static_cast<double>(static_cast<int>((k * 7919) % 201) - 100) * 1e-8;
+    k = k + 1 == profile.size() ? 0 : k + 1;
+    plant.step(ds402::LoopDemand{ds402::LoopDemand::Kind::Position, target, (target - last) / dt, 0, 0}, lim, dt);
+    last = target;
+    benchmark::DoNotOptimize(plant.position());
+  }
+}
+BENCHMARK(BM_Plant_MoveJitter)->Apply(iterations_from_env);
 
 // Holding after a move: the rotor stopped next to the target, friction
 // holds it while the velocity integral unwinds (the usual state of a drive

@@ -45,23 +45,42 @@ Plant::Plant(const PlantParameters& p) noexcept
   position_ = previous_position_ = last_position_ref_ = p_.initial_position;
 }
 
+// Per new cycle length: the sub-step count and length and the current-loop
+// lag factor (one exp()). The closed forms' matrices are built only once
+// the same length comes twice in a row (build_closed_forms): a cycle time
+// that jitters (a free-running loop timed by the real clock) changes every
+// cycle, and building them each time would cost far more than the
+// sub-steps they save; such cycles run the sub-steps (and the rest and
+// standstill paths, which need no matrices).
 void Plant::configure(double dt) noexcept {
   dt_ = dt;
   n_ = std::max(1, static_cast<int>(std::ceil(dt / p_.sub_step - 1e-9)));
   h_ = dt / n_;
   inv_n_ = 1.0 / n_;
   lag_factor_ = 1.0 - std::exp(-h_ / p_.current_time_constant);
-  standstill_ = Standstill{1.0, {0, 0, 0}};
-  for (int k = 1; k <= n_; ++k) {
-    standstill_.decay *= 1.0 - lag_factor_;
-    const double w = lag_factor_ * std::pow(1.0 - lag_factor_, n_ - k);
-    standstill_.weight[0] += w;
-    standstill_.weight[1] += w * k;
-    standstill_.weight[2] += w * k * k;
-  }
+  closed_forms_ready_ = false;
+  standstill_ready_ = false;
+}
+
+void Plant::build_closed_forms() noexcept {
   build_linear(position_loop_, LoopDemand::Kind::Position);
   build_linear(velocity_loop_, LoopDemand::Kind::Velocity);
   build_linear(torque_loop_, LoopDemand::Kind::Torque);
+  closed_forms_ready_ = true;
+}
+
+// Weights of the standstill closed form: λ(1 - λ)^(n-k) for k = n down to 1.
+void Plant::build_standstill() noexcept {
+  standstill_ = Standstill{1.0, {0, 0, 0}};
+  const double keep = 1.0 - lag_factor_;
+  for (int k = n_; k >= 1; --k) {
+    const double w = lag_factor_ * standstill_.decay;  // decay = (1 - λ)^(n-k) so far
+    standstill_.weight[0] += w;
+    standstill_.weight[1] += w * k;
+    standstill_.weight[2] += w * k * k;
+    standstill_.decay *= keep;
+  }
+  standstill_ready_ = true;
 }
 
 // sub_step() without its clamps and friction switch, on the closed-form
@@ -168,7 +187,11 @@ void Plant::build_linear(Linear& m, LoopDemand::Kind mode) const noexcept {
 }
 
 void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
-  if (dt != dt_) configure(dt);
+  if (dt != dt_) {
+    configure(dt);
+  } else if (!closed_forms_ready_) {
+    build_closed_forms();  // the same cycle length twice in a row
+  }
   previous_position_ = position_;
   const bool position_mode = demand.kind == LoopDemand::Kind::Position;
   const double start_ref = (position_mode && last_was_position_) ? last_position_ref_ : demand.position;
@@ -177,7 +200,8 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     last_path_ = Path::Rest;
   } else if (velocity_ == 0.0 && standstill(demand, limits, start_ref)) {
     last_path_ = Path::Standstill;
-  } else if (velocity_ != 0.0 && (demand.kind == LoopDemand::Kind::Torque || demand.kind == LoopDemand::Kind::Off
+  } else if (velocity_ != 0.0 && closed_forms_ready_ &&
+             (demand.kind == LoopDemand::Kind::Torque || demand.kind == LoopDemand::Kind::Off
                                        ? closed_form_torque(demand, limits)
                                        : closed_form(demand, limits, start_ref))) {
     last_path_ = Path::ClosedForm;
@@ -323,6 +347,7 @@ bool Plant::closed_form(const LoopDemand& d, const LoopLimits& lim, double start
 bool Plant::standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept {
   using Kind = LoopDemand::Kind;
   if (velocity_ != 0.0) return false;
+  if (!standstill_ready_) build_standstill();
   const double n = n_;
   double c0 = 0, c1 = 0, c2 = 0;  // torque command of sub-step k: c0 + c1 k + c2 k², k = 1..n
   double integral_end = 0;

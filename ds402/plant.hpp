@@ -163,6 +163,8 @@ class Plant {
   };
   bool standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void configure(double dt) noexcept;
+  void build_closed_forms() noexcept;
+  void build_standstill() noexcept;
   void build_linear(Linear& m, LoopDemand::Kind mode) const noexcept;
   void linear_sub_step(double s[4], const double u[4], LoopDemand::Kind mode) const noexcept;
   bool at_rest(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
@@ -187,14 +189,17 @@ class Plant {
   bool torque_limited_ = false;
   Path last_path_ = Path::SubSteps;
   // Set by configure() for the cycle length dt_ it was last called with (the
-  // cycle time rarely changes, so exp(), the division and the closed-form
-  // matrices are computed once per new cycle time): n_ sub-steps of h_, the
-  // current-loop lag factor 1 - exp(-h/tau) and the two closed-form models.
+  // cycle time rarely changes, so exp() and the divisions run once per new
+  // cycle time): n_ sub-steps of h_, the current-loop lag factor
+  // 1 - exp(-h/tau); the closed-form models are built when that cycle time
+  // comes a second time in a row, the standstill weights when first needed.
   double dt_ = -1;
   int n_ = 1;
   double h_ = 0;
   double inv_n_ = 1;
   double lag_factor_ = 0;
+  bool closed_forms_ready_ = false;  // the three Linear below are for dt_
+  bool standstill_ready_ = false;    // standstill_ is for dt_
   Standstill standstill_{};
   Linear position_loop_{};
   Linear velocity_loop_{};

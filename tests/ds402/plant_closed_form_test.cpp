@@ -203,6 +203,34 @@ TEST(PlantClosedForm, MoveThenHold) {
   EXPECT_GT(c.closed, 50);        // the decay towards the target
 }
 
+// A cycle time that jitters (free-running loop on the real clock): the
+// closed-form matrices are not rebuilt each cycle, the sub-steps run, and a
+// steady cycle time brings the closed form back from its second cycle.
+TEST(PlantClosedForm, JitteringCycleTimeRunsTheSubSteps) {
+  const PlantParameters p;
+  Plant fast(p), reference(p);
+  const LoopLimits lim{p.peak_torque, p.peak_torque, p.max_speed * p.encoder_resolution / 60.0};
+  double t = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const bool jitter = k < 1000;
+    const double dt = jitter ? 1e-3 + ((k * 7919) % 201 - 100) * 1e-8 : 1e-3;  // +-1 us
+    t += dt;
+    double v = 0;
+    const double x = std::round(trapezoid(t, 1.0e6, &v));
+    const LoopDemand d{Kind::Position, x, v, 0, 0};
+    fast.step(d, lim, dt);
+    reference.step_by_sub_steps(d, lim, dt);
+    if (jitter && k > 0) {
+      ASSERT_NE(fast.last_path(), Path::ClosedForm) << k;
+    }
+    if (k == 1001) {
+      EXPECT_EQ(fast.last_path(), Path::ClosedForm);  // 1 ms twice in a row, at speed
+    }
+    ASSERT_NEAR(fast.position(), reference.position(), 1e-6 + 1e-12 * std::abs(reference.position())) << k;
+    ASSERT_NEAR(fast.velocity(), reference.velocity(), 1e-4) << k;
+  }
+}
+
 TEST(PlantClosedForm, HoldingWhereItStandsIsTheRestPoint) {
   PlantParameters p;
   p.initial_position = 123456;
