@@ -17,15 +17,41 @@ Drive::Drive(DriveConfig config, const PlantParameters& plant)
     : config_(std::move(config)), plant_(resolve_axis(plant)), axis_(plant_.parameters()) {
   gen_.reset(plant_.position(), 0.0);
   demand_.position = plant_.position();
+  moving_ = plant_.rpm_to_increments(kMovingRpm);
+}
+
+void Drive::update_scaling(const DriveInputs& in) noexcept {
+  const ScalingInputs scaling{in.encoder_increments,     in.motor_revolutions, in.gear_motor_revolutions,
+                              in.gear_shaft_revolutions, in.feed,              in.feed_shaft_revolutions};
+  if (scaling_set_ && scaling == scaling_inputs_) return;
+  units_ = UnitScaling::from(in, plant_.parameters().encoder_resolution);
+  scaling_inputs_ = scaling;
+  scaling_set_ = true;
+}
+
+void Drive::update_limits(const DriveInputs& in) noexcept {
+  const LimitInputs limits{in.max_motor_speed, in.max_torque, in.positive_torque_limit, in.negative_torque_limit};
+  if (limits_set_ && limits == limit_inputs_) return;
+  const PlantParameters& pp = plant_.parameters();
+  const double max_rpm = in.max_motor_speed ? static_cast<double>(in.max_motor_speed) : pp.max_speed;
+  limits_.velocity = plant_.rpm_to_increments(max_rpm);
+  limits_.torque_positive = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.positive_torque_limit)));
+  limits_.torque_negative = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.negative_torque_limit)));
+  limit_inputs_ = limits;
+  limits_set_ = true;
 }
 
 void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) noexcept {
-  const double dt = std::chrono::duration<double>(cycle).count();
+  if (cycle != cycle_) {
+    cycle_ = cycle;
+    dt_ = std::chrono::duration<double>(cycle).count();
+  }
+  const double dt = dt_;
   if (!(dt > 0)) {  // no time passed: nothing moves, report as is
     fill(in, out, 0.0);
     return;
   }
-  units_ = UnitScaling::from(in, plant_.parameters().encoder_resolution);
+  update_scaling(in);
   controlword_ = in.controlword;
   halted_ = (in.controlword & cw::kHalt) != 0;
   internal_limit_ = false;
@@ -62,11 +88,7 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
     run_mode(in, dt);
   }
 
-  const PlantParameters& pp = plant_.parameters();
-  const double max_rpm = in.max_motor_speed ? static_cast<double>(in.max_motor_speed) : pp.max_speed;
-  limits_.velocity = plant_.rpm_to_increments(max_rpm);
-  limits_.torque_positive = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.positive_torque_limit)));
-  limits_.torque_negative = std::min(pp.peak_torque, torque_nm(std::min(in.max_torque, in.negative_torque_limit)));
+  update_limits(in);  // after the modes: their stop ramps use the previous cycle's limits
   plant_.step(demand_, limits_, dt);
 
   probe_.cycle(in.touch_probe_function, axis_, plant_.previous_position(), plant_.position(), units_, home_shift_);

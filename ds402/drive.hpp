@@ -83,6 +83,36 @@ class Drive {
   double torque_nm(double per_mille) const noexcept { return per_mille * plant_.parameters().rated_torque / 1000.0; }
   double torque_per_mille(double nm) const noexcept { return nm * 1000.0 / plant_.parameters().rated_torque; }
 
+  // The inputs the unit scaling and the loop limits are computed from: both
+  // are recomputed only when one of them changes (SDO writes), not per cycle.
+  struct ScalingInputs {
+    std::uint32_t encoder_increments, motor_revolutions, gear_motor_revolutions, gear_shaft_revolutions, feed,
+        feed_shaft_revolutions;
+    bool operator==(const ScalingInputs&) const = default;
+  };
+  struct LimitInputs {
+    std::uint32_t max_motor_speed;
+    std::uint16_t max_torque, positive_torque_limit, negative_torque_limit;
+    bool operator==(const LimitInputs&) const = default;
+  };
+  // What the numeric outputs (positions, velocities, torques, following
+  // error, 60FDh) are computed from; they are recomputed only when it changes
+  // (a drive at rest reports the same values every cycle).
+  struct OutputSources {
+    double position_demand, velocity_demand, position, velocity, torque_command, torque, home_shift, increments_per_unit;
+    bool operator==(const OutputSources&) const = default;
+  };
+  struct NumericOutputs {
+    std::int32_t position_demand, position_demand_internal, position_actual_internal, position_actual;
+    std::int32_t velocity_demand, velocity_actual, following_error;
+    std::int16_t torque_demand, torque_actual;
+    std::uint32_t digital_inputs;
+  };
+  void update_numeric_outputs(const OutputSources& from) noexcept;
+
+  void update_scaling(const DriveInputs& in) noexcept;
+  void update_limits(const DriveInputs& in) noexcept;
+
   DriveConfig config_;
   Plant plant_;
   Axis axis_;
@@ -115,6 +145,16 @@ class Drive {
   std::uint16_t error_code_ = 0;
   std::uint8_t error_register_ = 0;
   Timer following_timer_, torque_timer_, position_window_, velocity_window_, speed_zero_;
+  double moving_ = 0;  // increments/s below which the motor counts as standing (kMovingRpm)
+  Nanoseconds cycle_{-1};  // the last cycle length and its value in seconds
+  double dt_ = 0;
+  ScalingInputs scaling_inputs_{};
+  LimitInputs limit_inputs_{};
+  bool scaling_set_ = false;  // scaling_inputs_ holds what units_ came from
+  bool limits_set_ = false;   // limit_inputs_ holds what limits_ came from
+  OutputSources output_sources_{};
+  NumericOutputs numeric_{};
+  bool numeric_set_ = false;  // numeric_ was computed from output_sources_
 };
 
 }  // namespace ecat::ds402

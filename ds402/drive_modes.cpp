@@ -31,7 +31,7 @@ double Drive::decel_for(StopKind stop, const DriveInputs& in) const noexcept {
 void Drive::run_stop(StopKind stop, const DriveInputs& in, double dt) noexcept {
   // Stopped once the ramp has ended and the motor follows it to rest.
   stopped_ = gen_.stop(decel_for(stop, in), dt) &&
-             std::abs(plant_.velocity()) < plant_.rpm_to_increments(kMovingRpm);
+             std::abs(plant_.velocity()) < moving_;
   demand_ = LoopDemand{LoopDemand::Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
 }
 
@@ -43,7 +43,8 @@ void Drive::hold() noexcept {
 void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
   using Kind = LoopDemand::Kind;
   stopped_ = false;
-  const double halt_decel = decel_for(stop_for_halt(config_.halt.pick(in.halt_option)), in);
+  // Only a halted mode ramps with it.
+  auto halt_decel = [&] { return decel_for(stop_for_halt(config_.halt.pick(in.halt_option)), in); };
   const bool limits_on = in.software_limit_min < in.software_limit_max;
   const double lim_min = position_to_inc(in.software_limit_min), lim_max = position_to_inc(in.software_limit_max);
   const double vmax_profile = to_inc(in.max_profile_velocity);
@@ -57,7 +58,7 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
                     limits_on ? lim_max : 0);
       internal_limit_ = pp_.target_clipped();
       if (halted_) {
-        gen_.stop(halt_decel, dt);
+        gen_.stop(halt_decel(), dt);
       } else {
         pp_.move(gen_, dt);
       }
@@ -67,7 +68,10 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
     case OperationMode::ProfileVelocity: {
       const double target = std::clamp(to_inc(in.target_velocity), -vmax_profile, vmax_profile);
       if (halted_) {
-        gen_.ramp_velocity(0.0, halt_decel, halt_decel, dt);
+        {
+          const double d = halt_decel();
+          gen_.ramp_velocity(0.0, d, d, dt);
+        }
       } else {
         gen_.ramp_velocity(target, to_inc(in.profile_acceleration), to_inc(in.profile_deceleration), dt);
       }
@@ -106,7 +110,7 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
       return;
     case OperationMode::CyclicSyncPosition: {
       if (halted_) {
-        gen_.stop(halt_decel, dt);
+        gen_.stop(halt_decel(), dt);
         demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
         return;
       }
@@ -122,7 +126,7 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
     }
     case OperationMode::CyclicSyncVelocity: {
       if (halted_) {
-        gen_.stop(halt_decel, dt);
+        gen_.stop(halt_decel(), dt);
         demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
         return;
       }
@@ -133,7 +137,7 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
     }
     case OperationMode::CyclicSyncTorque: {
       if (halted_) {
-        gen_.stop(halt_decel, dt);
+        gen_.stop(halt_decel(), dt);
         demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
         return;
       }

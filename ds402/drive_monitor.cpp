@@ -45,7 +45,7 @@ void Drive::monitor(const DriveInputs& in, double dt) noexcept {
   const bool operating = sm_.operation_active();
   const double pos = plant_.position();
   const double v = plant_.velocity();
-  const double moving = plant_.rpm_to_increments(kMovingRpm);
+  const double moving = moving_;
 
   // Following error (6065h/6066h, CiA 402-2 §12.4.2).
   if (driving && demand_.kind == LoopDemand::Kind::Position && in.following_error_window != kFollowingErrorOff) {

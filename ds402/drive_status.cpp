@@ -97,16 +97,18 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   if (homed_) status |= config_.home_found_bit;
   out.statusword = status;
   out.modes_of_operation_display = static_cast<std::int8_t>(mode_);
-  const double pos = plant_.position();
-  out.position_demand = UnitScaling::to_i32(position_to_user(demand_.position));
-  out.position_demand_internal = UnitScaling::to_i32(demand_.position + home_shift_);
-  out.position_actual_internal = UnitScaling::to_i32(pos + home_shift_);
-  out.position_actual = UnitScaling::to_i32(position_to_user(pos));
-  out.velocity_demand = UnitScaling::to_i32(to_user(demand_.velocity));
-  out.velocity_actual = UnitScaling::to_i32(to_user(plant_.velocity()));
-  out.torque_demand = UnitScaling::to_i16(torque_per_mille(plant_.torque_command()));
-  out.torque_actual = UnitScaling::to_i16(torque_per_mille(plant_.torque()));
-  out.following_error = UnitScaling::to_i32(to_user(demand_.position - pos));
+  const OutputSources from{demand_.position, demand_.velocity,       plant_.position(), plant_.velocity(),
+                           plant_.torque_command(), plant_.torque(), home_shift_, units_.increments_per_unit()};
+  if (!numeric_set_ || !(from == output_sources_)) update_numeric_outputs(from);
+  out.position_demand = numeric_.position_demand;
+  out.position_demand_internal = numeric_.position_demand_internal;
+  out.position_actual_internal = numeric_.position_actual_internal;
+  out.position_actual = numeric_.position_actual;
+  out.velocity_demand = numeric_.velocity_demand;
+  out.velocity_actual = numeric_.velocity_actual;
+  out.torque_demand = numeric_.torque_demand;
+  out.torque_actual = numeric_.torque_actual;
+  out.following_error = numeric_.following_error;
   out.error_code = error_code_;
   out.error_register = error_register_;
   out.touch_probe_status = probe_.status();
@@ -114,14 +116,31 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   out.touch_probe_1_negative = probe_.value(1);
   out.touch_probe_2_positive = probe_.value(2);
   out.touch_probe_2_negative = probe_.value(3);
+  out.digital_inputs = numeric_.digital_inputs;
+  out.supported_drive_modes = config_.supported_modes;
+}
+
+void Drive::update_numeric_outputs(const OutputSources& from) noexcept {
+  const double pos = from.position;
+  NumericOutputs& n = numeric_;
+  n.position_demand = UnitScaling::to_i32(position_to_user(from.position_demand));
+  n.position_demand_internal = UnitScaling::to_i32(from.position_demand + home_shift_);
+  n.position_actual_internal = UnitScaling::to_i32(pos + home_shift_);
+  n.position_actual = UnitScaling::to_i32(position_to_user(pos));
+  n.velocity_demand = UnitScaling::to_i32(to_user(from.velocity_demand));
+  n.velocity_actual = UnitScaling::to_i32(to_user(from.velocity));
+  n.torque_demand = UnitScaling::to_i16(torque_per_mille(from.torque_command));
+  n.torque_actual = UnitScaling::to_i16(torque_per_mille(from.torque));
+  n.following_error = UnitScaling::to_i32(to_user(from.position_demand - pos));
   std::uint32_t di = 0;
   if (axis_.active(AxisSignal::NegativeLimit, pos)) di |= kDiNegativeLimit;
   if (axis_.active(AxisSignal::PositiveLimit, pos)) di |= kDiPositiveLimit;
   if (axis_.active(AxisSignal::HomeSwitch, pos)) di |= kDiHomeSwitch;
   if (axis_.active(AxisSignal::Probe1, pos)) di |= kDiProbe1;
   if (axis_.active(AxisSignal::Probe2, pos)) di |= kDiProbe2;
-  out.digital_inputs = di;
-  out.supported_drive_modes = config_.supported_modes;
+  n.digital_inputs = di;
+  output_sources_ = from;
+  numeric_set_ = true;
 }
 
 }  // namespace ecat::ds402

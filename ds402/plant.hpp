@@ -1,8 +1,11 @@
 // The simulated servo axis: a rigid rotor plus load with viscous and Coulomb
 // friction, driven by a torque (current) loop modelled as a first-order lag,
 // under a cascaded velocity PI and position P controller (the usual servo
-// structure, CiA 402-2 Figure 3/§12). Everything runs in fixed sub-steps of
-// one drive cycle, so the result depends only on the inputs (deterministic).
+// structure, CiA 402-2 Figure 3/§12). The controller is sampled: everything
+// runs in fixed sub-steps of one drive cycle, so the result depends only on
+// the inputs (deterministic). Where no limit, clamp or friction switch acts
+// during a cycle the sub-step model is linear, and its n sub-steps are
+// applied at once in closed form (docs/ds402.md, "The plant").
 #pragma once
 
 #include <cstdint>
@@ -89,8 +92,19 @@ class Plant {
  public:
   explicit Plant(const PlantParameters& p) noexcept;
 
+  // How the last step() was computed (the result is the same either way, up
+  // to floating-point rounding): the state was the exact rest point, the
+  // sub-steps were linear and applied in closed form, the rotor stood held
+  // by friction throughout (closed form of the controller alone), or they
+  // were run one by one (a clamp or a friction switch in play).
+  enum class Path : std::uint8_t { Rest, ClosedForm, Standstill, SubSteps };
+
   // Advances by `dt` seconds in equal sub-steps no longer than sub_step.
   void step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept;
+  // The same, always one sub-step after the other: the reference the
+  // closed-form and rest paths are tested against.
+  void step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept;
+  Path last_path() const noexcept { return last_path_; }
 
   // A load torque acting against the motor (N·m), e.g. a stall or collision.
   void set_external_torque(double nm) noexcept { external_torque_ = nm; }
@@ -110,6 +124,53 @@ class Plant {
   double previous_position() const noexcept { return previous_position_; }
 
  private:
+  // The sub-step model of the position/velocity loops while it is linear:
+  // state s = (E, v, T, I) with E = position reference at the start of the
+  // sub-step minus position (0 in velocity mode), v velocity, T torque, I
+  // velocity integral; constant inputs u = (dr, cv, tff, dist): reference
+  // increment per sub-step, velocity command offset, torque feed-forward,
+  // -(external + Coulomb) torque. One sub-step is s' = A s + B u, so over
+  // the n sub-steps of a cycle s_i = ss + A^i (s_0 - ss) with the steady
+  // state ss = A ss + B u (closed_form() writes it out). Built once per
+  // cycle length.
+  struct Linear {
+    double phi[4][4];   // A^n
+    double travel[4];   // position change of the cycle per unit of s_0 - ss
+    double tc_end[4];   // torque command of the last sub-step per unit of s_0 - ss
+    // max over the sub-steps of |coefficient| of s_0 - ss in the velocity
+    // command, the torque command and the velocity: bounds of how far the
+    // transient takes them from their steady value.
+    double vcmd_bound[4];
+    double tc_bound[4];
+    double v_bound[4];
+    // Second bounds, tight when the transient is slow against the cycle:
+    // each quantity stays within its first and last sub-step's values, plus
+    // max over the sub-steps of |coefficient| of the distance from the
+    // straight line between those two (chord). vcmd_last: the velocity
+    // command of the last sub-step per unit of s_0 - ss (tc_end and phi[1]
+    // are the others' last values).
+    double vcmd_last[4];
+    double vcmd_chord[4];
+    double tc_chord[4];
+    double v_chord[4];
+    bool valid;  // false: a zero-length cycle or an overflowing A^n; always sub-steps
+  };
+  // The standstill closed form: over n sub-steps of the torque lag,
+  // T_n = decay·T_0 + Σ_k weight_k·tc_k with tc_k = c0 + c1·k + c2·k².
+  struct Standstill {
+    double decay;      // (1 - λ)^n
+    double weight[3];  // Σ_k λ(1 - λ)^(n-k)·k^m, m = 0, 1, 2
+  };
+  bool standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
+  void configure(double dt) noexcept;
+  void build_closed_forms() noexcept;
+  void build_standstill() noexcept;
+  void build_linear(Linear& m, LoopDemand::Kind mode) const noexcept;
+  void linear_sub_step(double s[4], const double u[4], LoopDemand::Kind mode) const noexcept;
+  bool at_rest(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
+  bool closed_form(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
+  bool closed_form_torque(const LoopDemand& d, const LoopLimits& lim) noexcept;
+  void run_sub_steps(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void sub_step(const LoopDemand& d, const LoopLimits& lim, double position_ref, double h) noexcept;
 
   PlantParameters p_;
@@ -126,11 +187,23 @@ class Plant {
   double last_position_ref_ = 0;
   bool last_was_position_ = false;
   bool torque_limited_ = false;
-  // Current-loop lag factor 1 - exp(-h/tau) for the sub-step length h it was
-  // last computed for: h only changes with the cycle time, so exp() runs
-  // once per new cycle time instead of every sub-step.
-  double lag_h_ = -1;
+  Path last_path_ = Path::SubSteps;
+  // Set by configure() for the cycle length dt_ it was last called with (the
+  // cycle time rarely changes, so exp() and the divisions run once per new
+  // cycle time): n_ sub-steps of h_, the current-loop lag factor
+  // 1 - exp(-h/tau); the closed-form models are built when that cycle time
+  // comes a second time in a row, the standstill weights when first needed.
+  double dt_ = -1;
+  int n_ = 1;
+  double h_ = 0;
+  double inv_n_ = 1;
   double lag_factor_ = 0;
+  bool closed_forms_ready_ = false;  // the three Linear below are for dt_
+  bool standstill_ready_ = false;    // standstill_ is for dt_
+  Standstill standstill_{};
+  Linear position_loop_{};
+  Linear velocity_loop_{};
+  Linear torque_loop_{};  // state (0, v, T, 0): the torque modes' lag and mechanics
 };
 
 }  // namespace ecat::ds402

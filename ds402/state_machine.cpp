@@ -18,29 +18,6 @@ std::string_view to_string(PdsState s) noexcept {
   return "?";
 }
 
-std::uint16_t state_bits(PdsState s) noexcept {
-  switch (s) {
-    case PdsState::NotReadyToSwitchOn: return sw::kNotReadyToSwitchOn;
-    case PdsState::SwitchOnDisabled: return sw::kSwitchOnDisabledState;
-    case PdsState::ReadyToSwitchOn: return sw::kReadyToSwitchOnState;
-    case PdsState::SwitchedOn: return sw::kSwitchedOnState;
-    case PdsState::OperationEnabled: return sw::kOperationEnabledState;
-    case PdsState::QuickStopActive: return sw::kQuickStopActiveState;
-    case PdsState::FaultReactionActive: return sw::kFaultReactionActiveState;
-    case PdsState::Fault: return sw::kFaultState;
-  }
-  return 0;
-}
-
-bool StateMachine::power_stage_on() const noexcept {
-  switch (state_) {
-    case PdsState::OperationEnabled: return true;
-    case PdsState::QuickStopActive:
-    case PdsState::FaultReactionActive: return stop_ != StopKind::Coast;
-    default: return false;
-  }
-}
-
 int StateMachine::go(PdsState to, int transition) noexcept {
   state_ = to;
   pending_ = PdsState::OperationEnabled;

@@ -10,6 +10,7 @@
 
 #include "ds402/controlword.hpp"
 #include "ds402/option_codes.hpp"
+#include "ds402/statusword.hpp"
 
 namespace ecat::ds402 {
 
@@ -29,7 +30,19 @@ std::string_view to_string(PdsState s) noexcept;
 // Statusword bits 0-3, 5, 6 for a state (Table 32). Bit 5 ("quick stop") is 1
 // in the three states where the quick stop is not active and the table fixes
 // it; elsewhere it reads 0.
-std::uint16_t state_bits(PdsState s) noexcept;
+inline std::uint16_t state_bits(PdsState s) noexcept {
+  switch (s) {
+    case PdsState::NotReadyToSwitchOn: return sw::kNotReadyToSwitchOn;
+    case PdsState::SwitchOnDisabled: return sw::kSwitchOnDisabledState;
+    case PdsState::ReadyToSwitchOn: return sw::kReadyToSwitchOnState;
+    case PdsState::SwitchedOn: return sw::kSwitchedOnState;
+    case PdsState::OperationEnabled: return sw::kOperationEnabledState;
+    case PdsState::QuickStopActive: return sw::kQuickStopActiveState;
+    case PdsState::FaultReactionActive: return sw::kFaultReactionActiveState;
+    case PdsState::Fault: return sw::kFaultState;
+  }
+  return 0;
+}
 
 class StateMachine {
  public:
@@ -65,7 +78,11 @@ class StateMachine {
   StopKind stop() const noexcept { return stop_; }
   // True while the power stage drives the motor (operation enabled, or a
   // ramped quick stop, fault reaction, shutdown or disable operation).
-  bool power_stage_on() const noexcept;
+  bool power_stage_on() const noexcept {
+    return state_ == PdsState::OperationEnabled ||
+           ((state_ == PdsState::QuickStopActive || state_ == PdsState::FaultReactionActive) &&
+            stop_ != StopKind::Coast);
+  }
   // True in Operation enabled while no ramp-down to another state runs: the
   // selected mode of operation generates the set-points.
   bool operation_active() const noexcept {

@@ -2,8 +2,8 @@
 
 namespace ecat::ds402 {
 
-void TouchProbe::cycle(std::uint16_t function, const Axis& axis, double previous, double actual,
-                       const UnitScaling& units, double shift) noexcept {
+void TouchProbe::cycle_enabled(std::uint16_t function, const Axis& axis, double previous, double actual,
+                               const UnitScaling& units, double shift) noexcept {
   probe(0, function, axis, previous, actual, units, shift);
   probe(1, function, axis, previous, actual, units, shift);
   previous_function_ = function;

@@ -35,13 +35,23 @@ class TouchProbe {
   // One cycle: the motion went from `previous` to `actual` (physical
   // increments); latched values are reported at position + `shift` (homing).
   void cycle(std::uint16_t function, const Axis& axis, double previous, double actual,
-             const UnitScaling& units, double shift) noexcept;
+             const UnitScaling& units, double shift) noexcept {
+    constexpr auto kEitherEnabled = static_cast<std::uint16_t>(tp::kEnable | (tp::kEnable << tp::kProbe2Shift));
+    if (!(function & kEitherEnabled)) {  // both probes off: what probe() does then, at once
+      status_ = 0;
+      previous_function_ = function;
+      return;
+    }
+    cycle_enabled(function, axis, previous, actual, units, shift);
+  }
 
   std::uint16_t status() const noexcept { return status_; }
   // 60BAh, 60BBh, 60BCh, 60BDh.
   std::int32_t value(std::size_t i) const noexcept { return values_[i]; }
 
  private:
+  void cycle_enabled(std::uint16_t function, const Axis& axis, double previous, double actual,
+                     const UnitScaling& units, double shift) noexcept;
   void probe(unsigned n, std::uint16_t function, const Axis& axis, double previous, double actual,
              const UnitScaling& units, double home_shift) noexcept;
 

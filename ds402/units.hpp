@@ -33,23 +33,33 @@ class UnitScaling {
   double to_increments(double user) const noexcept { return user * inc_per_unit_; }
   double to_user(double increments) const noexcept { return increments / inc_per_unit_; }
 
-  // Rounded and saturated to the 32-bit object types.
+  // Rounded half away from zero (as std::round) and saturated to the object
+  // types; NaN gives 0. Inline, without the libm call: in range the value
+  // truncates to an integer t exactly, v - t is exact, and the half decides.
+  // tests/ds402/units_test.cpp checks both against std::round.
   static std::int32_t to_i32(double v) noexcept {
-    if (std::isnan(v)) return 0;
-    const double r = std::round(v);
-    if (r >= 2147483647.0) return INT32_MAX;
-    if (r <= -2147483648.0) return INT32_MIN;
-    return static_cast<std::int32_t>(r);
+    if (std::abs(v) < 2147483646.5) return static_cast<std::int32_t>(round_in_range(v));  // NaN: false
+    if (v >= 2147483646.5) return INT32_MAX;   // rounds to 2^31 - 1 or more
+    if (v <= -2147483647.5) return INT32_MIN;  // rounds to -2^31 or less
+    if (v != v) return 0;                      // NaN
+    return static_cast<std::int32_t>(round_in_range(v));  // (-2^31 + 0.5, -2^31 + 1.5]: -2^31 + 1
   }
   static std::int16_t to_i16(double v) noexcept {
-    if (std::isnan(v)) return 0;
-    const double r = std::round(v);
-    if (r >= 32767.0) return INT16_MAX;
-    if (r <= -32768.0) return INT16_MIN;
-    return static_cast<std::int16_t>(r);
+    if (std::abs(v) < 32766.5) return static_cast<std::int16_t>(round_in_range(v));
+    if (v >= 32766.5) return INT16_MAX;
+    if (v <= -32767.5) return INT16_MIN;
+    if (v != v) return 0;
+    return static_cast<std::int16_t>(round_in_range(v));
   }
 
  private:
+  // |v| < 2^31: truncates to t exactly; v - t is exact.
+  static std::int64_t round_in_range(double v) noexcept {
+    const auto t = static_cast<std::int64_t>(v);
+    const double frac = v - static_cast<double>(t);
+    return t + (frac >= 0.5) - (frac <= -0.5);
+  }
+
   double inc_per_unit_ = 1.0;
 };
 
