@@ -40,6 +40,11 @@ namespace ecat::esc {
 
 inline constexpr std::size_t kAddressSpace = 0x10000;
 
+class Segment;
+namespace engine_detail {
+struct CommandTraits;
+}
+
 class Esc final : public Pdi {
  public:
   // `clock` times PDI accesses (watchdog, DC); it must outlive the Esc.
@@ -123,13 +128,19 @@ class Esc final : public Pdi {
   // Raw copy without side effects (bit-wise FMMU writes start from it).
   void peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept;
 
-  // Datagram engine (esc/datagram_engine.cpp).
+  // Datagram engine (inline in esc/datagram_engine.hpp, which esc::Segment
+  // includes: a frame's pass through an ESC is compiled into its loop).
+  friend class Segment;
+  bool process_datagrams(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   void process_datagram(DatagramView d) noexcept;
+  void process_addressed(DatagramView d, const engine_detail::CommandTraits& traits, bool addressed,
+                         bool broadcast) noexcept;
+  void process_merged(DatagramView d, bool read_write, bool broadcast) noexcept;
   // The data of an ECAT read (FPRD/APRD/xRMW): register bytes inline, else mem_read.
   bool ecat_read(std::uint16_t address, Bytes out) noexcept;
-  void ecat_read_effects(std::uint16_t address, Bytes out) noexcept;
-  // Logical addressing (esc/logical_access.cpp).
+  // Logical addressing (esc/logical_access.hpp / .cpp).
   std::uint16_t process_logical(DatagramView d) noexcept;
+  std::uint16_t process_logical_routes(DatagramView d) noexcept;
   std::uint16_t process_logical_bits(DatagramView d) noexcept;
   bool addressed_configured(std::uint16_t adp) const noexcept;
   // Register write protection (0x0021/0x0031) active and not released in
@@ -212,6 +223,10 @@ class Esc final : public Pdi {
   unsigned route_reads_ = 0;
   unsigned route_writes_ = 0;
   bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
+  // Logical bytes [logical_first_, logical_end_) span every active FMMU:
+  // a logical datagram outside it passes this ESC untouched.
+  std::uint64_t logical_first_ = 0;
+  std::uint64_t logical_end_ = 0;
   Nanoseconds next_timer_ = Nanoseconds::max();
   DcUnit dc_;
   SiiInterface sii_;
