@@ -67,8 +67,8 @@ inline constexpr std::array<CommandTraits, kLastCommand + 1> kCommandTraits = []
       c = c.next();
     }
   }
-  register_write_enabled_ = false;
-  esc_write_enabled_ = false;
+  // The write-enable releases are false here: only ECAT writes of a frame
+  // set them, and every pass clears them at its end (and reset()).
   DatagramView d = first;
   for (std::size_t left = count;;) {
     process_datagram(d);
@@ -148,7 +148,6 @@ inline bool Esc::addressed_configured(std::uint16_t adp) const noexcept {
     case Command::Lrd:
     case Command::Lwr:
     case Command::Lrw: {
-      if (cmd == Command::Lrw && !config_.lrw) return;  // 0x0008 bit 9: passes untouched
       const std::uint16_t wkc = process_logical(d);
       if (wkc != 0) d.add_wkc(wkc);
       return;

@@ -201,11 +201,8 @@ class Esc final : public Pdi {
 
   EscConfig config_;
   const Clock& clock_;
-  std::unique_ptr<std::uint8_t[]> mem_;  // kAddressSpace bytes, allocated once
   std::array<SyncManager, kMaxSyncManagers> sms_{};
   std::array<Fmmu, kMaxFmmus> fmmus_{};
-  std::array<bool, kMaxPorts> link_{};
-  std::array<bool, kMaxPorts> port_open_{};
   std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
   std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active
   // The active FMMUs decoded for the routed LRD/LWR/LRW path
@@ -222,22 +219,28 @@ class Esc final : public Pdi {
   std::array<FmmuRoute, 2 * kMaxFmmus> routes_{};  // reads, then writes from kMaxFmmus
   unsigned route_reads_ = 0;
   unsigned route_writes_ = 0;
-  bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
+  SiiInterface sii_;
+  Watchdogs watchdogs_;
+  DcUnit dc_;  // its per-frame members last, next to the ones below
+  // What every frame reads at every ESC, together in the last cache lines
+  // of the object, right after the DC unit's frame-arrival state (issue 8:
+  // a 1000-ESC line touches a few lines per ESC, not one per member).
+  std::unique_ptr<std::uint8_t[]> mem_;  // kAddressSpace bytes, allocated once
+  Nanoseconds next_timer_ = Nanoseconds::max();
+  Nanoseconds now_{0};
   // Logical bytes [logical_first_, logical_end_) span every active FMMU:
   // a logical datagram outside it passes this ESC untouched.
   std::uint64_t logical_first_ = 0;
   std::uint64_t logical_end_ = 0;
-  Nanoseconds next_timer_ = Nanoseconds::max();
-  DcUnit dc_;
-  SiiInterface sii_;
-  Watchdogs watchdogs_;
-  Nanoseconds now_{0};
+  std::array<bool, kMaxPorts> link_{};
+  std::array<bool, kMaxPorts> port_open_{};
+  bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
   // Per-frame state: write-protection release (0x0020/0x0030 written this frame).
   bool register_write_enabled_ = false;
   bool esc_write_enabled_ = false;
+  bool reset_requested_ = false;
   // ESC reset sequence progress for 0x0040 (ECAT) and 0x0041 (PDI).
   std::array<std::uint8_t, 2> reset_step_{};
-  bool reset_requested_ = false;
   // AL control written by ECAT and not yet read by the PDI (Section II 0x0120).
   bool al_control_pending_ = false;
 };

@@ -26,13 +26,14 @@ inline std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept
 // First a quick reject: a datagram that misses the logical span of every
 // active FMMU of this ESC (logical_first_/logical_end_, kept by
 // update_fmmus) does nothing here - the common case for the ESCs an LRW
-// passes by. Then the routed path: per FMMU a range compare and one copy
+// passes by; an ESC without LRW support (0x0008 bit 9) lets LRW pass untouched. Then the routed path: per FMMU a range compare and one copy
 // through its SM. All reads, then all writes, each in FMMU order, as the
 // general path.
 [[gnu::always_inline]] inline std::uint16_t Esc::process_logical(DatagramView d) noexcept {
   const std::uint64_t dg0 = d.logical_address();
   const std::size_t size = d.length();
   if (dg0 >= logical_end_ || dg0 + size <= logical_first_ || size == 0) return 0;
+  if (d.command() == Command::Lrw && !config_.lrw) return 0;  // 0x0008 bit 9: passes untouched
   if (!fmmus_routed_) return process_logical_bits(d);
   return process_logical_routes(d);
 }
