@@ -165,6 +165,16 @@ inline ValidatedDatagrams validate_ethercat(Bytes buffer, std::size_t ecat_offse
   std::size_t left = header.length;  // bytes from the current datagram to the end
   if (left > buffer.size() - ecat_offset - kFrameHeaderSize) return {nullptr, 0, FrameError::LengthBeyondFrame};
   if (left < kDatagramOverhead) return {nullptr, 0, FrameError::TooShort};
+  // The common cyclic frame, one datagram: the loop below unrolled once
+  // (same checks in the same order).
+  const std::uint16_t word0 = load_le<std::uint16_t>(first + DatagramView::kLengthOffset);
+  if ((word0 & kDatagramMore) == 0) {
+    if (!is_known_command(first[DatagramView::kCmdOffset])) return {nullptr, 0, FrameError::UnknownCommand};
+    const std::size_t total = kDatagramOverhead + (word0 & kDatagramLengthMask);
+    if (left < total) return {nullptr, 0, FrameError::DatagramBeyondFrame};
+    if (left != total) return {nullptr, 0, FrameError::LengthMismatch};
+    return {first, 1, FrameError::TooShort};
+  }
   const std::uint8_t* h = first;
   std::size_t count = 0;
   for (;;) {
