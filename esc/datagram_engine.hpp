@@ -181,6 +181,17 @@ inline bool Esc::addressed_configured(std::uint16_t adp) const noexcept {
     return;
   }
   if (traits.read_write || (traits.reads && broadcast)) {
+    constexpr std::size_t kShortBrd = 8;
+    if (!traits.read_write && data.size() <= kShortBrd) {
+      // A short BRD (the AL status poll of every cycle): each ESC ORs its
+      // bytes in through the inline ECAT read, no scratch copy.
+      std::array<std::uint8_t, kShortBrd> result{};
+      if (ecat_read(ado, Bytes(result.data(), data.size()))) {
+        for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(data[i] | result[i]);
+        d.add_wkc(kWkcRead);
+      }
+      return;
+    }
     process_merged(d, traits.read_write, broadcast);
     return;
   }
