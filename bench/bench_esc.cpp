@@ -1,7 +1,8 @@
 // ESC datagram path (issue 8 item 1): one slave - FPRD 2 bytes at 0130h,
 // FPWR 2 bytes, ARMW 8 bytes at 0910h, LRW of 1,486 bytes mapped by two
 // FMMUs with WKC 3 - and chains of 1/10/100/1000 ESCs carrying one FPRD
-// frame and one 1,486-byte LRW frame. Each iteration is one call of
+// frame and one 1,486-byte LRW frame, and of 1/100 ESCs carrying one BRD
+// of AL status. Each iteration is one call of
 // Segment::process_frame on a frame built once (parse + every ESC), with the
 // time advancing 1 µs per frame so the timers run as in a live cycle.
 #include <benchmark/benchmark.h>
@@ -85,6 +86,19 @@ void BM_Chain_FprdFrame(benchmark::State& state) {
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_Chain_FprdFrame)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000);
+
+// Chains: one BRD of AL status (2 bytes), the status poll of every cycle:
+// every ESC ORs its AL status in.
+void BM_Chain_BrdFrame(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  EscLine line(n);
+  Frame f;
+  f.add(Command::Brd, device_address(0, esc::reg::kAlStatus), kAlStatusBytes);
+  run_frames(state, line.segment, f, static_cast<std::uint16_t>(n));
+  state.counters["ns_per_slave"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_Chain_BrdFrame)->Apply(iterations_from_env)->Arg(1)->Arg(100);
 
 // Chains: one 1,486-byte LRW; the slaves share it evenly (half outputs, half
 // inputs each, at least 1 + 1 byte); past 743 slaves the shares lie beyond

@@ -144,36 +144,65 @@ class FrameView {
   std::size_t count_ = 0;
 };
 
+// The datagrams of the EtherCAT part starting at `ecat_offset` (the frame
+// header) of `buffer`, every bound checked: where the first one starts and
+// how many there are (count 0: malformed, `error` says why). The one set
+// of rules behind parse_ethercat, and what esc::Segment walks without
+// building a FrameView.
+struct ValidatedDatagrams {
+  std::uint8_t* first = nullptr;
+  std::size_t count = 0;
+  FrameError error = FrameError::TooShort;
+};
+
+inline ValidatedDatagrams validate_ethercat(Bytes buffer, std::size_t ecat_offset) noexcept {
+  if (ecat_offset > buffer.size() || buffer.size() - ecat_offset < kFrameHeaderSize) {
+    return {nullptr, 0, FrameError::TooShort};
+  }
+  const FrameHeader header = FrameHeader::decode(load_le<std::uint16_t>(buffer.data() + ecat_offset));
+  if (header.type != kFrameTypeDlpdu) return {nullptr, 0, FrameError::UnsupportedType};
+  std::uint8_t* const first = buffer.data() + ecat_offset + kFrameHeaderSize;
+  std::size_t left = header.length;  // bytes from the current datagram to the end
+  if (left > buffer.size() - ecat_offset - kFrameHeaderSize) return {nullptr, 0, FrameError::LengthBeyondFrame};
+  if (left < kDatagramOverhead) return {nullptr, 0, FrameError::TooShort};
+  // The common cyclic frame, one datagram: the loop below unrolled once
+  // (same checks in the same order).
+  const std::uint16_t word0 = load_le<std::uint16_t>(first + DatagramView::kLengthOffset);
+  if ((word0 & kDatagramMore) == 0) {
+    if (!is_known_command(first[DatagramView::kCmdOffset])) return {nullptr, 0, FrameError::UnknownCommand};
+    const std::size_t total = kDatagramOverhead + (word0 & kDatagramLengthMask);
+    if (left < total) return {nullptr, 0, FrameError::DatagramBeyondFrame};
+    if (left != total) return {nullptr, 0, FrameError::LengthMismatch};
+    return {first, 1, FrameError::TooShort};
+  }
+  const std::uint8_t* h = first;
+  std::size_t count = 0;
+  for (;;) {
+    if (left < kDatagramOverhead) return {nullptr, 0, FrameError::DatagramBeyondFrame};
+    if (!is_known_command(h[DatagramView::kCmdOffset])) return {nullptr, 0, FrameError::UnknownCommand};
+    const std::uint16_t word = load_le<std::uint16_t>(h + DatagramView::kLengthOffset);
+    const std::size_t total = kDatagramOverhead + (word & kDatagramLengthMask);
+    if (left < total) return {nullptr, 0, FrameError::DatagramBeyondFrame};
+    if (count == kMaxDatagramsPerFrame) return {nullptr, 0, FrameError::TooManyDatagrams};
+    ++count;
+    h += total;
+    left -= total;
+    if ((word & kDatagramMore) == 0) break;
+  }
+  if (left != 0) return {nullptr, 0, FrameError::LengthMismatch};
+  return {first, count, FrameError::TooShort};
+}
+
 // Parses the EtherCAT part starting at `ecat_offset` (the frame header) of
 // `buffer`. Used directly for EtherCAT carried in UDP (ecat_offset 0).
 inline Expected<FrameView, FrameError> parse_ethercat(Bytes buffer, std::size_t ecat_offset) noexcept {
-  if (ecat_offset > buffer.size() || buffer.size() - ecat_offset < kFrameHeaderSize) {
-    return fail(FrameError::TooShort);
-  }
+  const ValidatedDatagrams d = validate_ethercat(buffer, ecat_offset);
+  if (d.count == 0) return fail(d.error);
   FrameView v;
   v.frame_ = buffer;
   v.ecat_offset_ = ecat_offset;
   v.header_ = FrameHeader::decode(load_le<std::uint16_t>(buffer.data() + ecat_offset));
-  if (v.header_.type != kFrameTypeDlpdu) return fail(FrameError::UnsupportedType);
-  std::size_t pos = ecat_offset + kFrameHeaderSize;
-  const std::size_t end = pos + v.header_.length;
-  if (end > buffer.size()) return fail(FrameError::LengthBeyondFrame);
-  if (v.header_.length < kDatagramOverhead) return fail(FrameError::TooShort);
-  std::size_t count = 0;
-  for (;;) {
-    if (end - pos < kDatagramOverhead) return fail(FrameError::DatagramBeyondFrame);
-    const std::uint8_t* h = buffer.data() + pos;
-    if (!is_known_command(h[DatagramView::kCmdOffset])) return fail(FrameError::UnknownCommand);
-    const std::uint16_t word = load_le<std::uint16_t>(h + DatagramView::kLengthOffset);
-    const std::size_t total = kDatagramOverhead + (word & kDatagramLengthMask);
-    if (end - pos < total) return fail(FrameError::DatagramBeyondFrame);
-    if (count == kMaxDatagramsPerFrame) return fail(FrameError::TooManyDatagrams);
-    ++count;
-    pos += total;
-    if ((word & kDatagramMore) == 0) break;
-  }
-  if (pos != end) return fail(FrameError::LengthMismatch);
-  v.count_ = count;
+  v.count_ = d.count;
   return v;
 }
 

@@ -1,151 +1,35 @@
-// The datagram engine: what one ESC does to each datagram of a passing frame
-// (ETG.1000.4 §5.4; Beckhoff ESC datasheet Section I §2.5 Tables 5 and 7;
-// shared/spec/esc-registers.md §2). Addressing, data, ADP increment, WKC
-// and the IRQ field. Logical commands go through the FMMUs (Section I §6;
-// esc/logical_access.cpp).
-#include <algorithm>
-#include <array>
-#include <cstring>
+// The datagram engine, out-of-line parts (the per-frame pass is inline in
+// esc/datagram_engine.hpp): Esc::process for callers other than
+// esc::Segment, and the commands that merge the data through a scratch
+// copy (xRW, BRD).
+#include "esc/datagram_engine.hpp"
 
-#include "esc/datagram_rules.hpp"
-#include "esc/esc.hpp"
-#include "esc/register_map.hpp"
-#include "esc/registers.hpp"
-#include "esc/small_copy.hpp"
+#include <cstring>
 
 namespace ecat::esc {
 
-namespace {
-
-// What each command code does (ETG.1000.4 §5.4, Table 5), looked up once per
-// datagram instead of several switches. Codes are <= kLastCommand in a
-// validated frame.
-struct CommandTraits {
-  Addressing mode = Addressing::None;
-  bool increments_adp = false;
-  bool read_write = false;
-  bool rmw = false;  // ARMW/FRMW
-  bool reads = false;
-  bool writes = false;
-};
-
-constexpr std::array<CommandTraits, kLastCommand + 1> kCommandTraits = [] {
-  std::array<CommandTraits, kLastCommand + 1> t{};
-  for (std::uint8_t code = 0; code <= kLastCommand; ++code) {
-    const auto c = static_cast<Command>(code);
-    t[code] = CommandTraits{addressing(c), increments_adp(c), is_read_write(c),
-                            c == Command::Armw || c == Command::Frmw, reads(c), writes(c)};
-  }
-  return t;
-}();
-
-}  // namespace
-
-// The datagrams are walked in place (header read + jump); the timers run
-// only when one is due (run_timers checks next_timer_).
 bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
-  run_timers(now);
-  now_ = now;  // the time of every access in this frame
-  dc_.on_frame_arrival(0, now);
-  // Circulating-frame prevention (Section I §3.5.1): a frame passing a
-  // closed port 0 gets the circulating bit; if it already had it, the ESC
-  // destroys the frame.
-  if (!port_open_[0] && !frame.empty()) {
-    if (frame.front().circulating()) return false;
-    for (DatagramView d : frame) d.set_circulating(true);
+  if (frame.empty()) {
+    // Nothing to walk; the timers, the DC arrival and the per-frame write
+    // enables behave as for any frame.
+    run_timers(now);
+    now_ = now;
+    dc_.on_frame_arrival(0, now);
+    register_write_enabled_ = false;
+    esc_write_enabled_ = false;
+    return true;
   }
-  register_write_enabled_ = false;
-  esc_write_enabled_ = false;
-  if (!frame.empty()) {
-    DatagramView d = frame.front();
-    for (std::size_t left = frame.size();;) {
-      process_datagram(d);
-      const std::uint16_t irq = irq_field();
-      if (irq != 0) d.set_irq(static_cast<std::uint16_t>(d.irq() | irq));
-      if (reset_requested_) reset();
-      if (--left == 0) break;
-      d = d.next();
-    }
-  }
-  // Write-enable releases last for one frame only (Section I §13).
-  register_write_enabled_ = false;
-  esc_write_enabled_ = false;
-  return true;
+  return process_datagrams(frame.front(), frame.size(), now);
 }
 
-bool Esc::addressed_configured(std::uint16_t adp) const noexcept {
-  const std::uint8_t* m = mem_.get();
-  if (adp == load_le<std::uint16_t>(m + reg::kConfiguredStationAddress)) return true;
-  return (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0 &&
-         adp == load_le<std::uint16_t>(m + reg::kConfiguredStationAlias);
-}
-
-// An ECAT read of register bytes outside the DC block (the usual FPRD/APRD
-// of a status register): one copy, then the bytes whose read has an effect
-// (esc/register_map.hpp), in address order as in reg_read. The hot one, AL
-// status 0x0130, only acknowledges ECAT event request bit 3 (Section II
-// 0x0130/0x0210) and is handled directly; the others by their per-byte
-// handler. Anything else goes through mem_read.
-[[gnu::always_inline]] inline bool Esc::ecat_read(std::uint16_t address, Bytes out) noexcept {
-  const std::size_t n = out.size();
-  const std::uint32_t end = address + static_cast<std::uint32_t>(n);
-  if (!config_.fast_paths || n == 0 || end > reg::kProcessRam || (end > reg::kDcBase && address < reg::kDcEnd)) {
-    return mem_read(address, out, Side::Ecat);
-  }
-  copy_small(out.data(), mem_.get() + address, n);
-  constexpr std::size_t kScanBytes = 16;  // longer reads check the 16-byte blocks first
-  if (n > kScanBytes && !register_map::any_in(address, n, register_map::kReadEffectEcat)) return true;
-  const std::uint8_t* flags = register_map::kTable.byte.data() + address;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (flags[i] & register_map::kReadEffectEcat) {
-      ecat_read_effects(static_cast<std::uint16_t>(address + i), out.subspan(i));
-      break;
-    }
-  }
-  return true;
-}
-
-void Esc::ecat_read_effects(std::uint16_t address, Bytes out) noexcept {
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const auto a = static_cast<std::uint16_t>(address + i);
-    if (a == reg::kAlStatus) {
-      clear_ecat_event(bits::kEcatEventAlStatus);  // the stored byte is what is read
-    } else if (register_map::has(a, register_map::kReadEffectEcat)) {
-      out[i] = reg_read_byte(a, Side::Ecat);
-    }
-  }
-}
-
-[[gnu::always_inline]] inline void Esc::process_datagram(DatagramView d) noexcept {
-  const Command cmd = d.command();
-  const CommandTraits& traits = kCommandTraits[static_cast<std::uint8_t>(cmd)];
-  const Addressing mode = traits.mode;
-  if (mode == Addressing::None) return;
-  if (mode == Addressing::Logical) {
-    if (cmd == Command::Lrw && !config_.lrw) return;  // 0x0008 bit 9: passes untouched
-    d.add_wkc(process_logical(d));
-    return;
-  }
-  const std::uint16_t adp = d.adp();
-  if (traits.increments_adp) d.set_adp(static_cast<std::uint16_t>(adp + 1));
-  if (traits.read_write && !config_.read_write_commands) return;  // 0x0008 bit 10
-  bool addressed = true;
-  if (mode == Addressing::AutoIncrement) addressed = adp == 0;
-  if (mode == Addressing::Configured) addressed = addressed_configured(adp);
-  if (!addressed && !traits.rmw) return;
+// xRW: read first (the data returned is the memory before the write), then
+// write the incoming data; BRW ORs the read into the data. BRD: the data of
+// all slaves ORed together.
+void Esc::process_merged(DatagramView d, bool read_write, bool broadcast) noexcept {
   const std::uint16_t ado = d.ado();
   Bytes data = d.data();
-  // xRMW: read on the addressed slave, write on every other (Section I Table 7).
-  if (traits.rmw) {
-    const bool ok = addressed ? ecat_read(ado, data) : mem_write(ado, data, Side::Ecat);
-    if (ok) d.add_wkc(kWkcRead);
-    return;
-  }
-  const bool broadcast = mode == Addressing::Broadcast;
   std::uint16_t wkc = 0;
-  if (traits.read_write) {
-    // Read first (data returned is the memory before the write), then write
-    // the incoming data.
+  if (read_write) {
     DatagramScratch incoming;
     std::memcpy(incoming.data(), data.data(), data.size());
     DatagramScratch result;
@@ -159,20 +43,13 @@ void Esc::ecat_read_effects(std::uint16_t address, Bytes out) noexcept {
     if (mem_write(ado, std::span<const std::uint8_t>(incoming.data(), data.size()), Side::Ecat)) {
       wkc = static_cast<std::uint16_t>(wkc + kWkcReadWriteWrite);
     }
-  } else if (traits.reads) {
-    if (broadcast) {
-      // BRD: the data of all slaves ORed together.
-      DatagramScratch result;
-      std::memset(result.data(), 0, data.size());
-      if (mem_read(ado, std::span(result.data(), data.size()), Side::Ecat)) {
-        wkc = kWkcRead;
-        for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(data[i] | result[i]);
-      }
-    } else if (ecat_read(ado, data)) {
+  } else {
+    DatagramScratch result;
+    std::memset(result.data(), 0, data.size());
+    if (mem_read(ado, std::span(result.data(), data.size()), Side::Ecat)) {
       wkc = kWkcRead;
+      for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(data[i] | result[i]);
     }
-  } else if (traits.writes) {
-    if (mem_write(ado, data, Side::Ecat)) wkc = kWkcWrite;
   }
   d.add_wkc(wkc);
 }

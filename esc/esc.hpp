@@ -40,6 +40,11 @@ namespace ecat::esc {
 
 inline constexpr std::size_t kAddressSpace = 0x10000;
 
+class Segment;
+namespace engine_detail {
+struct CommandTraits;
+}
+
 class Esc final : public Pdi {
  public:
   // `clock` times PDI accesses (watchdog, DC); it must outlive the Esc.
@@ -123,13 +128,19 @@ class Esc final : public Pdi {
   // Raw copy without side effects (bit-wise FMMU writes start from it).
   void peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept;
 
-  // Datagram engine (esc/datagram_engine.cpp).
+  // Datagram engine (inline in esc/datagram_engine.hpp, which esc::Segment
+  // includes: a frame's pass through an ESC is compiled into its loop).
+  friend class Segment;
+  bool process_datagrams(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   void process_datagram(DatagramView d) noexcept;
+  void process_addressed(DatagramView d, const engine_detail::CommandTraits& traits, bool addressed,
+                         bool broadcast) noexcept;
+  void process_merged(DatagramView d, bool read_write, bool broadcast) noexcept;
   // The data of an ECAT read (FPRD/APRD/xRMW): register bytes inline, else mem_read.
   bool ecat_read(std::uint16_t address, Bytes out) noexcept;
-  void ecat_read_effects(std::uint16_t address, Bytes out) noexcept;
-  // Logical addressing (esc/logical_access.cpp).
+  // Logical addressing (esc/logical_access.hpp / .cpp).
   std::uint16_t process_logical(DatagramView d) noexcept;
+  std::uint16_t process_logical_routes(DatagramView d) noexcept;
   std::uint16_t process_logical_bits(DatagramView d) noexcept;
   bool addressed_configured(std::uint16_t adp) const noexcept;
   // Register write protection (0x0021/0x0031) active and not released in
@@ -194,11 +205,8 @@ class Esc final : public Pdi {
 
   EscConfig config_;
   const Clock& clock_;
-  std::unique_ptr<std::uint8_t[]> mem_;  // kAddressSpace bytes, allocated once
   std::array<SyncManager, kMaxSyncManagers> sms_{};
   std::array<Fmmu, kMaxFmmus> fmmus_{};
-  std::array<bool, kMaxPorts> link_{};
-  std::array<bool, kMaxPorts> port_open_{};
   std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
   std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active
   // The active FMMUs decoded for the routed LRD/LWR/LRW path
@@ -215,18 +223,28 @@ class Esc final : public Pdi {
   std::array<FmmuRoute, 2 * kMaxFmmus> routes_{};  // reads, then writes from kMaxFmmus
   unsigned route_reads_ = 0;
   unsigned route_writes_ = 0;
-  bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
-  Nanoseconds next_timer_ = Nanoseconds::max();
-  DcUnit dc_;
   SiiInterface sii_;
   Watchdogs watchdogs_;
+  DcUnit dc_;  // its per-frame members last, next to the ones below
+  // What every frame reads at every ESC, together in the last cache lines
+  // of the object, right after the DC unit's frame-arrival state (issue 8:
+  // a 1000-ESC line touches a few lines per ESC, not one per member).
+  std::unique_ptr<std::uint8_t[]> mem_;  // kAddressSpace bytes, allocated once
+  Nanoseconds next_timer_ = Nanoseconds::max();
   Nanoseconds now_{0};
+  // Logical bytes [logical_first_, logical_end_) span every active FMMU:
+  // a logical datagram outside it passes this ESC untouched.
+  std::uint64_t logical_first_ = 0;
+  std::uint64_t logical_end_ = 0;
+  std::array<bool, kMaxPorts> link_{};
+  std::array<bool, kMaxPorts> port_open_{};
+  bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
   // Per-frame state: write-protection release (0x0020/0x0030 written this frame).
   bool register_write_enabled_ = false;
   bool esc_write_enabled_ = false;
+  bool reset_requested_ = false;
   // ESC reset sequence progress for 0x0040 (ECAT) and 0x0041 (PDI).
   std::array<std::uint8_t, 2> reset_step_{};
-  bool reset_requested_ = false;
   // AL control written by ECAT and not yet read by the PDI (Section II 0x0120).
   bool al_control_pending_ = false;
 };

@@ -11,6 +11,7 @@
 
 #include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
+#include "esc/logical_access.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::esc {
@@ -21,13 +22,6 @@ bool get_bit(const std::uint8_t* p, std::uint64_t bit) noexcept { return (p[bit 
 void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
   const auto mask = static_cast<std::uint8_t>(1u << (bit % 8));
   p[bit / 8] = static_cast<std::uint8_t>(v ? (p[bit / 8] | mask) : (p[bit / 8] & ~mask));
-}
-
-std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept {
-  std::uint16_t wkc = 0;
-  if (read_hit) wkc = static_cast<std::uint16_t>(wkc + kWkcRead);
-  if (write_hit) wkc = static_cast<std::uint16_t>(wkc + (cmd == Command::Lrw ? kWkcReadWriteWrite : kWkcWrite));
-  return wkc;
 }
 
 }  // namespace
@@ -43,12 +37,21 @@ void Esc::update_fmmus() noexcept {
   route_reads_ = 0;
   route_writes_ = 0;
   fmmus_routed_ = config_.fast_paths;  // off: every LRD/LWR/LRW takes the general path
+  logical_first_ = 0;
+  logical_end_ = 0;
   for (unsigned k = 0; k < config_.fmmu_count; ++k) {
     const Fmmu& f = fmmus_[k];
     if (!f.active()) continue;
     fmmu_active_ |= 1u << k;
     if (!f.byte_aligned()) fmmus_routed_ = false;
     FmmuRoute r{f.logical_start, std::uint64_t{f.logical_start} + f.length, f.physical_start, kRouteGeneral};
+    if (logical_first_ == logical_end_) {
+      logical_first_ = r.first;
+      logical_end_ = r.end;
+    } else {
+      logical_first_ = std::min(logical_first_, r.first);
+      logical_end_ = std::max(logical_end_, r.end);
+    }
     const std::uint32_t p1 = r.physical + f.length;
     if (r.physical >= reg::kProcessRam && p1 <= ram_end()) {
       r.target = kRouteRam;
@@ -71,70 +74,6 @@ void Esc::update_fmmus() noexcept {
       if (rd.first < wr.end && wr.first < rd.end) fmmus_routed_ = false;
     }
   }
-}
-
-// The routed path: per FMMU a range compare and one copy through its SM.
-// All reads, then all writes, each in FMMU order, as the general path.
-std::uint16_t Esc::process_logical(DatagramView d) noexcept {
-  if (!fmmus_routed_) return process_logical_bits(d);
-  const Command cmd = d.command();
-  Bytes data = d.data();
-  if (data.empty()) return 0;
-  const std::uint64_t dg0 = d.logical_address();
-  const std::uint64_t dg1 = dg0 + data.size();
-  bool read_hit = false;
-  bool write_hit = false;
-  if (cmd != Command::Lwr) {
-    for (unsigned i = 0; i < route_reads_; ++i) {
-      const FmmuRoute& r = routes_[i];
-      const std::uint64_t lo = std::max(dg0, r.first);
-      const std::uint64_t hi = std::min(dg1, r.end);
-      if (lo >= hi) continue;
-      const std::uint64_t paddr = r.physical + (lo - r.first);
-      if (paddr >= kAddressSpace) continue;
-      const std::span<std::uint8_t> out = data.subspan(static_cast<std::size_t>(lo - dg0),
-                                                       static_cast<std::size_t>(hi - lo));
-      if (r.target >= 0) {
-        SmSignals sig;
-        const auto n = static_cast<unsigned>(r.target);
-        read_hit = sms_[n].read(Side::Ecat, static_cast<std::uint16_t>(paddr), out, sig) || read_hit;
-        apply(n, sig);
-      } else if (r.target == kRouteRam) {
-        std::memcpy(out.data(), mem_.get() + paddr, out.size());
-        read_hit = true;
-      } else {
-        read_hit = mem_read(static_cast<std::uint16_t>(paddr), out, Side::Ecat) || read_hit;
-      }
-    }
-  }
-  if (cmd != Command::Lrd) {
-    // ESC write protection (0x0031) covers the RAM (Section I §13).
-    const bool ram_protected = (mem_[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_;
-    for (unsigned i = 0; i < route_writes_; ++i) {
-      const FmmuRoute& r = routes_[kMaxFmmus + i];
-      const std::uint64_t lo = std::max(dg0, r.first);
-      const std::uint64_t hi = std::min(dg1, r.end);
-      if (lo >= hi) continue;
-      const std::uint64_t paddr = r.physical + (lo - r.first);
-      if (paddr >= kAddressSpace) continue;
-      const std::span<const std::uint8_t> in = data.subspan(static_cast<std::size_t>(lo - dg0),
-                                                            static_cast<std::size_t>(hi - lo));
-      if (r.target == kRouteGeneral) {
-        write_hit = mem_write(static_cast<std::uint16_t>(paddr), in, Side::Ecat) || write_hit;
-      } else if (ram_protected) {
-        continue;
-      } else if (r.target >= 0) {
-        SmSignals sig;
-        const auto n = static_cast<unsigned>(r.target);
-        write_hit = sms_[n].write(Side::Ecat, static_cast<std::uint16_t>(paddr), in, sig) || write_hit;
-        apply(n, sig);
-      } else {
-        std::memcpy(mem_.get() + paddr, in.data(), in.size());
-        write_hit = true;
-      }
-    }
-  }
-  return wkc_of(cmd, read_hit, write_hit);
 }
 
 // The general path: bit-granular FMMUs, through the SM rules of mem_read /
@@ -235,7 +174,7 @@ std::uint16_t Esc::process_logical_bits(DatagramView d) noexcept {
       }
     }
   }
-  return wkc_of(cmd, read_hit, write_hit);
+  return logical_detail::wkc_of(cmd, read_hit, write_hit);
 }
 
 }  // namespace ecat::esc

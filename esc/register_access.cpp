@@ -30,6 +30,13 @@ bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { retu
 bool Esc::reg_read(std::uint16_t address, std::span<std::uint8_t> out, Side side) noexcept {
   if (out.empty()) return false;
   const std::uint32_t end = address + static_cast<std::uint32_t>(out.size());
+  if (address >= reg::kDcBase && end <= reg::kDcEnd) {
+    // Wholly inside the DC block (the ARMW/FRMW of every DC cycle): what
+    // reg_read_checked does with it, without the byte loop.
+    if (!config_.dc) return false;
+    dc_.read(static_cast<std::uint16_t>(address - reg::kDcBase), out, now_, side);
+    return true;
+  }
   if (!config_.fast_paths || (end > reg::kDcBase && address < reg::kDcEnd)) {
     return reg_read_checked(address, out, side);
   }
@@ -116,6 +123,14 @@ bool Esc::write_protection_active() const noexcept {
 // byte through the checks.
 bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_bytes, Side side) noexcept {
   if (in_bytes.empty()) return false;
+  if (address >= reg::kDcBase && address + in_bytes.size() <= reg::kDcEnd) {
+    // Wholly inside the DC block (the ARMW/FRMW of every DC cycle): what
+    // reg_write_checked does with it (write protection does not apply to
+    // it there either), without the byte loop.
+    if (!config_.dc) return false;
+    dc_.write(static_cast<std::uint16_t>(address - reg::kDcBase), in_bytes, now_, side);
+    return true;
+  }
   const bool checked = !config_.fast_paths || (side == Side::Ecat && write_protection_active());
   if (!checked && register_map::all_in(address, in_bytes.size(), register_map::write_plain_flag(side))) {
     copy_small(mem_.get() + address, in_bytes.data(), in_bytes.size());

@@ -128,6 +128,10 @@ void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanos
   if (side == Side::Ecat && offset <= kSystemTime && end > kSystemTime) {
     compare_system_time(in.subspan(kSystemTime - offset, std::min<std::size_t>(kU64, end - kSystemTime)), t);
   }
+  // A write inside the system time (the ARMW/FRMW of every DC cycle) stores
+  // no byte and touches no register with a write effect: only the comparison
+  // above (issue 8: the per-byte loop below is most of such a write's cost).
+  if (offset >= kSystemTime && end <= kSystemTime + kU64) return;
   for (std::uint16_t i = 0; i < n; ++i) {
     const auto o = static_cast<std::uint16_t>(offset + i);
     if (writable(o, side)) regs_[o] = in[i];

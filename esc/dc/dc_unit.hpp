@@ -109,12 +109,14 @@ class DcUnit : private SyncUnit::Sink {
   TimeLoop loop_;
   SyncUnit sync_;
   std::array<LatchUnit, kLatchInputs> latches_{};
-  bool receive_latch_armed_ = false;
   std::array<bool, kSyncSignals> sync_level_{};
   std::array<std::uint64_t, kSyncSignals> pulse_end_{};  // system time, pulse mode
+  DcObserver* observer_ = nullptr;
+  // What every frame reads or writes (on_frame_arrival, the Esc's IRQ
+  // field), last: the Esc keeps its own per-frame members right behind.
   std::uint32_t al_events_ = 0;
   std::uint16_t ecat_events_ = 0;
-  DcObserver* observer_ = nullptr;
+  bool receive_latch_armed_ = false;
   Nanoseconds last_t_{0};  // latest time the unit has seen
 };
 

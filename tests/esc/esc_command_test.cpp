@@ -193,6 +193,17 @@ TEST(Commands, DcBlockCountsOnlyWithDc) {
   auto r = transact(without.segment, Command::Brd, device_address(0, 0x0910), Data(8, 0x5A));
   EXPECT_EQ(r.wkc, 0);
   EXPECT_EQ(r.data, Data(8, 0x5A));
+  // The ECAT read/write paths of the other commands (wholly inside the block
+  // or across its start), with and without DC.
+  r = transact(without.segment, Command::Aprd, ap(0, 0x0910), Data(8, 0x5A));
+  EXPECT_EQ(r.wkc, 0);
+  EXPECT_EQ(r.data, Data(8, 0x5A));
+  EXPECT_EQ(transact(without.segment, Command::Armw, ap(0, 0x0910), Data(8, 0x5A)).wkc, 0);
+  EXPECT_EQ(transact(without.segment, Command::Apwr, ap(1, 0x0920), Data(8, 0)).wkc, 0);
+  EXPECT_EQ(transact(without.segment, Command::Aprd, ap(0, 0x08FC), Data(8, 0)).wkc, 1);  // SM bytes count
+  EXPECT_EQ(transact(with.segment, Command::Armw, ap(0, 0x0910), Data(8, 0)).wkc, 3);
+  EXPECT_EQ(transact(with.segment, Command::Apwr, ap(1, 0x0920), Data(8, 0)).wkc, 1);
+  EXPECT_EQ(transact(with.segment, Command::Aprd, ap(2, 0x08FC), Data(8, 0)).wkc, 1);
 }
 
 }  // namespace

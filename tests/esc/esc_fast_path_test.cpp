@@ -124,7 +124,7 @@ TEST(EscFastPath, MixedRegisterRanges) {
   }
 }
 
-// The inline ECAT register read of the datagram engine (FPRD/APRD/FRMW):
+// The inline ECAT register read of the datagram engine (FPRD/APRD/FRMW/BRD):
 // every length from 1 to 40 bytes (both sides of its 16-byte scan limit)
 // starting on and around the bytes with read effects, with AL status and DL
 // status changes pending so their acknowledges show; also reads that end in
@@ -150,6 +150,7 @@ TEST(EscFastPath, EcatRegisterReadsOfEveryLength) {
       t.frame([&](TestFrame& f) {
         f.add(Command::Fprd, device_address(kFirstStation, start), n);
         f.add(Command::Frmw, device_address(kFirstStation + 1, start), n);
+        f.add(Command::Brd, device_address(0, start), n);  // short ones through the inline read
         f.add(Command::Fprd, device_address(kFirstStation, reg::kEcatEventRequest), 2);
       });
       ASSERT_NO_FATAL_FAILURE(t.expect_same("ECAT register read"));

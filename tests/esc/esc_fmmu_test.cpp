@@ -132,6 +132,38 @@ TEST_F(FmmuTest, MailboxStateBitIntoLogicalImage) {
   EXPECT_EQ(r.data, Data{0xF1});
 }
 
+// An ESC skips a logical datagram outside the span of all its active FMMUs
+// (issue 8 quick reject): the edges of the span, the gap between two FMMUs,
+// the top of the 4 GiB space, bit-granular FMMUs and no active FMMU at all.
+TEST_F(FmmuTest, LogicalSpanEdges) {
+  config_fmmu(seg(), kStation, 0, 0x100, 4, 0, 7, 0x1000, 0, kWrite);
+  config_fmmu(seg(), kStation, 1, 0x200, 4, 0, 7, 0x1100, 0, kRead);
+  transact(seg(), Command::Fpwr, fp(kStation, 0x1100), Data{0x11, 0x22, 0x33, 0x44});
+  EXPECT_EQ(transact(seg(), Command::Lwr, 0x0FC, Data{1, 2, 3, 4}).wkc, 0);  // ends just before the span
+  EXPECT_EQ(mem()[0x1000], 0x00);
+  EXPECT_EQ(transact(seg(), Command::Lwr, 0x0FD, Data{1, 2, 3, 4}).wkc, 1);  // last byte is the first mapped
+  EXPECT_EQ(mem()[0x1000], 0x04);
+  EXPECT_EQ(transact(seg(), Command::Lrd, 0x150, 16).wkc, 0);  // the gap between the FMMUs
+  EXPECT_EQ(transact(seg(), Command::Lrd, 0x204, 2).wkc, 0);   // starts just past the span
+  auto r = transact(seg(), Command::Lrd, 0x203, 2);             // first byte is the last mapped
+  EXPECT_EQ(r.wkc, 1);
+  EXPECT_EQ(r.data, (Data{0x44, 0x00}));
+  // Top of the logical space: the span end lies past 2^32.
+  config_fmmu(seg(), kStation, 2, 0xFFFFFFFE, 2, 0, 7, 0x1200, 0, kWrite);
+  EXPECT_EQ(transact(seg(), Command::Lwr, 0xFFFFFFFF, Data{0x5A}).wkc, 1);
+  EXPECT_EQ(mem()[0x1201], 0x5A);
+  // A bit-granular FMMU (general path): bits 4..3 of the next byte, logical 0x300-0x301.
+  config_fmmu(seg(), kStation, 3, 0x300, 2, 4, 3, 0x1300, 0, kWrite);
+  EXPECT_EQ(transact(seg(), Command::Lwr, 0x2FF, Data{0xFF}).wkc, 0);
+  EXPECT_EQ(transact(seg(), Command::Lwr, 0x302, Data{0xFF}).wkc, 0);
+  EXPECT_EQ(transact(seg(), Command::Lwr, 0x301, Data{0xFF}).wkc, 1);
+  // No active FMMU: nothing is mapped anywhere.
+  for (unsigned n = 0; n < 4; ++n) transact(seg(), Command::Fpwr, fp(kStation, reg::fmmu(n) + 0xC), Data{0});
+  EXPECT_EQ(transact(seg(), Command::Lrw, 0x0, Data(1024, 0)).wkc, 0);
+  EXPECT_EQ(transact(seg(), Command::Lrw, 0x100, 4).wkc, 0);
+  EXPECT_EQ(mem()[0x1000], 0x04);
+}
+
 TEST(FmmuLine, ThreeSlavesLrwCountsNine) {
   Line line(3);
   assign_stations(line);

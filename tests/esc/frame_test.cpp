@@ -144,6 +144,57 @@ TEST(FrameParser, Rejects) {
   }
 }
 
+// The single-datagram case of validate_ethercat is the general loop unrolled
+// once: the same checks in the same order, also when several fail at once,
+// and the loop itself for a second datagram.
+TEST(FrameParser, ErrorPrecedenceOneAndTwoDatagrams) {
+  auto good = one_datagram_frame();
+  {
+    auto f = good;
+    f[16] = 15;  // unknown command and a length beyond the frame: the command is checked first
+    f[22] = 30;
+    EXPECT_EQ(parse_frame(f).error(), FrameError::UnknownCommand);
+  }
+  {
+    auto f = good;
+    f[22] = 30;  // beyond the frame and inside the frame length by 2: beyond first
+    f[14] = static_cast<std::uint8_t>(f[14] + 2);
+    EXPECT_EQ(parse_frame(f).error(), FrameError::DatagramBeyondFrame);
+  }
+  std::array<std::uint8_t, 128> buf{};
+  FrameBuilder b(buf);
+  ASSERT_TRUE(b.append_zeros(Command::Aprd, 0, 0, 3));
+  ASSERT_TRUE(b.append_zeros(Command::Brd, 1, 0, 2));
+  const auto two = b.finish();
+  const std::vector<std::uint8_t> good2(two.begin(), two.end());
+  {
+    auto f = good2;
+    ASSERT_TRUE(parse_frame(f));
+    ASSERT_EQ(parse_frame(f)->size(), 2u);
+  }
+  constexpr std::size_t kSecond = 16 + 12 + 3;  // header of the second datagram
+  {
+    auto f = good2;
+    f[kSecond] = 15;
+    EXPECT_EQ(parse_frame(f).error(), FrameError::UnknownCommand);
+  }
+  {
+    auto f = good2;
+    f[kSecond + 6] = 9;  // second datagram 9 bytes long: beyond the frame
+    EXPECT_EQ(parse_frame(f).error(), FrameError::DatagramBeyondFrame);
+  }
+  {
+    auto f = good2;
+    f[kSecond + 6] = 1;  // one byte shorter: the frame length has one byte left over
+    EXPECT_EQ(parse_frame(f).error(), FrameError::LengthMismatch);
+  }
+  {
+    auto f = good2;
+    f[kSecond + 7] = 0x80;  // "more" on the last one
+    EXPECT_EQ(parse_frame(f).error(), FrameError::DatagramBeyondFrame);
+  }
+}
+
 TEST(FrameParser, WalksDatagramsInPlace) {
   std::array<std::uint8_t, 128> buf{};
   FrameBuilder b(buf);
