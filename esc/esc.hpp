@@ -176,6 +176,7 @@ class Esc final : public Pdi {
   // and the process-data watchdog restart; inline, as it follows every SM
   // access of a frame.
   void apply(unsigned sm, const SmSignals& sig) noexcept;
+  void restart_process_data_watchdog() noexcept;
   // The IRQ field this ESC ORs into a datagram: (0x0210 | DC) & 0x0200.
   std::uint16_t irq_field() const noexcept {
     return static_cast<std::uint16_t>(ecat_event() & load_le<std::uint16_t>(mem_.get() + reg::kEcatEventMask));
@@ -219,7 +220,18 @@ class Esc final : public Pdi {
     std::uint64_t end = 0;
     std::uint32_t physical = 0;
     std::int8_t target = kRouteGeneral;
+    // SM target whose whole buffer this FMMU maps, ready for
+    // SyncManager::ecat_read_whole/ecat_write_whole; with the event bits
+    // that access raises and clears and whether it restarts the watchdog
+    // (decoded from the SM registers, which re-route on every change).
+    bool whole = false;
+    bool watchdog = false;
+    std::uint16_t ecat_clear = 0;
+    std::uint32_t al_raise = 0;
   };
+  // The route of one FMMU direction with its whole-buffer decoding (logical_access.cpp).
+  FmmuRoute whole_route(FmmuRoute r, std::uint32_t length, bool ecat_write) const noexcept;
+  void whole_events(const FmmuRoute& r) noexcept;
   std::array<FmmuRoute, 2 * kMaxFmmus> routes_{};  // reads, then writes from kMaxFmmus
   unsigned route_reads_ = 0;
   unsigned route_writes_ = 0;
@@ -267,12 +279,15 @@ inline void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
     if (sig.raise_ecat) v = static_cast<std::uint16_t>(v | ecat);
     store_le(m + reg::kEcatEventRequest, v);
   }
-  if (sig.watchdog_trigger) {
-    watchdogs_.trigger_process_data(now_, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
-                                    load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
-    mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
-    refresh_timers();
-  }
+  if (sig.watchdog_trigger) restart_process_data_watchdog();
+}
+
+inline void Esc::restart_process_data_watchdog() noexcept {
+  std::uint8_t* m = mem_.get();
+  watchdogs_.trigger_process_data(now_, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
+                                  load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
+  m[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
+  refresh_timers();
 }
 
 }  // namespace ecat::esc

@@ -64,8 +64,8 @@ void Esc::update_fmmus() noexcept {
         break;
       }
     }
-    if (f.read) routes_[route_reads_++] = r;
-    if (f.write) routes_[kMaxFmmus + route_writes_++] = r;
+    if (f.read) routes_[route_reads_++] = whole_route(r, f.length, false);
+    if (f.write) routes_[kMaxFmmus + route_writes_++] = whole_route(r, f.length, true);
   }
   for (unsigned a = 0; a < route_reads_; ++a) {
     for (unsigned b = 0; b < route_writes_; ++b) {
@@ -74,6 +74,23 @@ void Esc::update_fmmus() noexcept {
       if (rd.first < wr.end && wr.first < rd.end) fmmus_routed_ = false;
     }
   }
+}
+
+// A route to SM n that maps exactly its buffer area, read (ecat_write =
+// false) or written by ECAT as that SM allows, is taken whole in one step;
+// its events are what SyncManager::read/write would signal for an access
+// that is both the first and the last byte: the ECAT event acknowledged,
+// the AL event if control bit 5, the watchdog restart (write) if bit 6.
+Esc::FmmuRoute Esc::whole_route(FmmuRoute r, std::uint32_t length, bool ecat_write) const noexcept {
+  if (r.target < 0) return r;
+  const auto n = static_cast<unsigned>(r.target);
+  const SyncManager& sm = sms_[n];
+  if (r.physical != sm.start() || length != sm.length() || !sm.whole_ecat_ready(ecat_write)) return r;
+  r.whole = true;
+  r.watchdog = ecat_write && (sm.control() & sm_bits::kWatchdogTrigger) != 0;
+  r.ecat_clear = n < bits::kEcatEventSmCount ? static_cast<std::uint16_t>(1u << (bits::kEcatEventSmShift + n)) : 0;
+  r.al_raise = (sm.control() & sm_bits::kAlEventEnable) != 0 ? 1u << (bits::kAlEventSmShift + n) : 0;
+  return r;
 }
 
 // The general path: bit-granular FMMUs, through the SM rules of mem_read /

@@ -38,6 +38,17 @@ inline std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept
   return process_logical_routes(d);
 }
 
+// The events of a whole-buffer SM access by ECAT (see Esc::whole_route).
+[[gnu::always_inline]] inline void Esc::whole_events(const FmmuRoute& r) noexcept {
+  std::uint8_t* m = mem_.get();
+  if (r.al_raise != 0) store_le(m + reg::kAlEventRequest, load_le<std::uint32_t>(m + reg::kAlEventRequest) | r.al_raise);
+  if (r.ecat_clear != 0) {
+    store_le(m + reg::kEcatEventRequest,
+             static_cast<std::uint16_t>(load_le<std::uint16_t>(m + reg::kEcatEventRequest) & ~r.ecat_clear));
+  }
+  if (r.watchdog) restart_process_data_watchdog();
+}
+
 inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
   const Command cmd = d.command();
   Bytes data = d.data();
@@ -55,7 +66,11 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
       if (paddr >= kAddressSpace) continue;
       const std::span<std::uint8_t> out = data.subspan(static_cast<std::size_t>(lo - dg0),
                                                        static_cast<std::size_t>(hi - lo));
-      if (r.target >= 0) {
+      if (r.whole && lo == r.first && hi == r.end) {
+        sms_[static_cast<unsigned>(r.target)].ecat_read_whole(out.data());
+        whole_events(r);
+        read_hit = true;
+      } else if (r.target >= 0) {
         SmSignals sig;
         const auto n = static_cast<unsigned>(r.target);
         read_hit = sms_[n].read(Side::Ecat, static_cast<std::uint16_t>(paddr), out, sig) || read_hit;
@@ -84,6 +99,10 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         write_hit = mem_write(static_cast<std::uint16_t>(paddr), in, Side::Ecat) || write_hit;
       } else if (ram_protected) {
         continue;
+      } else if (r.whole && lo == r.first && hi == r.end) {
+        sms_[static_cast<unsigned>(r.target)].ecat_write_whole(in.data());
+        whole_events(r);
+        write_hit = true;
       } else if (r.target >= 0) {
         SmSignals sig;
         const auto n = static_cast<unsigned>(r.target);

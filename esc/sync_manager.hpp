@@ -88,6 +88,19 @@ class SyncManager {
   // the current 3-buffer). Returns true if carried out.
   bool read(Side side, std::uint16_t address, std::span<std::uint8_t> out, SmSignals& sig) noexcept;
   bool write(Side side, std::uint16_t address, std::span<const std::uint8_t> in, SmSignals& sig) noexcept;
+  // The same as read()/write() from the ECAT side of the whole buffer
+  // [start(), end()) in one access, for an SM that is enabled, buffered,
+  // not PDI-deactivated, read (write) by ECAT and whose three buffers end
+  // inside ESC memory: what Esc::update_fmmus checked when it routed an
+  // FMMU here. The caller raises the events (ECAT event acknowledged, AL
+  // event if control bit 5, and for a write the watchdog if bit 6).
+  void ecat_read_whole(std::uint8_t* out) noexcept;
+  void ecat_write_whole(const std::uint8_t* in) noexcept;
+  // Whether the whole-buffer access above may be used for this SM by ECAT.
+  bool whole_ecat_ready(bool ecat_write) const noexcept {
+    return enabled() && !mailbox() && !pdi_deactivated() && ecat_writes() == ecat_write &&
+           end() + 2u * length() <= mem_end_;
+  }
 
  private:
   bool writer(Side side) const noexcept { return (side == Side::Ecat) == ecat_writes(); }
@@ -187,6 +200,31 @@ inline bool SyncManager::read(Side side, std::uint16_t address, std::span<std::u
     sm_detail::signal_other_side(side, ctl, sig);
   }
   return true;
+}
+
+// read() with first and last both true: the read buffer opens and closes.
+inline void SyncManager::ecat_read_whole(std::uint8_t* out) noexcept {
+  if (latest_ != sm_bits::kNoBufferWritten) read_buffer_ = latest_;
+  read_open_ = false;
+  const std::uint16_t len = length();
+  std::memcpy(out, mem_ + start() + static_cast<std::uint32_t>(read_buffer_) * len, len);
+  regs_[reg::sm::kStatus] = static_cast<std::uint8_t>(
+      (regs_[reg::sm::kStatus] & ~(sm_bits::kStatusWriteEvent | sm_bits::kStatusReadBufferOpen)) |
+      sm_bits::kStatusReadEvent);
+}
+
+// write() with first and last both true: fill, then exchange.
+inline void SyncManager::ecat_write_whole(const std::uint8_t* in) noexcept {
+  const std::uint16_t len = length();
+  std::memcpy(mem_ + start() + static_cast<std::uint32_t>(write_buffer_) * len, in, len);
+  latest_ = write_buffer_;
+  write_buffer_ = static_cast<std::uint8_t>(sm_detail::kBufferIndexSum - latest_ - read_buffer_);
+  if (latest_ == read_buffer_) write_buffer_ = latest_ == 2 ? 1 : 2;
+  write_open_ = false;
+  regs_[reg::sm::kStatus] = static_cast<std::uint8_t>(
+      (regs_[reg::sm::kStatus] &
+       ~(sm_bits::kStatusReadEvent | sm_bits::kStatusBufferMask | sm_bits::kStatusWriteBufferOpen)) |
+      (latest_ << sm_bits::kStatusBufferShift) | sm_bits::kStatusWriteEvent);
 }
 
 inline bool SyncManager::write(Side side, std::uint16_t address, std::span<const std::uint8_t> in, SmSignals& sig) noexcept {

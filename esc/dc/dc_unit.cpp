@@ -170,7 +170,9 @@ void DcUnit::latch_return_time(int port, Nanoseconds t) noexcept {
 // at SOF (minus the delay: what the reference showed when the frame passed
 // it). A 4-byte write compares the low 32 bits.
 void DcUnit::compare_system_time(std::span<const std::uint8_t> written, Nanoseconds t) noexcept {
-  const std::uint64_t copy = system_time(t) - delay();
+  // The local time once: the copy and the time loop both need it.
+  const std::uint64_t local = clock_.at(t);
+  const std::uint64_t copy = local + offset() - delay();
   std::array<std::uint8_t, kU64> received{};
   store_le(received.data(), copy);
   std::copy(written.begin(), written.end(), received.begin());
@@ -181,7 +183,7 @@ void DcUnit::compare_system_time(std::span<const std::uint8_t> written, Nanoseco
   } else {
     difference = static_cast<std::int32_t>(static_cast<std::uint32_t>(copy) - static_cast<std::uint32_t>(value));
   }
-  loop_.compare(difference, t, clock_.at(t), clock_);
+  loop_.compare(difference, t, local, clock_);
 }
 
 }  // namespace ecat::esc

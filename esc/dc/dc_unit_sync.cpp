@@ -89,6 +89,9 @@ void DcUnit::end_pulses(std::uint64_t system_now) noexcept {
 
 std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
   last_t_ = std::max(last_t_, now);
+  // No pulse scheduled and no output high: nothing below would act and no
+  // deadline would come out (issue 8: most ESCs of a line, every cycle).
+  if (!sync_.pulse_pending() && !sync_level_[0] && !sync_level_[1]) return std::nullopt;
   const std::uint64_t system = system_time(now);
   const std::optional<std::uint64_t> next = sync_.advance(system, *this);
   end_pulses(system);

@@ -28,15 +28,10 @@ void LocalClock::reset(double ppm, std::uint64_t start) noexcept {
   anchor_t_ = 0;
   anchor_local_ = start;
   anchor_frac_ = 0.0;
+  update_rate();
 }
 
-double LocalClock::rate() const noexcept { return 1.0 + ppm_ * kPerPpm + correction_; }
-
-std::uint64_t LocalClock::at(Nanoseconds t) const noexcept {
-  const double elapsed = static_cast<double>(t.count() - anchor_t_) * rate() + anchor_frac_;
-  const double whole = std::floor(elapsed);
-  return anchor_local_ + static_cast<std::uint64_t>(static_cast<std::int64_t>(whole));
-}
+void LocalClock::update_rate() noexcept { rate_ = 1.0 + ppm_ * kPerPpm + correction_; }
 
 Nanoseconds LocalClock::when(std::uint64_t local) const noexcept {
   const auto delta = static_cast<double>(static_cast<std::int64_t>(local - anchor_local_)) - anchor_frac_;
@@ -63,6 +58,7 @@ void LocalClock::set_rate_correction(Nanoseconds t, double correction) noexcept 
   anchor_frac_ = elapsed - whole;
   anchor_t_ = t.count();
   correction_ = correction;
+  update_rate();
 }
 
 }  // namespace ecat::esc

@@ -5,6 +5,7 @@
 // Time in: the injected (true) time; time out: this ESC's local time.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "common/clock.hpp"
@@ -19,7 +20,10 @@ class LocalClock {
 
   // Local time at true time t (rounded down to whole ns). Piecewise linear,
   // strictly increasing in t.
-  std::uint64_t at(Nanoseconds t) const noexcept;
+  std::uint64_t at(Nanoseconds t) const noexcept {
+    const double elapsed = static_cast<double>(t.count() - anchor_t_) * rate_ + anchor_frac_;
+    return anchor_local_ + static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(elapsed)));
+  }
   // Earliest true time at which the local time reaches `local` (rounded up).
   Nanoseconds when(std::uint64_t local) const noexcept;
 
@@ -29,7 +33,7 @@ class LocalClock {
   double rate_correction() const noexcept { return correction_; }
   double ppm() const noexcept { return ppm_; }
   // Effective rate (local ns per true ns).
-  double rate() const noexcept;
+  double rate() const noexcept { return rate_; }
 
   // Re-initialises as at power-on.
   void reset(double ppm, std::uint64_t start) noexcept;
@@ -41,6 +45,10 @@ class LocalClock {
   std::int64_t anchor_t_ = 0;
   std::uint64_t anchor_local_ = 0;
   double anchor_frac_ = 0.0;
+  // 1 + ppm * 1e-6 + correction, kept with them (same value as computed
+  // on each use: at() runs for every DC register access).
+  double rate_ = 1.0;
+  void update_rate() noexcept;
 };
 
 }  // namespace ecat::esc

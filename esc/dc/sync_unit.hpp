@@ -50,6 +50,8 @@ class SyncUnit {
   std::optional<std::uint64_t> advance(std::uint64_t now, Sink& sink) noexcept;
 
   bool active() const noexcept { return active_; }
+  // A pulse is scheduled: advance() has something to do at some time.
+  bool pulse_pending() const noexcept { return next0_.has_value() || next1_.has_value(); }
   std::uint8_t activation_status() const noexcept { return status_; }
   // 0x0990 read: next SYNC0 time while active, else the programmed start.
   std::uint64_t next_sync0() const noexcept;

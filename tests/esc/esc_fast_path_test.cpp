@@ -302,6 +302,125 @@ TEST_P(EscFastPathRandom, SameAsCheckedPath) {
 
 INSTANTIATE_TEST_SUITE_P(Seeds, EscFastPathRandom, testing::Range(1u, 13u));
 
+// FMMUs that map whole 3-buffer SMs take them in one step (the LRW of a
+// cyclic exchange): the same as the per-byte path while the SMs are
+// reconfigured between frames from the ECAT side (control, length,
+// activation) and the PDI side (0x0807 deactivation), with PDI buffer
+// accesses, partial datagrams and the process-data watchdog running.
+TEST(EscFastPath, WholeBufferSmRoutesFollowReconfiguration) {
+  Twin t;
+  constexpr std::uint16_t kOut = 0x1100;  // SM2: ECAT writes
+  constexpr std::uint16_t kIn = 0x1180;   // SM3: ECAT reads
+  constexpr std::uint16_t kLen = 8;
+  auto sm = [](std::uint16_t start, std::uint16_t len, std::uint8_t control, std::uint8_t activate) {
+    Data d = le16(start);
+    for (auto b : le16(len)) d.push_back(b);
+    d.push_back(control);
+    d.push_back(0);
+    d.push_back(activate);
+    d.push_back(0);
+    return d;
+  };
+  auto fmmu = [](std::uint32_t logical, std::uint16_t len, std::uint16_t physical, std::uint8_t type) {
+    Data d = le32(logical);
+    for (auto b : le16(len)) d.push_back(b);
+    d.push_back(0);
+    d.push_back(7);
+    for (auto b : le16(physical)) d.push_back(b);
+    d.push_back(0);
+    d.push_back(type);
+    d.push_back(1);
+    d.resize(reg::kFmmuStride, 0);
+    return d;
+  };
+  t.frame([&](TestFrame& f) {
+    for (std::uint16_t i = 0; i < kSlaves; ++i) {
+      const auto station = static_cast<std::uint16_t>(kFirstStation + i);
+      f.add(Command::Apwr, ap(i, reg::kConfiguredStationAddress), le16(station));
+      f.add(Command::Apwr, ap(i, reg::kWatchdogTimeProcessData), le16(100));
+      f.add(Command::Apwr, ap(i, reg::sync_manager(2)), sm(kOut, kLen, 0x64, 1));
+      f.add(Command::Apwr, ap(i, reg::sync_manager(3)), sm(kIn, kLen, 0x20, 1));
+      f.add(Command::Apwr, ap(i, reg::fmmu(0)), fmmu(0x40u * i, kLen, kOut, 2));
+      f.add(Command::Apwr, ap(i, reg::fmmu(1)), fmmu(0x40u * i + 0x20, kLen, kIn, 1));
+    }
+  });
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("setup"));
+  std::mt19937 rng(7);
+  auto pick = [&](std::uint32_t lo, std::uint32_t hi) {
+    return static_cast<std::uint32_t>(std::uniform_int_distribution<std::uint32_t>(lo, hi)(rng));
+  };
+  auto bytes = [&](std::size_t n) {
+    Data d(n);
+    for (auto& b : d) b = static_cast<std::uint8_t>(pick(0, 255));
+    return d;
+  };
+  static constexpr std::uint8_t kOutControls[] = {0x64, 0x24, 0x44, 0x04, 0x66, 0x20};
+  static constexpr std::uint8_t kInControls[] = {0x20, 0x00, 0x60, 0x22, 0x24};
+  for (int op = 0; op < 3000; ++op) {
+    SCOPED_TRACE(testing::Message() << "op " << op);
+    const std::size_t slave = pick(0, kSlaves - 1);
+    const auto station = static_cast<std::uint16_t>(kFirstStation + slave);
+    // Drawn once, sent through both lines.
+    Command cmd = Command::Fpwr;
+    std::uint32_t address = 0;
+    Data data;
+    switch (pick(0, 11)) {
+      case 0:  // ECAT: control byte of either SM
+        if (pick(0, 1)) {
+          address = fp(station, reg::sync_manager(2) + reg::sm::kControl);
+          data = Data{kOutControls[pick(0, std::size(kOutControls) - 1)]};
+        } else {
+          address = fp(station, reg::sync_manager(3) + reg::sm::kControl);
+          data = Data{kInControls[pick(0, std::size(kInControls) - 1)]};
+        }
+        break;
+      case 1: {  // ECAT: activation or length
+        const unsigned n = pick(2, 3);
+        if (pick(0, 1)) {
+          address = fp(station, reg::sync_manager(n) + reg::sm::kActivate);
+          data = Data{static_cast<std::uint8_t>(pick(0, 3) != 0)};
+        } else {
+          address = fp(station, reg::sync_manager(n) + reg::sm::kLength);
+          data = le16(static_cast<std::uint16_t>(pick(0, 3) != 0 ? kLen : pick(1, kLen + 2)));
+        }
+        break;
+      }
+      case 2:  // PDI: deactivate / reactivate an SM
+        t.pdi_write(slave, static_cast<std::uint16_t>(reg::sync_manager(pick(2, 3)) + reg::sm::kPdiControl),
+                    Data{static_cast<std::uint8_t>(pick(0, 2) == 0)});
+        break;
+      case 3:  // PDI: the buffers, whole or in part
+        if (pick(0, 1)) {
+          t.pdi_write(slave, kIn, bytes(pick(0, 2) != 0 ? kLen : pick(1, kLen)));
+        } else {
+          ASSERT_NO_FATAL_FAILURE(t.pdi_read(slave, kOut, pick(0, 2) != 0 ? kLen : pick(1, kLen)));
+        }
+        break;
+      case 4:  // a partial LRW: starts or ends inside a mapping
+        cmd = Command::Lrw;
+        address = pick(0, 0x30);
+        data = bytes(pick(1, 0x50));
+        break;
+      case 5:
+        ASSERT_NO_FATAL_FAILURE(t.advance(Nanoseconds{pick(0, 300'000)}));
+        break;
+      default: {  // the cyclic LRW over every slave, or LRD/LWR alone
+        static constexpr Command kCmds[] = {Command::Lrw, Command::Lrw, Command::Lrd, Command::Lwr};
+        cmd = kCmds[pick(0, 3)];
+        data = bytes(0x40 * kSlaves);
+        break;
+      }
+    }
+    if (!data.empty()) {
+      ASSERT_NO_FATAL_FAILURE(t.frame([&](TestFrame& f) {
+        f.add(cmd, address, data);
+        f.add(Command::Brd, device_address(0, reg::kAlStatus), Data(2, 0));
+      }));
+    }
+    ASSERT_NO_FATAL_FAILURE(t.expect_same("whole-buffer op"));
+  }
+}
+
 // The classification itself: plain bytes are fully writable by their side,
 // and the blocks with their own handlers are never plain.
 TEST(RegisterMap, PlainBytesAreFullyWritableAndBlocksAreSpecial) {
