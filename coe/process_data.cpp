@@ -60,8 +60,8 @@ void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
   const ProcessDataImage& image = config_.outputs();
   const SmArea sm = area(pdi, kOutputsSm);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  pdi.read(sm.start, {buffer_.data(), sm.length});
-  const std::uint8_t* buffer = buffer_.data();
+  // In place where the PDI can (the ESC's 3-buffer), else through buffer_.
+  const std::uint8_t* buffer = pdi.read_buffer(sm.start, {buffer_.data(), sm.length}).data();
   for (const Copy& c : plan(image, out_plan_).copies) {
     if (c.bytes != 0) {
       esc::copy_small(c.value, buffer + c.byte_offset, c.bytes);
@@ -75,8 +75,9 @@ void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
   const ProcessDataImage& image = config_.inputs();
   const SmArea sm = area(pdi, kInputsSm);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  std::fill(buffer_.begin(), buffer_.begin() + sm.length, std::uint8_t{0});
-  std::uint8_t* buffer = buffer_.data();
+  const std::span<std::uint8_t> place = pdi.write_buffer_begin(sm.start, {buffer_.data(), sm.length});
+  std::uint8_t* buffer = place.data();
+  std::memset(buffer, 0, place.size());
   for (const Copy& c : plan(image, in_plan_).copies) {
     if (c.bytes != 0) {
       esc::copy_small(buffer + c.byte_offset, c.value, c.bytes);
@@ -84,7 +85,7 @@ void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
       put_bits(buffer, c.item->bit_position(), c.value, c.item->bits);
     }
   }
-  pdi.write(sm.start, {buffer_.data(), sm.length});
+  pdi.write_buffer_commit(sm.start, place);
 }
 
 }  // namespace ecat::coe

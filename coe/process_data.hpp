@@ -3,7 +3,9 @@
 // hands the 3-buffer back to the ESC) and writes each mapped RxPDO entry;
 // write_inputs packs the mapped TxPDO entries and writes SM3's buffer (its
 // last byte completes it). Layout from PdoConfig; the frame buffer is sized
-// once; no heap on this path.
+// once; no heap on this path. Both go through the Pdi's whole-buffer calls
+// (read_buffer, write_buffer_begin/commit): on the emulated ESC the entries
+// are copied straight between its 3-buffer and the objects (issue 8).
 //
 // Firmware that knows when the SM settings can change (the master writes SM
 // registers only with an SM activation event, and the mapping only in PreOp)
