@@ -60,8 +60,17 @@ class ProcessData {
   struct Plan {
     std::vector<Copy> copies;
     std::uint64_t generation = ~std::uint64_t{0};
+    // Whole-byte copies that write every byte of [0, covered) and nothing
+    // else: write_inputs zeroes the buffer first only when the SM is longer
+    // (or the image has gaps or bit items). 0 when not so.
+    std::uint32_t covered = 0;
   };
-  const Plan& plan(const ProcessDataImage& image, Plan& p) noexcept;
+  // The plan for the image's current layout (rebuilt in rebuild() when it changed).
+  const Plan& plan(const ProcessDataImage& image, Plan& p) noexcept {
+    if (p.generation != image.generation()) rebuild(image, p);
+    return p;
+  }
+  void rebuild(const ProcessDataImage& image, Plan& p) noexcept;
 
   ObjectStore& store_;
   PdoConfig& config_;

@@ -224,13 +224,11 @@ bool Esc::pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in
 // view valid until then; a write's bytes lie in the buffer write() would
 // copy them into, which only the commit's exchange hands to the master.
 // tests/esc/esc_pdi_fast_path_test.cpp compares them with the checked path.
-int Esc::pdi_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept {
-  PdiBufferHint& hint = pdi_buffer_hints_[write ? 1 : 0];
-  if (hint.sm >= 0 && hint.address == address && hint.size == n) return hint.sm;
+int Esc::pdi_find_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept {
   if (!config_.fast_paths || n == 0) return -1;
   const int sm = pdi_sm_for(address, address + static_cast<std::uint32_t>(n));
   if (sm < 0 || !sms_[sm].buffered(Side::Pdi, write)) return -1;
-  hint = {address, static_cast<std::uint32_t>(n), sm};
+  pdi_buffer_hints_[write ? 1 : 0] = {address, static_cast<std::uint32_t>(n), sm};
   return sm;
 }
 

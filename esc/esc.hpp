@@ -209,7 +209,12 @@ class Esc final : public Pdi {
   // buffered, PDI reads when !write / writes when write), or -1. The last
   // answer per direction is kept until an SM register changes (update_sm_guards,
   // reset): the process-data cycle asks the same three questions every time.
-  int pdi_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept;
+  int pdi_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept {
+    const PdiBufferHint& hint = pdi_buffer_hints_[write ? 1 : 0];
+    if (hint.sm >= 0 && hint.address == address && hint.size == n) return hint.sm;
+    return pdi_find_in_place_sm(address, n, write);
+  }
+  int pdi_find_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept;
   void sii_action(SiiInterface::Action a) noexcept;
   std::uint32_t dl_control() const noexcept;
   std::uint32_t ram_end() const noexcept { return reg::kProcessRam + config_.process_ram_size; }
