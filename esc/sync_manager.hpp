@@ -175,6 +175,7 @@ inline std::uint32_t SyncManager::buffered_read(Side side, std::uint16_t address
   // status byte is updated once (same result as bit by bit).
   const bool first = address == start();
   const bool last = static_cast<std::uint32_t>(address) + n == end();
+  const std::uint8_t ctl = control();
   std::uint8_t status = regs_[reg::sm::kStatus];
   if (first || !read_open_) {
     if (latest_ != sm_bits::kNoBufferWritten) read_buffer_ = latest_;
@@ -185,7 +186,7 @@ inline std::uint32_t SyncManager::buffered_read(Side side, std::uint16_t address
   if (last) {
     read_open_ = false;
     status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadBufferOpen) | sm_bits::kStatusReadEvent);
-    sm_detail::signal_other_side(side, control(), sig);
+    sm_detail::signal_other_side(side, ctl, sig);
   }
   regs_[reg::sm::kStatus] = status;
   return physical(read_buffer_, address);
@@ -197,6 +198,7 @@ inline std::uint32_t SyncManager::buffered_write(Side side, std::uint16_t addres
   const bool first = address == start();
   const bool last = static_cast<std::uint32_t>(address) + n == end();
   const std::uint32_t at = physical(write_buffer_, address);
+  const std::uint8_t ctl = control();
   std::uint8_t status = regs_[reg::sm::kStatus];
   if (first || !write_open_) {
     write_open_ = true;
@@ -206,7 +208,6 @@ inline std::uint32_t SyncManager::buffered_write(Side side, std::uint16_t addres
   if (last) {
     // Exchange: the written buffer becomes the latest; the writer continues
     // with the buffer neither the reader holds nor the latest is in.
-    const std::uint8_t ctl = control();
     latest_ = write_buffer_;
     write_buffer_ = static_cast<std::uint8_t>(sm_detail::kBufferIndexSum - latest_ - read_buffer_);
     if (latest_ == read_buffer_) write_buffer_ = latest_ == 2 ? 1 : 2;
