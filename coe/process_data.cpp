@@ -23,23 +23,32 @@ ProcessData::ProcessData(ObjectStore& store, PdoConfig& config)
   in_plan_.copies.reserve(config.inputs().capacity());
 }
 
-const ProcessData::Plan& ProcessData::plan(const ProcessDataImage& image, Plan& p) noexcept {
-  if (p.generation == image.generation()) return p;
+void ProcessData::rebuild(const ProcessDataImage& image, Plan& p) noexcept {
   p.copies.clear();
+  // Items lie in image order, packed: whole-byte items from offset 0 on
+  // without a gap or a bit item cover their bytes exactly.
+  std::uint32_t covered = 0;
+  bool contiguous = true;
   for (const PdoItem& item : image.items()) {
-    if (!item.entry) continue;  // a gap
+    if (!item.entry) {  // a gap
+      contiguous = false;
+      continue;
+    }
     Copy c;
     c.value = store_.storage(*item.entry).data();
     c.byte_offset = item.byte_offset;
     if (item.bit_offset == 0 && item.bits % kBitsPerByte == 0) {
       c.bytes = static_cast<std::uint16_t>(item.bits / kBitsPerByte);
+      contiguous = contiguous && c.byte_offset == covered;
+      covered += c.bytes;
     } else {
       c.item = &item;
+      contiguous = false;
     }
     p.copies.push_back(c);  // within the reserved capacity: the image holds at most that many
   }
+  p.covered = contiguous ? covered : 0;
   p.generation = image.generation();
-  return p;
 }
 
 ProcessData::SmArea ProcessData::area(esc::Pdi& pdi, unsigned sm) noexcept {
@@ -60,8 +69,8 @@ void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
   const ProcessDataImage& image = config_.outputs();
   const SmArea sm = area(pdi, kOutputsSm);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  pdi.read(sm.start, {buffer_.data(), sm.length});
-  const std::uint8_t* buffer = buffer_.data();
+  // In place where the PDI can (the ESC's 3-buffer), else through buffer_.
+  const std::uint8_t* buffer = pdi.read_buffer(sm.start, {buffer_.data(), sm.length}).data();
   for (const Copy& c : plan(image, out_plan_).copies) {
     if (c.bytes != 0) {
       esc::copy_small(c.value, buffer + c.byte_offset, c.bytes);
@@ -75,16 +84,19 @@ void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
   const ProcessDataImage& image = config_.inputs();
   const SmArea sm = area(pdi, kInputsSm);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  std::fill(buffer_.begin(), buffer_.begin() + sm.length, std::uint8_t{0});
-  std::uint8_t* buffer = buffer_.data();
-  for (const Copy& c : plan(image, in_plan_).copies) {
+  const Plan& p = plan(image, in_plan_);
+  const std::span<std::uint8_t> place = pdi.write_buffer_begin(sm.start, {buffer_.data(), sm.length});
+  std::uint8_t* buffer = place.data();
+  // Bytes no copy writes are 0 (gaps, padding, the rest of a longer SM).
+  if (p.covered != sm.length) std::memset(buffer, 0, place.size());
+  for (const Copy& c : p.copies) {
     if (c.bytes != 0) {
       esc::copy_small(buffer + c.byte_offset, c.value, c.bytes);
     } else {
       put_bits(buffer, c.item->bit_position(), c.value, c.item->bits);
     }
   }
-  pdi.write(sm.start, {buffer_.data(), sm.length});
+  pdi.write_buffer_commit(sm.start, place);
 }
 
 }  // namespace ecat::coe

@@ -3,7 +3,9 @@
 // hands the 3-buffer back to the ESC) and writes each mapped RxPDO entry;
 // write_inputs packs the mapped TxPDO entries and writes SM3's buffer (its
 // last byte completes it). Layout from PdoConfig; the frame buffer is sized
-// once; no heap on this path.
+// once; no heap on this path. Both go through the Pdi's whole-buffer calls
+// (read_buffer, write_buffer_begin/commit): on the emulated ESC the entries
+// are copied straight between its 3-buffer and the objects (issue 8).
 //
 // Firmware that knows when the SM settings can change (the master writes SM
 // registers only with an SM activation event, and the mapping only in PreOp)
@@ -58,8 +60,17 @@ class ProcessData {
   struct Plan {
     std::vector<Copy> copies;
     std::uint64_t generation = ~std::uint64_t{0};
+    // Whole-byte copies that write every byte of [0, covered) and nothing
+    // else: write_inputs zeroes the buffer first only when the SM is longer
+    // (or the image has gaps or bit items). 0 when not so.
+    std::uint32_t covered = 0;
   };
-  const Plan& plan(const ProcessDataImage& image, Plan& p) noexcept;
+  // The plan for the image's current layout (rebuilt in rebuild() when it changed).
+  const Plan& plan(const ProcessDataImage& image, Plan& p) noexcept {
+    if (p.generation != image.generation()) rebuild(image, p);
+    return p;
+  }
+  void rebuild(const ProcessDataImage& image, Plan& p) noexcept;
 
   ObjectStore& store_;
   PdoConfig& config_;

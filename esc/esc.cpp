@@ -84,6 +84,7 @@ void Esc::reset() noexcept {
   for (auto& sm : sms_) sm.reset_state();
   for (auto& f : fmmus_) f = Fmmu{};
   sm_enabled_ = 0;
+  pdi_buffer_hints_ = {};
   update_fmmus();
   watchdogs_.reset();
   register_write_enabled_ = false;
@@ -214,6 +215,66 @@ bool Esc::pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in
   return true;
 }
 
+// Whole-buffer accesses in place (Pdi::read_buffer / write_buffer_begin /
+// write_buffer_commit): the same steps as read()/write() on the fast path -
+// timers, the SM's buffered rules, its signals, the PDI watchdog - with the
+// copy between ESC memory and the caller's bytes left out. The bytes of a
+// 3-buffer the PDI holds do not move until its next access (the ECAT side
+// writes another buffer, and time changes none), which is what makes the
+// view valid until then; a write's bytes lie in the buffer write() would
+// copy them into, which only the commit's exchange hands to the master.
+// tests/esc/esc_pdi_fast_path_test.cpp compares them with the checked path.
+int Esc::pdi_find_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept {
+  if (!config_.fast_paths || n == 0) return -1;
+  const int sm = pdi_sm_for(address, address + static_cast<std::uint32_t>(n));
+  if (sm < 0 || !sms_[sm].buffered(Side::Pdi, write)) return -1;
+  pdi_buffer_hints_[write ? 1 : 0] = {address, static_cast<std::uint32_t>(n), sm};
+  return sm;
+}
+
+std::span<const std::uint8_t> Esc::read_buffer(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept {
+  const int sm = pdi_in_place_sm(address, scratch.size(), false);
+  if (sm < 0) {
+    read(address, scratch);
+    return scratch;
+  }
+  const Nanoseconds t = clock_.now();
+  run_timers(t);
+  now_ = t;
+  SmSignals sig;
+  const auto n = static_cast<unsigned>(sm);
+  const std::uint32_t at = sms_[n].buffered_read(Side::Pdi, address, scratch.size(), sig);
+  apply(n, sig);
+  pdi_watchdog_trigger(t);
+  if (at + scratch.size() <= sms_[n].memory_end()) return {mem_.get() + at, scratch.size()};
+  sm_detail::copy_out(mem_.get(), sms_[n].memory_end(), at, scratch);
+  return scratch;
+}
+
+std::span<std::uint8_t> Esc::write_buffer_begin(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept {
+  const int sm = pdi_in_place_sm(address, scratch.size(), true);
+  if (sm < 0) return scratch;
+  const std::uint32_t at = sms_[static_cast<unsigned>(sm)].write_position(address);
+  if (at + scratch.size() > sms_[static_cast<unsigned>(sm)].memory_end()) return scratch;
+  return {mem_.get() + at, scratch.size()};
+}
+
+void Esc::write_buffer_commit(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept {
+  const int sm = pdi_in_place_sm(address, bytes.size(), true);
+  if (sm < 0 || bytes.data() != mem_.get() + sms_[static_cast<unsigned>(sm)].write_position(address)) {
+    write(address, bytes);  // the caller's scratch (or, against the contract, a stale place)
+    return;
+  }
+  const Nanoseconds t = clock_.now();
+  run_timers(t);
+  now_ = t;
+  SmSignals sig;
+  const auto n = static_cast<unsigned>(sm);
+  (void)sms_[n].buffered_write(Side::Pdi, address, bytes.size(), sig);
+  apply(n, sig);
+  pdi_watchdog_trigger(t);
+}
+
 // Any PDI access restarts the PDI watchdog and shows it in DL status bit 1.
 // 0x0400 and 0x0410 lie outside the DC block: their bytes are the values.
 void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
@@ -295,6 +356,7 @@ void Esc::update_ports() noexcept {
 // Enabled SMs (Section I §8): the ones whose area the memory path guards.
 void Esc::update_sm_guards() noexcept {
   sm_enabled_ = 0;
+  pdi_buffer_hints_ = {};  // an SM register changed (pdi_in_place_sm)
   for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
     if (sms_[n].enabled()) sm_enabled_ |= 1u << n;
   }

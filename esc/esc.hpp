@@ -56,6 +56,12 @@ class Esc final : public Pdi {
   // --- Pdi (application side) ---
   void read(std::uint16_t address, std::span<std::uint8_t> out) noexcept override;
   void write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept override;
+  // In place when the access is a fast-path access to a 3-buffer SM
+  // (EscConfig::fast_paths) and its bytes are not clipped at the memory's
+  // end; otherwise through read()/write().
+  std::span<const std::uint8_t> read_buffer(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept override;
+  std::span<std::uint8_t> write_buffer_begin(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept override;
+  void write_buffer_commit(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept override;
 
   // --- EtherCAT side ---
   // Processes every datagram of a validated frame as it passes this ESC at
@@ -200,6 +206,16 @@ class Esc final : public Pdi {
   bool pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noexcept;
   bool pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in) noexcept;
   int pdi_sm_for(std::uint32_t address, std::uint32_t end) const noexcept;
+  // The 3-buffer SM a whole-buffer PDI access in place goes to (fast path,
+  // buffered, PDI reads when !write / writes when write), or -1. The last
+  // answer per direction is kept until an SM register changes (update_sm_guards,
+  // reset): the process-data cycle asks the same three questions every time.
+  int pdi_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept {
+    const PdiBufferHint& hint = pdi_buffer_hints_[write ? 1 : 0];
+    if (hint.sm >= 0 && hint.address == address && hint.size == n) return hint.sm;
+    return pdi_find_in_place_sm(address, n, write);
+  }
+  int pdi_find_in_place_sm(std::uint16_t address, std::size_t n, bool write) noexcept;
   void sii_action(SiiInterface::Action a) noexcept;
   std::uint32_t dl_control() const noexcept;
   std::uint32_t ram_end() const noexcept { return reg::kProcessRam + config_.process_ram_size; }
@@ -250,6 +266,13 @@ class Esc final : public Pdi {
   std::uint64_t logical_end_ = 0;
   std::array<bool, kMaxPorts> link_{};
   std::array<bool, kMaxPorts> port_open_{};
+  // pdi_in_place_sm's last answers: [0] reads, [1] writes; sm -1 = none kept.
+  struct PdiBufferHint {
+    std::uint32_t address = 0;
+    std::uint32_t size = 0;
+    int sm = -1;
+  };
+  std::array<PdiBufferHint, 2> pdi_buffer_hints_{};
   bool fmmus_routed_ = true;  // whole bytes, no logical byte both read and written
   // Per-frame state: write-protection release (0x0020/0x0030 written this frame).
   bool register_write_enabled_ = false;

@@ -24,6 +24,29 @@ class Pdi {
   // buffer makes it available to the master. Read-only bits are kept.
   virtual void write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept = 0;
 
+  // Whole-buffer accesses that may skip a copy (issue 8: the process-data
+  // cycle). read_buffer is read(address, scratch) - every SM rule, event and
+  // watchdog effect the same - but may return the bytes where they already
+  // are instead of copying them into `scratch`; the returned span (scratch
+  // or that view, scratch.size() bytes) stays valid until the next access
+  // to this Pdi or the next frame through the ESC.
+  virtual std::span<const std::uint8_t> read_buffer(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept {
+    read(address, scratch);
+    return scratch;
+  }
+  // write(address, bytes) in two steps: write_buffer_begin returns where to
+  // put the bytes (`scratch`, or the place they will be written to, with
+  // unspecified contents); write_buffer_commit(address, that span) then
+  // carries out the write - every SM rule, event and watchdog effect as
+  // write() at the time of the commit. No other access to this Pdi and no
+  // frame may come between the two.
+  virtual std::span<std::uint8_t> write_buffer_begin(std::uint16_t /*address*/, std::span<std::uint8_t> scratch) noexcept {
+    return scratch;
+  }
+  virtual void write_buffer_commit(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept {
+    write(address, bytes);
+  }
+
   std::uint8_t read_u8(std::uint16_t address) noexcept {
     std::uint8_t b[1]{};
     read(address, b);

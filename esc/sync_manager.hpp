@@ -102,6 +102,23 @@ class SyncManager {
            end() + 2u * length() <= mem_end_;
   }
 
+  // The buffered-mode (3-buffer) part of read()/write() without the copy
+  // (issue 8: Esc's whole-buffer PDI access in place). When buffered(side,
+  // write) holds, read()/write() of `n` > 0 bytes at `address` would take
+  // the buffered branch; buffered_read/buffered_write apply exactly its
+  // rules (buffer selection or exchange, status byte, signals) and return
+  // where the bytes are (read) or go (write, the buffer before the
+  // exchange): physical address in ESC memory, to be clipped at
+  // memory_end() as copy_out/copy_in do. write_position() is that place for
+  // the next write, without side effects.
+  bool buffered(Side side, bool write) const noexcept {
+    return !pdi_deactivated() && !mailbox() && writer(side) == write;
+  }
+  std::uint32_t buffered_read(Side side, std::uint16_t address, std::size_t n, SmSignals& sig) noexcept;
+  std::uint32_t buffered_write(Side side, std::uint16_t address, std::size_t n, SmSignals& sig) noexcept;
+  std::uint32_t write_position(std::uint16_t address) const noexcept { return physical(write_buffer_, address); }
+  std::uint32_t memory_end() const noexcept { return mem_end_; }
+
  private:
   bool writer(Side side) const noexcept { return (side == Side::Ecat) == ecat_writes(); }
   std::uint32_t physical(std::uint8_t buffer, std::uint16_t address) const noexcept;
@@ -165,31 +182,67 @@ inline void acknowledge(Side side, SmSignals& sig) {
 
 }  // namespace sm_detail
 
+inline std::uint32_t SyncManager::buffered_read(Side side, std::uint16_t address, std::size_t n,
+                                               SmSignals& sig) noexcept {
+  // The reader takes the latest complete buffer when it opens one. The
+  // status byte is updated once (same result as bit by bit).
+  const bool first = address == start();
+  const bool last = static_cast<std::uint32_t>(address) + n == end();
+  const std::uint8_t ctl = control();
+  std::uint8_t status = regs_[reg::sm::kStatus];
+  if (first || !read_open_) {
+    if (latest_ != sm_bits::kNoBufferWritten) read_buffer_ = latest_;
+    read_open_ = true;
+    sm_detail::acknowledge(side, sig);
+    status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusWriteEvent) | sm_bits::kStatusReadBufferOpen);
+  }
+  if (last) {
+    read_open_ = false;
+    status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadBufferOpen) | sm_bits::kStatusReadEvent);
+    sm_detail::signal_other_side(side, ctl, sig);
+  }
+  regs_[reg::sm::kStatus] = status;
+  return physical(read_buffer_, address);
+}
+
+inline std::uint32_t SyncManager::buffered_write(Side side, std::uint16_t address, std::size_t n,
+                                                SmSignals& sig) noexcept {
+  // The status byte is updated once (same result as bit by bit).
+  const bool first = address == start();
+  const bool last = static_cast<std::uint32_t>(address) + n == end();
+  const std::uint32_t at = physical(write_buffer_, address);
+  const std::uint8_t ctl = control();
+  std::uint8_t status = regs_[reg::sm::kStatus];
+  if (first || !write_open_) {
+    write_open_ = true;
+    sm_detail::acknowledge(side, sig);
+    status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadEvent) | sm_bits::kStatusWriteBufferOpen);
+  }
+  if (last) {
+    // Exchange: the written buffer becomes the latest; the writer continues
+    // with the buffer neither the reader holds nor the latest is in.
+    latest_ = write_buffer_;
+    write_buffer_ = static_cast<std::uint8_t>(sm_detail::kBufferIndexSum - latest_ - read_buffer_);
+    if (latest_ == read_buffer_) write_buffer_ = latest_ == 2 ? 1 : 2;
+    write_open_ = false;
+    status = static_cast<std::uint8_t>((status & ~(sm_bits::kStatusBufferMask | sm_bits::kStatusWriteBufferOpen)) |
+                                       (latest_ << sm_bits::kStatusBufferShift) | sm_bits::kStatusWriteEvent);
+    sm_detail::signal_other_side(side, ctl, sig);
+    sig.watchdog_trigger = side == Side::Ecat && (ctl & sm_bits::kWatchdogTrigger) != 0;
+  }
+  regs_[reg::sm::kStatus] = status;
+  return at;
+}
+
 inline bool SyncManager::read(Side side, std::uint16_t address, std::span<std::uint8_t> out, SmSignals& sig) noexcept {
   // The writing side cannot read the buffer; a deactivated SM blocks both.
   if (pdi_deactivated() || writer(side) || out.empty()) return false;
-  const bool first = address == start();
-  const bool last = static_cast<std::uint32_t>(address) + out.size() == end();
-  const std::uint8_t ctl = control();
-  if ((ctl & sm_bits::kModeMask) != sm_bits::kModeMailbox) {
-    // Buffered: the reader takes the latest complete buffer when it opens
-    // one. The status byte is updated once (same result as bit by bit).
-    std::uint8_t status = regs_[reg::sm::kStatus];
-    if (first || !read_open_) {
-      if (latest_ != sm_bits::kNoBufferWritten) read_buffer_ = latest_;
-      read_open_ = true;
-      sm_detail::acknowledge(side, sig);
-      status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusWriteEvent) | sm_bits::kStatusReadBufferOpen);
-    }
-    sm_detail::copy_out(mem_, mem_end_, physical(read_buffer_, address), out);
-    if (last) {
-      read_open_ = false;
-      status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadBufferOpen) | sm_bits::kStatusReadEvent);
-      sm_detail::signal_other_side(side, ctl, sig);
-    }
-    regs_[reg::sm::kStatus] = status;
+  if (!mailbox()) {
+    sm_detail::copy_out(mem_, mem_end_, buffered_read(side, address, out.size(), sig), out);
     return true;
   }
+  const bool last = static_cast<std::uint32_t>(address) + out.size() == end();
+  const std::uint8_t ctl = control();
   if (!full_) return false;  // empty mailbox: no data, no WKC (Section I §8.2)
   sm_detail::copy_out(mem_, mem_end_, address, out);
   sm_detail::acknowledge(side, sig);
@@ -229,34 +282,13 @@ inline void SyncManager::ecat_write_whole(const std::uint8_t* in) noexcept {
 
 inline bool SyncManager::write(Side side, std::uint16_t address, std::span<const std::uint8_t> in, SmSignals& sig) noexcept {
   if (pdi_deactivated() || !writer(side) || in.empty()) return false;
-  const bool first = address == start();
+  if (!mailbox()) {
+    sm_detail::copy_in(mem_, mem_end_, buffered_write(side, address, in.size(), sig), in);
+    return true;
+  }
   const bool last = static_cast<std::uint32_t>(address) + in.size() == end();
   const std::uint8_t ctl = control();
   const bool wd = side == Side::Ecat && (ctl & sm_bits::kWatchdogTrigger) != 0;
-  if ((ctl & sm_bits::kModeMask) != sm_bits::kModeMailbox) {
-    // Buffered; the status byte is updated once (same result as bit by bit).
-    std::uint8_t status = regs_[reg::sm::kStatus];
-    if (first || !write_open_) {
-      write_open_ = true;
-      sm_detail::acknowledge(side, sig);
-      status = static_cast<std::uint8_t>((status & ~sm_bits::kStatusReadEvent) | sm_bits::kStatusWriteBufferOpen);
-    }
-    sm_detail::copy_in(mem_, mem_end_, physical(write_buffer_, address), in);
-    if (last) {
-      // Exchange: the written buffer becomes the latest; the writer continues
-      // with the buffer neither the reader holds nor the latest is in.
-      latest_ = write_buffer_;
-      write_buffer_ = static_cast<std::uint8_t>(sm_detail::kBufferIndexSum - latest_ - read_buffer_);
-      if (latest_ == read_buffer_) write_buffer_ = latest_ == 2 ? 1 : 2;
-      write_open_ = false;
-      status = static_cast<std::uint8_t>((status & ~(sm_bits::kStatusBufferMask | sm_bits::kStatusWriteBufferOpen)) |
-                                         (latest_ << sm_bits::kStatusBufferShift) | sm_bits::kStatusWriteEvent);
-      sm_detail::signal_other_side(side, ctl, sig);
-      sig.watchdog_trigger = wd;
-    }
-    regs_[reg::sm::kStatus] = status;
-    return true;
-  }
   if (full_) return false;  // full mailbox: not written, no WKC (Section I §8.2)
   sm_detail::copy_in(mem_, mem_end_, address, in);
   sm_detail::acknowledge(side, sig);

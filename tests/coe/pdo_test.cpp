@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "coe/pdo_config.hpp"
@@ -168,6 +169,27 @@ TEST_F(PdoTest, CyclesFollowARemap) {
   data.read_outputs(rig.esc);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xCD);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x5678);
+}
+
+// write_inputs zeroes the buffer only when its copies do not write every
+// byte (issue 8); the bytes of an SM longer than the image are 0 whatever
+// the scratch held before (here the outputs read just before), and a buffer
+// the copies fill is written whole.
+TEST_F(PdoTest, InputBytesPastTheImageAreZero) {
+  configure_sm(2, 7);  // the output image is 3 bytes: the scratch holds 7 of 0x77 after the read
+  configure_sm(3, 7);  // the input image is 5 bytes
+  auto& mem = rig.esc.memory();
+  std::fill(mem.begin() + 0x1100, mem.begin() + 0x1107, std::uint8_t{0x77});
+  std::fill(mem.begin() + 0x1180, mem.begin() + 0x1187, std::uint8_t{0xEE});
+  ASSERT_TRUE(rig.store.set<std::uint32_t>(0x6000, 0, 0xCAFEBABE));
+  data.read_outputs(rig.esc);
+  data.write_inputs(rig.esc);
+  EXPECT_EQ(Frame(mem.begin() + 0x1180, mem.begin() + 0x1187), (Frame{0xBE, 0xBA, 0xFE, 0xCA, 0x55, 0, 0}));
+  configure_sm(3, 5);
+  std::fill(mem.begin() + 0x1180, mem.begin() + 0x1187, std::uint8_t{0xEE});
+  data.read_outputs(rig.esc);
+  data.write_inputs(rig.esc);
+  EXPECT_EQ(Frame(mem.begin() + 0x1180, mem.begin() + 0x1187), (Frame{0xBE, 0xBA, 0xFE, 0xCA, 0x55, 0xEE, 0xEE}));
 }
 
 TEST_F(PdoTest, BitPackedEntriesInTheImage) {

@@ -68,6 +68,34 @@ struct Twin {
     fast[0].write(address, d);
     checked[0].write(address, d);
   }
+  // The whole-buffer calls (Pdi::read_buffer, write_buffer_begin/commit):
+  // in place on the fast ESC where it can, through Esc::read/write on the
+  // checked one (without fast_paths every access takes the general path).
+  Data pdi_read_buffer(std::uint16_t address, std::size_t n) {
+    Data sa(n, 0xEE);
+    Data sb(n, 0xEE);
+    const std::span<const std::uint8_t> a = fast[0].read_buffer(address, sa);
+    const std::span<const std::uint8_t> b = checked[0].read_buffer(address, sb);
+    EXPECT_EQ(b.data(), sb.data());  // the checked ESC never hands out a view
+    EXPECT_EQ(a.size(), n);
+    Data got(a.begin(), a.end());
+    EXPECT_EQ(got, Data(b.begin(), b.end())) << "PDI read_buffer at 0x" << std::hex << address;
+    last_in_place = a.data() != sa.data();
+    return got;
+  }
+  void pdi_write_buffer(std::uint16_t address, const Data& d) {
+    Data sa(d.size(), 0xEE);
+    Data sb(d.size(), 0xEE);
+    const std::span<std::uint8_t> a = fast[0].write_buffer_begin(address, sa);
+    const std::span<std::uint8_t> b = checked[0].write_buffer_begin(address, sb);
+    EXPECT_EQ(b.data(), sb.data());
+    ASSERT_EQ(a.size(), d.size());
+    std::copy(d.begin(), d.end(), a.begin());
+    std::copy(d.begin(), d.end(), b.begin());
+    last_in_place = a.data() != sa.data();
+    fast[0].write_buffer_commit(address, a);
+    checked[0].write_buffer_commit(address, b);
+  }
   void advance(Nanoseconds dt) {
     now += dt;
     fast.clock.set(now);
@@ -97,12 +125,18 @@ struct Twin {
   Line fast;
   Line checked;
   Nanoseconds now{0};
+  bool last_in_place = false;  // the last whole-buffer call on the fast ESC went in place
 };
 
 // A process-data cycle as the firmware runs it (LRW by the master, then the
 // PDI reads 0x0220, the whole SM2 buffer, writes the whole SM3 buffer), with
 // the exact register values on the way.
-TEST(EscPdiFastPath, ProcessDataCycleRegisterValues) {
+// Run with Esc::read/write (false) and with the whole-buffer calls in place
+// (true, coe::ProcessData's way): the same values.
+class EscPdiProcessDataCycle : public testing::TestWithParam<bool> {};
+
+TEST_P(EscPdiProcessDataCycle, RegisterValues) {
+  const bool in_place = GetParam();
   Twin t;
   t.sm(2, kOutputs, kPdBytes, kCtlOutputs);
   t.sm(3, kInputs, kPdBytes, kCtlInputs);
@@ -143,13 +177,20 @@ TEST(EscPdiFastPath, ProcessDataCycleRegisterValues) {
     EXPECT_EQ(t.byte(reg::kWatchdogCounterProcessData), 0);
     EXPECT_EQ(t.fast[0].next_timer(), t.now + Nanoseconds{1'000'000});  // the PDI watchdog, 1 ms on
     // The firmware takes SM2: data, read event, AL bit 10 acknowledged.
-    EXPECT_EQ(t.pdi_read(kOutputs, kPdBytes), out);
+    EXPECT_EQ(in_place ? t.pdi_read_buffer(kOutputs, kPdBytes) : t.pdi_read(kOutputs, kPdBytes), out);
+    EXPECT_EQ(t.last_in_place, in_place);
     const std::uint8_t st2 = t.byte(reg::sync_manager(2) + reg::sm::kStatus);
     EXPECT_EQ(st2 & 0x0B, 0x02);  // read event, no write event, not open
     EXPECT_EQ(t.pdi_read(reg::kAlEventRequest, 4), le32(kAlEventSm3));
     // ... and writes SM3: AL bit 11 acknowledged by the access, write event,
     // buffer exchanged (status bits 5:4 = the latest buffer).
-    t.pdi_write(kInputs, Data(kPdBytes, i));
+    t.last_in_place = false;
+    if (in_place) {
+      t.pdi_write_buffer(kInputs, Data(kPdBytes, i));
+    } else {
+      t.pdi_write(kInputs, Data(kPdBytes, i));
+    }
+    EXPECT_EQ(t.last_in_place, in_place);
     const std::uint8_t st3 = t.byte(reg::sync_manager(3) + reg::sm::kStatus);
     EXPECT_EQ(st3 & 0x0B, 0x01);
     EXPECT_NE(st3 & 0x30, 0x30);
@@ -157,6 +198,87 @@ TEST(EscPdiFastPath, ProcessDataCycleRegisterValues) {
     EXPECT_EQ(t.u16(reg::kDlStatus), dl);
     ASSERT_NO_FATAL_FAILURE(t.expect_same("cycle"));
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(Paths, EscPdiProcessDataCycle, testing::Bool());
+
+// The whole-buffer calls in place follow every SM change (the ESC keeps the
+// SM it found per direction until an SM register changes): a moved area, a
+// mailbox at the same place, a direction change, PDI deactivation, an ESC
+// reset; the checked ESC (through read/write) gives the same bytes and
+// memory after each step, and the exact values where they matter.
+TEST(EscPdiFastPath, BufferCallsFollowSmChanges) {
+  Twin t;
+  t.sm(2, kOutputs, kPdBytes, kCtlOutputs);
+  t.sm(3, kInputs, kPdBytes, kCtlInputs);
+  t.ecat(Command::Fpwr, fp(kStation, kOutputs), Data{1, 2, 3, 4});
+  EXPECT_EQ(t.pdi_read_buffer(kOutputs, kPdBytes), (Data{1, 2, 3, 4}));
+  EXPECT_TRUE(t.last_in_place);
+  EXPECT_EQ(t.byte(reg::sync_manager(2) + reg::sm::kStatus), 0x12);  // read event; latest buffer 1 (bits 5:4)
+  t.pdi_write_buffer(kInputs, Data{5, 6, 7, 8});
+  EXPECT_TRUE(t.last_in_place);
+  EXPECT_EQ(t.byte(reg::sync_manager(3) + reg::sm::kStatus), 0x11);  // write event; latest buffer 1
+  EXPECT_EQ(t.ecat(Command::Fprd, fp(kStation, kInputs), Data(kPdBytes, 0)).data, (Data{5, 6, 7, 8}));
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("first cycle"));
+  // Part of a buffer goes in place too (the buffer opens on any first
+  // access, closes on the last byte); an access crossing the area's end not.
+  EXPECT_EQ(t.pdi_read_buffer(kOutputs + 1, 2), (Data{2, 3}));
+  EXPECT_TRUE(t.last_in_place);
+  EXPECT_EQ(t.byte(reg::sync_manager(2) + reg::sm::kStatus), 0x52);  // read buffer open
+  t.pdi_read_buffer(kOutputs + 2, kPdBytes);
+  EXPECT_FALSE(t.last_in_place);
+  t.pdi_write_buffer(kInputs, Data{9, 9});
+  EXPECT_TRUE(t.last_in_place);
+  EXPECT_EQ(t.byte(reg::sync_manager(3) + reg::sm::kStatus), 0x90);  // write buffer open, the ECAT read event cleared
+  t.pdi_write_buffer(kInputs + 2, Data{8, 8});
+  EXPECT_EQ(t.ecat(Command::Fprd, fp(kStation, kInputs), Data(kPdBytes, 0)).data, (Data{9, 9, 8, 8}));
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("partial"));
+  // SM2 moved: the old address is plain RAM now, the new one the buffer.
+  t.sm(2, 0, 0, 0, 0);
+  t.sm(2, kOutputs + 0x40, kPdBytes, kCtlOutputs);
+  t.pdi_read_buffer(kOutputs, kPdBytes);
+  EXPECT_FALSE(t.last_in_place);
+  t.ecat(Command::Fpwr, fp(kStation, kOutputs + 0x40), Data{4, 3, 2, 1});
+  EXPECT_EQ(t.pdi_read_buffer(kOutputs + 0x40, kPdBytes), (Data{4, 3, 2, 1}));
+  EXPECT_TRUE(t.last_in_place);
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("moved"));
+  // SM2 a mailbox at the same place: empty, so the read gets nothing (0s), then full.
+  t.sm(2, 0, 0, 0, 0);
+  t.sm(2, kOutputs + 0x40, kPdBytes, kCtlMbxOut);
+  EXPECT_EQ(t.pdi_read_buffer(kOutputs + 0x40, kPdBytes), Data(kPdBytes, 0));
+  EXPECT_FALSE(t.last_in_place);
+  t.ecat(Command::Fpwr, fp(kStation, kOutputs + 0x40), Data{7, 7, 7, 7});
+  EXPECT_EQ(t.pdi_read_buffer(kOutputs + 0x40, kPdBytes), (Data{7, 7, 7, 7}));
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("mailbox"));
+  // SM3 turned round (ECAT writes): the PDI's write is refused, its read works.
+  t.sm(3, 0, 0, 0, 0);
+  t.sm(3, kInputs, kPdBytes, kCtlOutputs);
+  t.pdi_write_buffer(kInputs, Data{1, 1, 1, 1});
+  EXPECT_FALSE(t.last_in_place);
+  t.pdi_read_buffer(kInputs, kPdBytes);
+  EXPECT_TRUE(t.last_in_place);
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("turned"));
+  t.sm(3, 0, 0, 0, 0);
+  t.sm(3, kInputs, kPdBytes, kCtlInputs);
+  t.pdi_write_buffer(kInputs, Data{2, 2, 2, 2});
+  EXPECT_TRUE(t.last_in_place);
+  // PDI deactivation (0x0807 bit 0) refuses both sides' accesses.
+  t.pdi_write(reg::sync_manager(3) + reg::sm::kPdiControl, Data{1});
+  t.pdi_write_buffer(kInputs, Data{3, 3, 3, 3});
+  EXPECT_FALSE(t.last_in_place);
+  EXPECT_EQ(t.ecat(Command::Fprd, fp(kStation, kInputs), Data(kPdBytes, 0)).wkc, 0);
+  t.pdi_write(reg::sync_manager(3) + reg::sm::kPdiControl, Data{0});
+  t.pdi_write_buffer(kInputs, Data{4, 4, 4, 4});
+  EXPECT_TRUE(t.last_in_place);
+  EXPECT_EQ(t.ecat(Command::Fprd, fp(kStation, kInputs), Data(kPdBytes, 0)).data, (Data{4, 4, 4, 4}));
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("deactivated"));
+  // An ESC reset from the PDI: every SM off, nothing in place any more.
+  for (std::uint8_t c : {std::uint8_t{'R'}, std::uint8_t{'E'}, std::uint8_t{'S'}}) t.pdi_write(reg::kEscResetPdi, Data{c});
+  t.pdi_write_buffer(kInputs, Data{5, 5, 5, 5});
+  EXPECT_FALSE(t.last_in_place);
+  t.pdi_read_buffer(kOutputs + 0x40, kPdBytes);
+  EXPECT_FALSE(t.last_in_place);
+  ASSERT_NO_FATAL_FAILURE(t.expect_same("reset"));
 }
 
 // The PDI watchdog: a PDI access restarts it (deadline = access + time x
@@ -214,7 +336,8 @@ TEST(EscPdiFastPath, AlEventRequestEveryStartAndLength) {
   EXPECT_EQ(t.u16(reg::kDlStatus) & bits::kDlPdiWatchdogOk, 0);  // reset after the access
 }
 
-// Random accesses around SM areas (whole buffers, parts, crossing an area's
+// Random accesses around SM areas (whole buffers, also through the
+// whole-buffer calls, parts, crossing an area's
 // end, overlapping SMs, mailboxes full and empty, PDI deactivation), 0x0220,
 // watchdog settings, link changes, EEPROM reloads and time: the same
 // results on both paths after every step.
@@ -252,7 +375,7 @@ TEST_P(EscPdiFastPathRandom, SameAsCheckedPath) {
     SCOPED_TRACE(testing::Message() << "seed " << GetParam() << " op " << op);
     const unsigned n = pick(0, 3);
     const Area& a = areas[n];
-    const unsigned kind = pick(0, 13);
+    const unsigned kind = pick(0, 15);
     switch (kind) {
       case 0:  // reconfigure an SM: another place (maybe overlapping another), length, or disabled
         areas[n].start = pick(0, 3) ? areas[n].start : static_cast<std::uint16_t>(0x1000 + pick(0, 0x210));
@@ -325,6 +448,20 @@ TEST_P(EscPdiFastPathRandom, SameAsCheckedPath) {
         break;
       case 12:  // EEPROM reload by the master (DL status bit 0 follows the checksum)
         t.ecat(Command::Fpwr, fp(kStation, reg::kEepromControlStatus), le16(sii_bits::kCommandReload));
+        break;
+      case 14:  // the whole-buffer calls (in place on the fast ESC): the whole buffer or around it
+        if (pick(0, 2)) {
+          t.pdi_read_buffer(a.start, a.length ? a.length : 1);
+        } else {
+          t.pdi_read_buffer(near_area(n), pick(1, a.length + 3));
+        }
+        break;
+      case 15:
+        if (pick(0, 2)) {
+          t.pdi_write_buffer(a.start, bytes(a.length ? a.length : 1));
+        } else {
+          t.pdi_write_buffer(near_area(n), bytes(pick(1, a.length + 3)));
+        }
         break;
       default:
         t.advance(Nanoseconds{pick(0, 3'000'000)});
