@@ -88,7 +88,7 @@ Esc::FmmuRoute Esc::whole_route(FmmuRoute r, std::uint32_t length, bool ecat_wri
   if (r.physical != sm.start() || length != sm.length() || !sm.whole_ecat_ready(ecat_write)) return r;
   r.whole = true;
   r.watchdog = ecat_write && (sm.control() & sm_bits::kWatchdogTrigger) != 0;
-  r.ecat_clear = n < bits::kEcatEventSmCount ? static_cast<std::uint16_t>(1u << (bits::kEcatEventSmShift + n)) : 0;
+  r.ecat_clear = static_cast<std::uint16_t>(n < bits::kEcatEventSmCount ? 1u << (bits::kEcatEventSmShift + n) : 0u);
   r.al_raise = (sm.control() & sm_bits::kAlEventEnable) != 0 ? 1u << (bits::kAlEventSmShift + n) : 0;
   return r;
 }
