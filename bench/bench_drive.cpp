@@ -128,7 +128,11 @@ void BM_Plant_Hold(benchmark::State& state) {
 }
 BENCHMARK(BM_Plant_Hold)->Apply(iterations_from_env);
 
-void BM_Plant_Move(benchmark::State& state) {
+// The plant following the move profile; with `jitter` the cycle time
+// varies by +-1 us, as a free-running loop timed by the real clock sees it:
+// the closed form is not rebuilt for each new cycle time, the sub-steps run
+// (bench_cycle's clock is exact).
+void run_plant_move(benchmark::State& state, bool jitter) {
   const ds402::PlantParameters p;
   ds402::Plant plant(p);
   const ds402::LoopLimits lim = default_limits(p);
@@ -137,34 +141,19 @@ void BM_Plant_Move(benchmark::State& state) {
   double last = plant.position();
   for (auto _ : state) {
     const double target = profile[k];
-    k = k + 1 == profile.size() ? 0 : k + 1;
-    plant.step(ds402::LoopDemand{ds402::LoopDemand::Kind::Position, target, (target - last) / kCycleS, 0, 0}, lim,
-               kCycleS);
-    last = target;
-    benchmark::DoNotOptimize(plant.position());
-  }
-}
-BENCHMARK(BM_Plant_Move)->Apply(iterations_from_env);
-
-// The move with a cycle time that jitters by +-1 us, as a free-running loop
-// timed by the real clock sees it: the closed form is not rebuilt for each
-// new cycle time, the sub-steps run (bench_cycle's clock is exact).
-void BM_Plant_MoveJitter(benchmark::State& state) {
-  const ds402::PlantParameters p;
-  ds402::Plant plant(p);
-  const ds402::LoopLimits lim = default_limits(p);
-  const std::vector<std::int32_t> profile = move_profile(p.encoder_resolution);
-  std::size_t k = 0;
-  double last = plant.position();
-  for (auto _ : state) {
-    const double target = profile[k];
-    const double dt = kCycleS + static_cast<double>(static_cast<int>((k * 7919) % 201) - 100) * 1e-8;
+    const double dt =
+        jitter ? kCycleS + static_cast<double>(static_cast<int>((k * 7919) % 201) - 100) * 1e-8 : kCycleS;
     k = k + 1 == profile.size() ? 0 : k + 1;
     plant.step(ds402::LoopDemand{ds402::LoopDemand::Kind::Position, target, (target - last) / dt, 0, 0}, lim, dt);
     last = target;
     benchmark::DoNotOptimize(plant.position());
   }
 }
+
+void BM_Plant_Move(benchmark::State& state) { run_plant_move(state, false); }
+BENCHMARK(BM_Plant_Move)->Apply(iterations_from_env);
+
+void BM_Plant_MoveJitter(benchmark::State& state) { run_plant_move(state, true); }
 BENCHMARK(BM_Plant_MoveJitter)->Apply(iterations_from_env);
 
 // Holding after a move: the rotor stopped next to the target, friction
