@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "ds402/objects.hpp"
 
@@ -37,22 +38,21 @@ class UnitScaling {
   // types; NaN gives 0. Inline, without the libm call: in range the value
   // truncates to an integer t exactly, v - t is exact, and the half decides.
   // tests/ds402/units_test.cpp checks both against std::round.
-  static std::int32_t to_i32(double v) noexcept {
-    if (std::abs(v) < 2147483646.5) return static_cast<std::int32_t>(round_in_range(v));  // NaN: false
-    if (v >= 2147483646.5) return INT32_MAX;   // rounds to 2^31 - 1 or more
-    if (v <= -2147483647.5) return INT32_MIN;  // rounds to -2^31 or less
-    if (v != v) return 0;                      // NaN
-    return static_cast<std::int32_t>(round_in_range(v));  // (-2^31 + 0.5, -2^31 + 1.5]: -2^31 + 1
-  }
-  static std::int16_t to_i16(double v) noexcept {
-    if (std::abs(v) < 32766.5) return static_cast<std::int16_t>(round_in_range(v));
-    if (v >= 32766.5) return INT16_MAX;
-    if (v <= -32767.5) return INT16_MIN;
-    if (v != v) return 0;
-    return static_cast<std::int16_t>(round_in_range(v));
-  }
+  static std::int32_t to_i32(double v) noexcept { return to_integer<std::int32_t>(v); }
+  static std::int16_t to_i16(double v) noexcept { return to_integer<std::int16_t>(v); }
 
  private:
+  template <typename T>
+  static T to_integer(double v) noexcept {
+    // Values at or past these round to the type's end (exact in a double).
+    constexpr double kRoundsToMax = static_cast<double>(std::numeric_limits<T>::max()) - 0.5;
+    constexpr double kRoundsToMin = static_cast<double>(std::numeric_limits<T>::min()) + 0.5;
+    if (std::abs(v) < kRoundsToMax) return static_cast<T>(round_in_range(v));  // NaN: false
+    if (v >= kRoundsToMax) return std::numeric_limits<T>::max();
+    if (v <= kRoundsToMin) return std::numeric_limits<T>::min();
+    if (v != v) return 0;  // NaN
+    return static_cast<T>(round_in_range(v));  // (min + 0.5, min + 1.5]: min + 1
+  }
   // |v| < 2^31: truncates to t exactly; v - t is exact.
   static std::int64_t round_in_range(double v) noexcept {
     const auto t = static_cast<std::int64_t>(v);
