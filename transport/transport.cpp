@@ -14,6 +14,7 @@ std::string_view describe(TransportError e) noexcept {
     case TransportError::SendFailed: return "send failed";
     case TransportError::ReceiveFailed: return "receive failed";
     case TransportError::PermissionDenied: return "permission denied";
+    case TransportError::Dropped: return "datagram dropped (source not allowed or length mismatch)";
   }
   return "unknown transport error";
 }

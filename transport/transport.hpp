@@ -37,6 +37,7 @@ enum class TransportError : std::uint8_t {
   SendFailed = 8,      // OS refused to send
   ReceiveFailed = 9,   // OS refused to receive
   PermissionDenied = 10,
+  Dropped = 11,        // a datagram arrived and was dropped by policy (UDP device side: source, length)
 };
 
 std::string_view describe(TransportError e) noexcept;
