@@ -18,12 +18,12 @@ CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOpti
       sdo_(store_, device.mailbox.complete_access),
       info_(store_),
       coe_(sdo_, device.mailbox.sdo_info ? &info_ : nullptr),
-      foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64}),
+      foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64, options.state_quota}),
       mailbox_(pdi, mailbox_bytes(device), options.mailbox_queue),
       emergency_(mailbox_, store_),
       pdo_(store_, device),
       process_data_(store_, pdo_),
-      parameters_(store_, options.parameter_file) {
+      parameters_(store_, options.parameter_file, options.state_quota) {
   if (device.mailbox.coe) mailbox_.add_service(coe_);
   if (device.mailbox.foe) mailbox_.add_service(foe_);
   if (auto loaded = parameters_.load(); !loaded) warnings_.push_back(loaded.error());

@@ -44,6 +44,9 @@ struct CoeOptions {
   std::size_t mailbox_queue = MailboxServer::kDefaultQueueCapacity;
   std::uint32_t variable_capacity = 65536;  // bytes for strings/domains of unbounded length
   std::size_t max_foe_file_bytes = 16u << 20;
+  // Budget of the state directory, shared by the slaves that write there
+  // (FoE files + parameter file); null: unbounded. Must outlive the server.
+  StorageQuota* state_quota = nullptr;
 };
 
 class CoeServer {

@@ -1,5 +1,6 @@
 #include "coe/foe_server.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -11,6 +12,8 @@ bool name_char(char c) noexcept {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
          c == '-';
 }
+
+constexpr mode_t kDirectoryMode = 0755;
 
 }  // namespace
 
@@ -28,6 +31,8 @@ void FoeServer::reset() noexcept {
     file_ = nullptr;
   }
   if (state_ == State::Writing) ::unlink(temp_path_.c_str());
+  if (temp_charged_ && options_.quota) options_.quota->release_file(size_);
+  temp_charged_ = false;
   state_ = State::Idle;
 }
 
@@ -108,11 +113,23 @@ std::size_t FoeServer::write_request(std::string_view name, Bytes reply) noexcep
   } catch (...) {
     return error(reply, foe::FoeError::NotDefined);
   }
+  // The slave's FoE directory is made on first use (its parent is --state-dir).
+  (void)::mkdir(options_.directory.c_str(), kDirectoryMode);
+  StorageQuota* quota = options_.quota;
+  if (quota) {
+    // A <name>.part left by a crash is replaced: it is removed first and
+    // what it held given back.
+    if (const auto old = StorageQuota::regular_file_size(temp_path_); old && ::unlink(temp_path_.c_str()) == 0) {
+      quota->release_file(*old);
+    }
+    if (!quota->charge_file()) return error(reply, foe::FoeError::DiskFull);
+  }
+  size_ = 0;
+  temp_charged_ = quota != nullptr;
   file_ = std::fopen(temp_path_.c_str(), "wb");
   if (!file_) return error(reply, foe::FoeError::AccessDenied);
   state_ = State::Writing;
   packet_ = 0;
-  size_ = 0;
   return header(reply, foe::kAck, 0);
 }
 
@@ -120,20 +137,26 @@ std::size_t FoeServer::data(std::uint32_t packet, ConstBytes bytes, Bytes reply)
   if (state_ != State::Writing) return error(reply, foe::FoeError::Illegal);
   if (packet != packet_ + 1) return error(reply, foe::FoeError::PacketNumber);
   if (size_ + bytes.size() > options_.max_file_bytes) return error(reply, foe::FoeError::DiskFull);
+  // Charged before the write, so the disk never holds more than the quota.
+  if (options_.quota && !options_.quota->charge_bytes(bytes.size())) return error(reply, foe::FoeError::DiskFull);
+  size_ += bytes.size();  // written or about to be: reset() gives back size_ bytes
   if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) {
     return error(reply, foe::FoeError::DiskFull);
   }
-  size_ += bytes.size();
   packet_ = packet;
   // A packet shorter than the mailbox allows is the last one.
   if (bytes.size() + foe::kHeaderSize < request_payload_) {
     const bool flushed = std::fflush(file_) == 0 && ::fsync(fileno(file_)) == 0;
     std::fclose(file_);
     file_ = nullptr;
+    const auto replaced = StorageQuota::regular_file_size(path_);
     if (!flushed || std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
       state_ = State::Writing;  // so reset() removes the temporary file
       return error(reply, foe::FoeError::DiskFull);
     }
+    // The .part's charge is now the file's; the file it replaced is gone.
+    if (options_.quota && replaced) options_.quota->release_file(*replaced);
+    temp_charged_ = false;
     state_ = State::Idle;
   }
   return header(reply, foe::kAck, packet);

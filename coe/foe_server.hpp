@@ -6,6 +6,9 @@
 // with '.', so no path ever leaves the directory. A written file appears
 // under its name only when complete (written as <name>.part, then renamed).
 // Offered in PreOp, SafeOp, Op and Bootstrap, when the device lists FoE.
+// With a StorageQuota, every file and byte written is charged to it first;
+// beyond it the write ends with ERR 0x8003 "disk full" (ETG.1000.5 FoE error
+// codes), the partial `<name>.part` is removed and any earlier `<name>` stays.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +17,7 @@
 #include <string_view>
 
 #include "coe/mailbox_service.hpp"
+#include "coe/storage_quota.hpp"
 
 namespace ecat::coe {
 
@@ -49,6 +53,7 @@ class FoeServer final : public MailboxService {
     std::string directory;                      // empty: every request is refused
     std::size_t max_file_bytes = 16u << 20;     // writes beyond: ERR disk full
     std::size_t max_name_length = 64;
+    StorageQuota* quota = nullptr;              // shared budget of the state directory; null: none
   };
 
   explicit FoeServer(Options options) : options_(std::move(options)) {}
@@ -88,6 +93,7 @@ class FoeServer final : public MailboxService {
   std::string temp_path_;  // while writing
   std::uint32_t packet_ = 0;
   std::size_t size_ = 0;
+  bool temp_charged_ = false;  // the .part file is charged to the quota, with size_ bytes
   bool last_short_ = false;
   std::size_t request_payload_ = 0;
 };

@@ -48,7 +48,8 @@ std::uint32_t crc32(ConstBytes data) noexcept {
   return ~crc;
 }
 
-ParameterStore::ParameterStore(ObjectStore& store, std::string path) : store_(store), path_(std::move(path)) {
+ParameterStore::ParameterStore(ObjectStore& store, std::string path, StorageQuota* quota)
+    : store_(store), path_(std::move(path)), quota_(quota) {
   store.set_hooks(kStoreParameters, this);
   store.set_hooks(kRestoreDefaults, this);
 }
@@ -90,19 +91,46 @@ Expected<void, std::string> ParameterStore::save() const noexcept {
   try {
     const std::vector<std::uint8_t> bytes = serialize();
     const std::string tmp = path_ + ".tmp";
+    StorageQuota* const q = quota_;
+    if (q) {
+      // A temporary left by a crash is replaced: removed first, given back.
+      if (const auto old = StorageQuota::regular_file_size(tmp); old && ::unlink(tmp.c_str()) == 0) {
+        q->release_file(*old);
+      }
+      if (!q->charge_file()) {
+        return fail(fmt::format("state directory full: {} files", q->limits().max_files));
+      }
+      if (!q->charge_bytes(bytes.size())) {
+        q->release_file(0);
+        return fail(fmt::format("state directory full: {} more bytes would exceed {} bytes", bytes.size(),
+                                q->limits().max_bytes));
+      }
+    }
+    const auto give_back = [&] {
+      if (q) q->release_file(bytes.size());
+    };
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return fail(fmt::format("cannot create {}: {}", tmp, std::strerror(errno)));
+    if (fd < 0) {
+      const int saved = errno;
+      give_back();
+      return fail(fmt::format("cannot create {}: {}", tmp, std::strerror(saved)));
+    }
     const bool ok = write_all(fd, bytes.data(), bytes.size()) && ::fsync(fd) == 0;
     const int saved = errno;
     ::close(fd);
     if (!ok) {
       ::unlink(tmp.c_str());
+      give_back();
       return fail(fmt::format("cannot write {}: {}", tmp, std::strerror(saved)));
     }
+    const auto replaced = StorageQuota::regular_file_size(path_);
     if (::rename(tmp.c_str(), path_.c_str()) != 0) {
+      const int rename_errno = errno;
       ::unlink(tmp.c_str());
-      return fail(fmt::format("cannot rename {} to {}: {}", tmp, path_, std::strerror(errno)));
+      give_back();
+      return fail(fmt::format("cannot rename {} to {}: {}", tmp, path_, std::strerror(rename_errno)));
     }
+    if (q && replaced) q->release_file(*replaced);
     // Make the rename itself durable.
     const int dir = ::open(directory_of(path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dir >= 0) {
@@ -117,9 +145,12 @@ Expected<void, std::string> ParameterStore::save() const noexcept {
 
 Expected<void, std::string> ParameterStore::remove() const noexcept {
   if (path_.empty()) return fail(std::string("no parameter file configured"));
-  if (::unlink(path_.c_str()) != 0 && errno != ENOENT) {
+  const auto old = StorageQuota::regular_file_size(path_);
+  if (::unlink(path_.c_str()) != 0) {
+    if (errno == ENOENT) return {};
     return fail(fmt::format("cannot remove {}: {}", path_, std::strerror(errno)));
   }
+  if (quota_ && old) quota_->release_file(*old);
   return {};
 }
 
@@ -169,7 +200,9 @@ Expected<void, SdoAbort> ParameterStore::on_write(ObjectStore&, const WriteReque
   // Sub 1 = all parameters; 2 (communication), 3 (application) and the
   // manufacturer ones store or restore the same single set.
   const auto done = r.index == kStoreParameters ? save() : remove();
-  if (!done) return fail(SdoAbort::GeneralError);
+  // CiA 301 §7.5.2.13 (store) and §7.5.2.14 (restore): "If the storing
+  // failed, the CANopen device shall respond with ... abort code 0606 0000h".
+  if (!done) return fail(SdoAbort::HardwareError);
   return {};
 }
 

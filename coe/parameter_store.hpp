@@ -3,7 +3,11 @@
 // (0x65766173) to 1010h sub >= 1 writes the values of every writable entry
 // to the parameter file; writing "load" (0x64616F6C) to 1011h removes it, so
 // the defaults apply from the next start, as CiA 301 says. Any other value
-// is refused with 08000020; without a configured file, 08000021.
+// is refused with 08000020; without a configured file, 08000021. A store
+// or restore that fails (I/O error, or the state directory's StorageQuota
+// would be exceeded) aborts with 06060000 "access failed due to a hardware
+// error", as CiA 301 §7.5.2.13/§7.5.2.14 prescribes for a failed store or
+// restore; the previous file is then untouched and no temporary is left.
 //
 // File: "ECPS", version, count, records (index, subindex, length, bytes),
 // CRC-32 of everything before it. Written atomically (temporary file, fsync,
@@ -17,6 +21,7 @@
 
 #include "coe/object_hooks.hpp"
 #include "coe/object_store.hpp"
+#include "coe/storage_quota.hpp"
 #include "common/expected.hpp"
 
 namespace ecat::coe {
@@ -32,7 +37,8 @@ class ParameterStore final : public ObjectHooks {
   static constexpr std::uint16_t kVersion = 1;
 
   // Registers itself on 1010h and 1011h. An empty path disables storing.
-  ParameterStore(ObjectStore& store, std::string path);
+  // `quota` (may be null) is charged for the file and must outlive this.
+  ParameterStore(ObjectStore& store, std::string path, StorageQuota* quota = nullptr);
 
   // Applies the file's values (start-up). Returns how many were applied, or
   // why the file was ignored ("" when there is no file).
@@ -54,6 +60,7 @@ class ParameterStore final : public ObjectHooks {
 
   ObjectStore& store_;
   std::string path_;
+  StorageQuota* quota_ = nullptr;
 };
 
 // CRC-32 (IEEE 802.3 polynomial, reflected), as zlib computes it.

@@ -17,13 +17,23 @@ bool has_type(const od::DeviceDescription& device, od::SmType type) {
   return false;
 }
 
-coe::CoeOptions coe_options(const SlaveOptions& o) {
+coe::CoeOptions coe_options(const SlaveOptions& o, coe::StorageQuota* quota) {
   coe::CoeOptions c;
   if (!o.state_dir.empty()) {
     c.parameter_file = (o.state_dir / (o.name + ".par")).string();
     c.foe_dir = (o.state_dir / (o.name + "-foe")).string();
+    c.state_quota = quota;
   }
   return c;
+}
+
+// The quota over the state directory: the one given, or one of this slave's
+// own with the default limits over what the directory already holds.
+std::shared_ptr<coe::StorageQuota> quota_for(const SlaveOptions& o) {
+  if (o.state_dir.empty() || o.state_quota) return o.state_quota;
+  auto q = std::make_shared<coe::StorageQuota>(coe::StorageQuota::Limits{});
+  (void)q->count_existing(o.state_dir);
+  return q;
 }
 
 // Time step of an application cycle that has no previous cycle to measure from.
@@ -47,7 +57,8 @@ constexpr std::uint32_t kMailboxEvents = coe::MailboxServer::kEventsHandled | es
 Firmware::Firmware(esc::Esc& esc, const od::DeviceDescription& device, const SlaveOptions& options)
     : esc_(esc),
       esm_(esc, esm_config_for(device)),
-      coe_(esc, device, coe_options(options)),
+      state_quota_(quota_for(options)),
+      coe_(esc, device, coe_options(options, state_quota_.get())),
       sync_(esc, coe_.objects(), device.sync, has_type(device, od::SmType::Outputs),
             has_type(device, od::SmType::Inputs)) {
   esm_.add_hooks(coe_.esm_hooks());

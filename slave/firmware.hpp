@@ -79,6 +79,7 @@ class Firmware {
 
   esc::Esc& esc_;
   esc::Esm esm_;
+  std::shared_ptr<coe::StorageQuota> state_quota_;  // before coe_, which points at it
   coe::CoeServer coe_;
   coe::SyncController sync_;
   std::unique_ptr<Application> app_;

@@ -8,9 +8,19 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
                                                                std::vector<od::DeviceDescription> devices,
                                                                const Clock& clock) {
   auto chain = std::make_unique<slave::Chain>(clock);
+  // One budget for everything the slaves write into --state-dir (docs/security.md).
+  std::shared_ptr<coe::StorageQuota> quota;
+  if (!options.state_dir.empty()) {
+    quota = std::make_shared<coe::StorageQuota>(
+        coe::StorageQuota::Limits{options.state_quota_bytes, options.state_max_files});
+    if (!quota->count_existing(options.state_dir)) {
+      return fail(fmt::format("--state-dir {}: cannot read the directory", options.state_dir));
+    }
+  }
   for (std::size_t i = 0; i < devices.size(); ++i) {
     slave::SlaveOptions so;
     so.state_dir = options.state_dir;
+    so.state_quota = quota;
     so.name = fmt::format("slave-{}", i + 1);
     if (i < options.ppm.size()) so.clock_ppm = options.ppm[i];
     so.motion_trace = i == 0 && !options.plot_svg.empty();

@@ -52,8 +52,19 @@ int main(int argc, char** argv) {
   auto* iface = cli.add_option("--iface", o.iface, "Network interface to answer on (raw Ethernet, needs CAP_NET_RAW)");
   auto* pin = cli.add_option("--pcap-in", o.pcap_in, "Replay the master frames of this capture")->check(CLI::ExistingFile);
   auto* pout = cli.add_option("--pcap-out", o.pcap_out, "Write the frames as the segment returns them");
-  auto* udp = cli.add_option("--udp", o.udp, "Serve EtherCAT-in-UDP on [ADDR:]PORT (default port 34980 = 0x88A4)");
+  auto* udp = cli.add_option("--udp", o.udp,
+                             "Serve EtherCAT-in-UDP on PORT of 127.0.0.1 and ::1 only, or on ADDR:PORT "
+                             "([V6ADDR]:PORT) - reachable unauthenticated from that network (port 34980 = 0x88A4)");
+  auto* allow = cli.add_option("--udp-allow", o.udp_allow,
+                               "Serve only UDP sources in these prefixes: CIDR[,CIDR...] (IPv4/IPv6); "
+                               "others are dropped unanswered and counted");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
+  cli.add_option("--state-quota", o.state_quota_bytes,
+                 "Most bytes all files in --state-dir may hold (FoE files + stored parameters; "
+                 "suffixes k/M/G = 1024^n; default 64M)")
+      ->transform(CLI::AsSizeValue(false));
+  cli.add_option("--state-max-files", o.state_max_files, "Most files in --state-dir (default 1024)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 20));
   cli.add_option("--stats", o.stats_seconds, "Print statistics every SECONDS (SIGUSR1 prints them once)")
       ->check(CLI::NonNegativeNumber);
   cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
@@ -69,6 +80,7 @@ int main(int argc, char** argv) {
   pout->needs(pin);
   iface->excludes(pin)->excludes(udp);
   udp->excludes(pin);
+  allow->needs(udp);
 
   try {
     cli.parse(argc, argv);

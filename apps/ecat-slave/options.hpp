@@ -8,6 +8,11 @@
 
 namespace ecat::app {
 
+// What a master may write into --state-dir (docs/security.md): FoE files and
+// stored parameters of every slave together.
+inline constexpr std::uint64_t kDefaultStateQuotaBytes = std::uint64_t{64} << 20;
+inline constexpr std::uint64_t kDefaultStateMaxFiles = 1024;
+
 struct SlaveProgramOptions {
   // Devices, in chain order. Empty: the embedded generic servo.
   std::vector<std::string> device_files;  // --device / --chain
@@ -20,9 +25,12 @@ struct SlaveProgramOptions {
   std::string iface;
   std::string pcap_in;
   std::string pcap_out;
-  std::string udp;  // "[ADDR:]PORT"
+  std::string udp;        // "PORT" (loopback only) or "ADDR:PORT" / "[V6ADDR]:PORT"
+  std::string udp_allow;  // "CIDR[,CIDR...]": UDP sources served; empty: all
 
   std::string state_dir;  // stored parameters and FoE files
+  std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together
+  std::uint64_t state_max_files = kDefaultStateMaxFiles;
   double stats_seconds = 0;
   int rt_priority = 0;
   int cpu = -1;

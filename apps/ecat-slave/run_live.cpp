@@ -34,31 +34,73 @@ void install_signal_handlers() {
 // when ppoll is not interrupted.
 constexpr Nanoseconds kMaxWait = std::chrono::milliseconds(50);
 
-Expected<std::unique_ptr<transport::Transport>, std::string> open_medium(const SlaveProgramOptions& o) {
-  if (!o.iface.empty()) {
-    auto t = transport::RawSocketTransport::open(o.iface);
-    if (!t) {
-      return fail(fmt::format("cannot open raw socket on {}: {}", o.iface, transport::describe(t.error())));
-    }
-    auto owned = std::make_unique<transport::RawSocketTransport>(std::move(*t));
-    if (!o.keep_privileges) {
-      if (auto d = transport::drop_privileges(); !d) {
-        return fail(fmt::format("cannot drop privileges: {}", transport::describe(d.error())));
-      }
-    }
-    return owned;
+struct Medium {
+  std::unique_ptr<transport::Transport> transport;
+  const transport::UdpTransport* udp = nullptr;  // for its drop counters
+};
+
+Expected<Medium, std::string> open_raw(const SlaveProgramOptions& o) {
+  auto t = transport::RawSocketTransport::open(o.iface);
+  if (!t) {
+    return fail(fmt::format("cannot open raw socket on {}: {}", o.iface, transport::describe(t.error())));
   }
-  std::string endpoint = o.udp;
-  // "PORT" alone binds every address.
-  if (endpoint.find(':') == std::string::npos &&
-      endpoint.find_first_not_of("0123456789") == std::string::npos) {
-    endpoint = "0.0.0.0:" + endpoint;
+  auto owned = std::make_unique<transport::RawSocketTransport>(std::move(*t));
+  if (!o.keep_privileges) {
+    if (auto d = transport::drop_privileges(); !d) {
+      return fail(fmt::format("cannot drop privileges: {}", transport::describe(d.error())));
+    }
   }
-  auto ep = transport::parse_udp_endpoint(endpoint);
-  if (!ep) return fail(fmt::format("--udp {}: {}", o.udp, transport::describe(ep.error())));
-  auto t = transport::UdpTransport::bind(*ep);
+  return Medium{std::move(owned), nullptr};
+}
+
+// "--udp PORT" serves 127.0.0.1 and ::1 only; any other reach takes an
+// explicit address, and is announced (EtherCAT-in-UDP has no
+// authentication: whoever reaches the port is the master; docs/security.md).
+Expected<Medium, std::string> open_udp(const SlaveProgramOptions& o) {
+  transport::IpAllowList allow;
+  if (!o.udp_allow.empty()) {
+    auto a = transport::IpAllowList::parse(o.udp_allow);
+    if (!a) return fail(fmt::format("--udp-allow: {}", a.error()));
+    allow = std::move(*a);
+  }
+  Expected<transport::UdpTransport, transport::TransportError> t = fail(transport::TransportError::OpenFailed);
+  const bool port_only = o.udp.find_first_not_of("0123456789") == std::string::npos;
+  if (port_only) {
+    auto ep = transport::parse_udp_endpoint("127.0.0.1:" + o.udp);
+    if (!ep) return fail(fmt::format("--udp {}: {}", o.udp, transport::describe(ep.error())));
+    t = transport::UdpTransport::bind_loopback(ep->port);
+  } else {
+    auto ep = transport::parse_udp_endpoint(o.udp);
+    if (!ep) return fail(fmt::format("--udp {}: {}", o.udp, transport::describe(ep.error())));
+    t = transport::UdpTransport::bind(*ep);
+  }
   if (!t) return fail(fmt::format("cannot bind UDP {}: {}", o.udp, transport::describe(t.error())));
-  return std::unique_ptr<transport::Transport>(std::make_unique<transport::UdpTransport>(std::move(*t)));
+  t->set_allow_list(std::move(allow));
+  if (!t->loopback_only()) {
+    // One line, printed even with --quiet: it is the one thing to know.
+    std::fprintf(stderr,
+                 "ecat-slave: warning: UDP %s is reachable unauthenticated from %s: whoever reaches it is the "
+                 "master (docs/security.md)\n",
+                 o.udp.c_str(), o.udp_allow.empty() ? "every network routed to it" : o.udp_allow.c_str());
+  }
+  auto owned = std::make_unique<transport::UdpTransport>(std::move(*t));
+  const transport::UdpTransport* udp = owned.get();
+  return Medium{std::move(owned), udp};
+}
+
+Expected<Medium, std::string> open_medium(const SlaveProgramOptions& o) {
+  return o.iface.empty() ? open_udp(o) : open_raw(o);
+}
+
+std::string format_udp_stats(const transport::UdpStats& s) {
+  return fmt::format("udp accepted {} refused-source {} length-mismatch {} replies-refused {}\n",
+                     s.datagrams_accepted, s.refused_source, s.length_mismatch, s.replies_refused);
+}
+
+void print_stats(const slave::Chain& line, const transport::UdpTransport* udp) {
+  std::string out = format_stats(line);
+  if (udp) out += format_udp_stats(udp->stats());
+  std::fputs(out.c_str(), stderr);
 }
 
 }  // namespace
@@ -96,7 +138,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   }
 
   slave::Chain& line = **chain;
-  transport::Transport& t = **medium;
+  transport::Transport& t = *medium->transport;
   std::array<std::uint8_t, kMaxEthernetPayload + kEthernetHeaderSize + kVlanTagSize> buffer{};
   const Nanoseconds stats_period{static_cast<std::int64_t>(o.stats_seconds * 1e9)};
   Nanoseconds next_stats = clock.now() + stats_period;
@@ -118,21 +160,22 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       }
       line.run_firmware(clock.now());
     } else if (n.error() != transport::TransportError::Timeout &&
-               n.error() != transport::TransportError::BufferTooSmall) {
+               n.error() != transport::TransportError::BufferTooSmall &&
+               n.error() != transport::TransportError::Dropped) {
       std::fprintf(stderr, "ecat-slave: receive failed: %s\n", std::string(transport::describe(n.error())).c_str());
       break;
     }
     if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
       g_print_stats = 0;
       next_stats = clock.now() + stats_period;
-      std::fputs(format_stats(line).c_str(), stderr);
+      print_stats(line, medium->udp);
     }
   }
   line.shutdown();
   if (!o.plot_svg.empty()) {
     if (auto ok = line.write_plot(o.plot_svg); !ok) std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
   }
-  if (!o.quiet) std::fputs(format_stats(line).c_str(), stderr);
+  if (!o.quiet) print_stats(line, medium->udp);
   return 0;
 }
 

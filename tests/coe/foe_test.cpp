@@ -28,9 +28,10 @@ class FoeTest : public ::testing::Test {
           ::testing::UnitTest::GetInstance()->current_test_info()->name();
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
-    foe = std::make_unique<FoeServer>(FoeServer::Options{dir.string(), 200, 16});
+    foe = std::make_unique<FoeServer>(options());
     rig.mailbox.add_service(*foe);
   }
+  virtual FoeServer::Options options() { return FoeServer::Options{dir.string(), 200, 16}; }
   Frame request(const Frame& payload) {
     counter = MailboxHeader::next_counter(counter);
     auto reply = rig.request(mbx(4, counter, payload));
@@ -116,6 +117,92 @@ TEST_F(FoeTest, ErrorsCarryFoECodes) {
 TEST_F(FoeTest, OfferedInBootstrap) {
   rig.esc.set_state(0x03);
   EXPECT_EQ(request(foe_frame(2, 0, name("boot.bin"))), foe_frame(4, 0));
+}
+
+// The state directory's budget (issue 20): 300 bytes, 3 files, with a
+// 128-byte mailbox (116 data bytes per DATA) and a 1000-byte file limit.
+class FoeQuotaTest : public FoeTest {
+ protected:
+  FoeServer::Options options() override { return FoeServer::Options{dir.string(), 1000, 16, &quota}; }
+  // Writes `data` as `file` (DATA packets of 116 bytes); the last reply.
+  Frame write(const std::string& file, const Frame& data) {
+    EXPECT_EQ(request(foe_frame(2, 0, name(file))), foe_frame(4, 0));
+    Frame last;
+    std::uint32_t packet = 1;
+    std::size_t at = 0;
+    do {
+      const std::size_t n = std::min<std::size_t>(116, data.size() - at);
+      last = request(foe_frame(3, packet, Frame(data.begin() + at, data.begin() + at + n)));
+      if (last != foe_frame(4, packet)) return last;
+      at += n;
+      ++packet;
+      if (n < 116) break;
+    } while (true);
+    return last;
+  }
+  std::vector<std::uint8_t> contents(const std::string& file) const {
+    std::ifstream in(dir / file, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  StorageQuota quota{{300, 3}};
+};
+
+TEST_F(FoeQuotaTest, BeyondTheBytesItIsDiskFullAndNothingPartialIsLeft) {
+  const Frame a = pattern(190);
+  EXPECT_EQ(write("a", a), foe_frame(4, 2));
+  EXPECT_EQ(quota.used_bytes(), 190u);
+  EXPECT_EQ(quota.used_files(), 1u);
+  // 190 + 116 > 300: the first DATA of "b" is answered ERR 0x8003 "disk full".
+  EXPECT_EQ(request(foe_frame(2, 0, name("b"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, pattern(116))), (Frame{0x05, 0x00, 0x03, 0x80, 0x00, 0x00}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "b"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.part"));
+  EXPECT_EQ(contents("a"), a);  // the earlier file is intact
+  EXPECT_EQ(quota.used_bytes(), 190u);
+  EXPECT_EQ(quota.used_files(), 1u);
+  // Exactly up to the limit is allowed: 190 + 110 = 300.
+  EXPECT_EQ(write("b", pattern(110)), foe_frame(4, 1));
+  EXPECT_EQ(quota.used_bytes(), 300u);
+  EXPECT_EQ(quota.used_files(), 2u);
+  // Replacing needs room for both copies while the transfer runs: one byte is too many.
+  EXPECT_EQ(write("a", pattern(1)), (Frame{0x05, 0x00, 0x03, 0x80, 0x00, 0x00}));
+  EXPECT_EQ(contents("a"), a);
+  EXPECT_FALSE(std::filesystem::exists(dir / "a.part"));
+  EXPECT_EQ(quota.used_bytes(), 300u);
+}
+
+TEST_F(FoeQuotaTest, BeyondTheFileCountItIsDiskFullAtTheWriteRequest) {
+  EXPECT_EQ(write("x", pattern(3)), foe_frame(4, 1));
+  EXPECT_EQ(write("y", pattern(3)), foe_frame(4, 1));
+  EXPECT_EQ(write("z", pattern(3)), foe_frame(4, 1));
+  EXPECT_EQ(quota.used_files(), 3u);
+  EXPECT_EQ(request(foe_frame(2, 0, name("w"))), (Frame{0x05, 0x00, 0x03, 0x80, 0x00, 0x00}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "w.part"));
+  // Once a file is gone (here: by hand, told to the ledger), a write fits
+  // again; a transfer the master abandons gives its file and bytes back.
+  std::filesystem::remove(dir / "z");
+  quota.release_file(3);
+  EXPECT_EQ(request(foe_frame(2, 0, name("w"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, pattern(116))), foe_frame(4, 1));
+  EXPECT_EQ(quota.used_bytes(), 6u + 116u);
+  EXPECT_TRUE(request(foe_frame(5, 0x8000)).empty());  // the master gives up
+  EXPECT_FALSE(std::filesystem::exists(dir / "w.part"));
+  EXPECT_EQ(quota.used_bytes(), 6u);
+  EXPECT_EQ(quota.used_files(), 2u);
+}
+
+TEST_F(FoeQuotaTest, ReplacingAFileGivesTheOldOneBack) {
+  EXPECT_EQ(write("a", pattern(190)), foe_frame(4, 2));
+  EXPECT_EQ(write("a", pattern(100)), foe_frame(4, 1));  // 190 + 100 fit during the transfer
+  EXPECT_EQ(quota.used_bytes(), 100u);
+  EXPECT_EQ(quota.used_files(), 1u);
+  EXPECT_EQ(contents("a"), pattern(100));
+}
+
+TEST_F(FoeQuotaTest, MakesTheFoeDirectoryOnFirstUse) {
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(write("fw", pattern(5)), foe_frame(4, 1));
+  EXPECT_EQ(contents("fw"), pattern(5));
 }
 
 TEST(Foe, NotOfferedIsAMailboxError) {

@@ -118,7 +118,64 @@ TEST_F(ParameterStoreTest, RefusedCommands) {
   EXPECT_EQ(code_of(no_file.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0x08000021u);
   test::Rig bad_dir;
   ParameterStore broken(bad_dir.store, (dir / "missing" / "params.bin").string());
-  EXPECT_EQ(code_of(bad_dir.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0x08000000u);
+  // CiA 301 §7.5.2.13: a store that fails is aborted with 06060000.
+  EXPECT_EQ(code_of(bad_dir.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0x06060000u);
+}
+
+std::vector<char> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST_F(ParameterStoreTest, StoreBeyondTheQuotaAbortsWith06060000AndKeepsTheEarlierFile) {
+  test::Rig rig;
+  std::uint64_t size = 0;
+  {
+    ParameterStore probe(rig.store, path);
+    ASSERT_TRUE(probe.save());
+    size = std::filesystem::file_size(path);
+    std::filesystem::remove(path);
+  }
+  // Room for one file and half of a second copy: the first store fits, a
+  // second one (which needs the old and the new file until the rename) not.
+  StorageQuota quota({size + size / 2, 10});
+  ParameterStore params(rig.store, path, &quota);
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x2000, 0, 42));
+  EXPECT_EQ(code_of(rig.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0u);
+  EXPECT_EQ(quota.used_bytes(), size);
+  EXPECT_EQ(quota.used_files(), 1u);
+  const std::vector<char> before = file_bytes(path);
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x2000, 0, 43));
+  // The whole abort: SDO request service, abort command, 1010h:01, 06060000.
+  EXPECT_EQ(rig.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173)),
+            (Frame{0x00, 0x20, 0x80, 0x10, 0x10, 0x01, 0x00, 0x00, 0x06, 0x06}));
+  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  EXPECT_EQ(quota.used_bytes(), size);
+  EXPECT_EQ(quota.used_files(), 1u);
+  test::Rig next;
+  ParameterStore again(next.store, path);
+  ASSERT_TRUE(again.load());
+  EXPECT_EQ(next.store.get<std::int16_t>(0x2000, 0), 42);
+  // Restore defaults (1011h) deletes the file and gives it back.
+  EXPECT_EQ(code_of(rig.sdo_request(sdo(0x23, 0x1011, 1, 0x64616F6C))), 0u);
+  EXPECT_EQ(quota.used_bytes(), 0u);
+  EXPECT_EQ(quota.used_files(), 0u);
+  EXPECT_EQ(code_of(rig.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0u);  // fits again
+}
+
+TEST_F(ParameterStoreTest, StoreBeyondTheFileCountAbortsWith06060000) {
+  test::Rig rig;
+  StorageQuota quota({1u << 20, 1});
+  ParameterStore params(rig.store, path, &quota);
+  EXPECT_EQ(code_of(rig.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0u);
+  const std::vector<char> before = file_bytes(path);
+  // The temporary file of the next store would be a second file.
+  ASSERT_TRUE(rig.store.set<std::int16_t>(0x2000, 0, 44));
+  EXPECT_EQ(code_of(rig.sdo_request(sdo(0x23, 0x1010, 1, 0x65766173))), 0x06060000u);
+  EXPECT_EQ(file_bytes(path), before);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  EXPECT_EQ(quota.used_files(), 1u);
 }
 
 }  // namespace
