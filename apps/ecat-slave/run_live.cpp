@@ -133,8 +133,9 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   }
   install_signal_handlers();
   if (!o.quiet) {
-    std::fprintf(stderr, "ecat-slave: %zu slave(s) on %s\n", (*chain)->size(),
-                 o.iface.empty() ? ("udp " + o.udp).c_str() : o.iface.c_str());
+    const bool loopback = medium->udp && medium->udp->loopback_only();
+    std::fprintf(stderr, "ecat-slave: %zu slave(s) on %s%s\n", (*chain)->size(),
+                 o.iface.empty() ? ("udp " + o.udp).c_str() : o.iface.c_str(), loopback ? " (loopback only)" : "");
   }
 
   slave::Chain& line = **chain;

@@ -70,5 +70,53 @@ TEST(InProcessStack, StoredParametersComeBackInANewSlave) {
   std::filesystem::remove_all(other);
 }
 
+// Issue 20: the slaves of a chain share one budget over the state directory.
+// Room for one parameter file (plus a little) lets the first slave store and
+// makes the second one's store fail with 06060000 (CiA 301 §7.5.2.13), seen
+// by a real master over the in-process wire; the first file stays intact.
+TEST(InProcessStack, SlavesOfAChainShareOneStateQuota) {
+  const auto dir = fresh_dir("quota");
+  std::uintmax_t one_file = 0;
+  {
+    InProcess p;
+    ASSERT_NO_FATAL_FAILURE(start_in_preop(p, dir));
+    master::CoeClient coe(p.master, 0);
+    ASSERT_TRUE(coe.download_value(kStoreParameters, 1, kSaveSignature, 4));
+    one_file = std::filesystem::file_size(dir / "slave.par");
+    std::filesystem::remove(dir / "slave.par");
+  }
+  auto quota = std::make_shared<coe::StorageQuota>(coe::StorageQuota::Limits{one_file + one_file / 2, 10});
+  InProcess p;
+  auto d = esi::load_default_device();
+  ASSERT_TRUE(d);
+  for (int i = 1; i <= 2; ++i) {
+    slave::SlaveOptions o;
+    o.state_dir = dir;
+    o.name = "slave-" + std::to_string(i);
+    o.state_quota = quota;
+    p.add(*d, o);
+  }
+  ASSERT_EQ(p.master.scan().value_or(0), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    ASSERT_TRUE(p.master.configure_mailbox(i));
+    auto st = p.master.request_state(i, master::AlState::PreOp);
+    ASSERT_TRUE(st && !st->error());
+  }
+  master::CoeClient first(p.master, 0);
+  master::CoeClient second(p.master, 1);
+  ASSERT_TRUE(first.download_value(kStoreParameters, 1, kSaveSignature, 4));
+  const auto stored = std::filesystem::file_size(dir / "slave-1.par");
+  auto refused = second.download_value(kStoreParameters, 1, kSaveSignature, 4);
+  ASSERT_FALSE(refused);
+  EXPECT_TRUE(refused.error().from_slave);
+  EXPECT_EQ(refused.error().code, master::SdoAbortCode::HardwareError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "slave-2.par"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "slave-2.par.tmp"));
+  EXPECT_EQ(std::filesystem::file_size(dir / "slave-1.par"), stored);
+  EXPECT_EQ(quota->used_bytes(), stored);
+  EXPECT_EQ(quota->used_files(), 1u);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ecat::test
