@@ -34,8 +34,8 @@ start_udp_slave() {
   timeout -s TERM 120 ip netns exec "$E2E_NS_S" "$build/bin/ecat-slave" "$@" > "$E2E_TMP/$name.log" 2>&1 &
   E2E_SLAVE_PID=$!
   E2E_PIDS+=("$E2E_SLAVE_PID")
-  local i
-  for i in $(seq 1 100); do
+  local _
+  for _ in $(seq 1 100); do
     grep -q "slave(s) on" "$E2E_TMP/$name.log" 2> /dev/null && return 0
     kill -0 "$E2E_SLAVE_PID" 2> /dev/null || break
     sleep 0.05
