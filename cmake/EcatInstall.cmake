@@ -76,7 +76,7 @@ function(ecat_install_program target description)
   add_custom_command(OUTPUT ${page}.gz
     COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
     COMMAND ${HELP2MAN_PROGRAM} --no-info --no-discard-stderr --section=1
-            --name=${description} --source=ecatslave --output=${page} $<TARGET_FILE:${target}>
+            --name=${description} --output=${page} $<TARGET_FILE:${target}>
     COMMAND gzip -9nf ${page}
     DEPENDS ${target}
     COMMENT "Man page of ${target}"

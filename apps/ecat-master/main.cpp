@@ -86,6 +86,8 @@ int main(int argc, char** argv) {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return cli.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return cli.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "ecat-master: %s (see --help)\n", e.what());
     return kExitUsage;

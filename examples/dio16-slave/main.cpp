@@ -27,6 +27,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
+constexpr ecat::Nanoseconds kCyclePeriod = 1ms;
+
 // Puts a DIO16 built from `file` on `chain` with our application in place of
 // the one the stack would choose (none: the device is not a drive).
 dio16::Dio16Application* add_terminal(ecat::slave::Chain& chain, const char* file) {
@@ -65,6 +67,15 @@ int run_in_process(const char* file) {
   });
 
   ecat::master::Master master(wire, clock);
+  // One cycle of the master's task: the process data frame, then the rest of
+  // the cycle period, in which the slave runs its timers - in free run (the
+  // default sync mode, 1C32h:01 = 0) that is when the application runs.
+  auto cycle = [&] {
+    auto r = master.exchange_process_data();
+    clock.advance(kCyclePeriod);
+    (void)chain.poll(clock.now());
+    return r && r->ok();
+  };
   auto count = master.scan();
   if (!step("scan", count && *count == 1)) return 1;
   if (!step("mailbox set-up", master.configure_mailbox(0).has_value())) return 1;
@@ -75,7 +86,7 @@ int run_in_process(const char* file) {
   if (!step("process data set-up", master.configure_process_data().has_value())) return 1;
   auto safeop = master.request_state(0, ecat::master::AlState::SafeOp);
   if (!step("PreOp -> SafeOp", safeop && !safeop->error())) return 1;
-  (void)master.exchange_process_data();  // valid outputs before Op
+  (void)cycle();  // valid outputs before Op
   auto op = master.request_state(0, ecat::master::AlState::Op);
   if (!step("SafeOp -> Op", op && !op->error())) return 1;
   std::printf("DIO16 in Op: %u output bytes, %u input bytes\n", unsigned{master.slave(0).pd.output_bytes},
@@ -86,11 +97,10 @@ int run_in_process(const char* file) {
     auto out = master.outputs(0);
     out[0] = static_cast<std::uint8_t>(pattern);
     out[1] = static_cast<std::uint8_t>(pattern >> 8);
-    // The inputs of a frame are read before the slave's cycle runs: the
-    // outputs come back in the next frame.
+    // The application runs between two frames: the outputs of one come back
+    // as inputs in the next.
     for (int frame = 0; frame < 2; ++frame) {
-      auto r = master.exchange_process_data();
-      if (!step("cyclic exchange (working counter)", r && r->ok())) return 1;
+      if (!step("cyclic exchange (working counter)", cycle())) return 1;
     }
     const auto in = master.inputs(0);
     const auto seen = static_cast<std::uint16_t>(in[0] | (in[1] << 8));

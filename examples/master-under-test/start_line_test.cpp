@@ -61,12 +61,12 @@ TEST_F(VirtualLine, BringsEveryDriveToOpAndNamesIt) {
   EXPECT_TRUE(cycle->ok());
 }
 
-TEST_F(VirtualLine, ALineThatStopsAnsweringIsReported) {
-  constexpr std::size_t kFramesAnswered = 40;
-  // The line goes quiet after the scan's first frames: the routine must
-  // report the step, not hang (the master's waits end on simulated time).
+TEST_F(VirtualLine, ALineThatGoesQuietMidStartUpIsReportedNotHungOn) {
+  // The cable is pulled once the first drive reached PreOp: the routine must
+  // name the slave and the step, and return (the master's waits end on
+  // simulated time).
   wire.set_processor([this](ecat::Bytes frame) {
-    if (wire.frames_sent() > kFramesAnswered) {
+    if (chain[0].status().state != ecat::esc::AlState::Init) {
       clock.advance(1ms);  // a lost frame costs the master its receive timeout
       wire.drop_next(1);
       return;
@@ -76,8 +76,9 @@ TEST_F(VirtualLine, ALineThatStopsAnsweringIsReported) {
   });
   auto stations = line::start_line(master);
   ASSERT_FALSE(stations);
-  EXPECT_FALSE(stations.error().empty());
-  EXPECT_NE(chain[0].status().state, ecat::esc::AlState::Op);
+  EXPECT_EQ(stations.error(), "slave 1: PreOp: no reply (timeout)");
+  EXPECT_EQ(chain[0].status().state, ecat::esc::AlState::PreOp);
+  EXPECT_EQ(chain[1].status().state, ecat::esc::AlState::Init);
 }
 
 }  // namespace

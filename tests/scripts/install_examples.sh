@@ -59,14 +59,15 @@ for p in ecat-esigen ecat-slave ecat-master ecat-conform; do
   if [ -n "$(cache HELP2MAN_PROGRAM | grep -v NOTFOUND)" ]; then
     page="$prefix/share/man/man1/$p.1.gz"
     if [ -f "$page" ]; then
-      zcat "$page" | grep -q -- '--help' || fail "$p.1 does not list --help"
-      zcat "$page" | grep -q "$version" || fail "$p.1 does not carry version $version"
+      # roff escapes the dashes of options: \-\-help
+      zcat "$page" | grep -qF -- '\-\-help' || fail "$p.1 does not list --help"
+      zcat "$page" | grep -q "^\.TH .*\"ecatslave $version\"" || fail "$p.1 does not carry version $version"
     else
       fail "no man page $p.1.gz"
     fi
   fi
 done
-zcat "$prefix/share/man/man1/ecat-slave.1.gz" 2> /dev/null | grep -q -- '--state-dir' \
+zcat "$prefix/share/man/man1/ecat-slave.1.gz" 2> /dev/null | grep -qF -- 'state\-dir' \
   || fail "ecat-slave.1 lacks the --state-dir option"
 
 # --- every installed header alone, with only the installed include path ------------
