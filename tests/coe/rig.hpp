@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cstddef>
 #include <initializer_list>
 #include <optional>
@@ -26,14 +25,16 @@ inline constexpr std::uint16_t kSm0 = 0x1000;
 inline constexpr std::uint16_t kSm1 = 0x1080;
 inline constexpr std::uint16_t kMbxLen = 128;
 
-// `head` then `tail`, in one vector allocated at its final size. The frames
-// are built this way, not by inserting into a braced-initialised vector: GCC
-// 12 at -O3 inlines vector::insert's reallocation path, cannot prove it dead
-// and reports a -Warray-bounds false positive on it.
+// `head` then `tail`, byte by byte into a vector reserved at its final size.
+// Not by inserting a range into a braced-initialised vector (GCC 12 -O3
+// inlines vector::insert's reallocation path, cannot prove it dead and
+// reports -Warray-bounds), nor by std::copy into a sized vector (GCC 12 -O2
+// then reports the empty tail's copy at the end offset the same way).
 inline Frame concat(std::initializer_list<std::uint8_t> head, const Frame& tail) {
-  Frame f(head.size() + tail.size());
-  std::copy(head.begin(), head.end(), f.begin());
-  std::copy(tail.begin(), tail.end(), f.begin() + static_cast<std::ptrdiff_t>(head.size()));
+  Frame f;
+  f.reserve(head.size() + tail.size());
+  for (const std::uint8_t b : head) f.push_back(b);
+  for (const std::uint8_t b : tail) f.push_back(b);
   return f;
 }
 
