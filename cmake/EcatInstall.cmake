@@ -28,11 +28,9 @@ else()
   set(ECAT_SOVERSION ${PROJECT_VERSION_MAJOR})
 endif()
 
-# Installed programs find shared layer libraries next to them (../lib), so a
-# staging prefix works without LD_LIBRARY_PATH; a /usr install needs no RPATH.
-if(BUILD_SHARED_LIBS)
-  set(CMAKE_INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
-endif()
+# With shared libraries, installed programs find them in ../lib and the
+# libraries find each other in their own directory, so a staging prefix works
+# without LD_LIBRARY_PATH (set per target below: the targets exist already).
 
 # ecat_install_library(<target> <name> HEADERS <files...>)
 # Installs layer <target> as libecatslave_<name> exported as ecatslave::<name>,
@@ -47,7 +45,8 @@ function(ecat_install_library target name)
     set_target_properties(${target} PROPERTIES
       OUTPUT_NAME ecatslave_${name}
       VERSION ${PROJECT_VERSION}
-      SOVERSION ${ECAT_SOVERSION})
+      SOVERSION ${ECAT_SOVERSION}
+      INSTALL_RPATH "$ORIGIN")
   endif()
   add_library(ecatslave::${name} ALIAS ${target})
   install(TARGETS ${target} EXPORT ecatslaveTargets
@@ -66,6 +65,9 @@ endfunction()
 find_program(HELP2MAN_PROGRAM help2man)
 function(ecat_install_program target description)
   add_executable(ecatslave::${target} ALIAS ${target})
+  if(BUILD_SHARED_LIBS)
+    set_target_properties(${target} PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
+  endif()
   install(TARGETS ${target} EXPORT ecatslaveTargets RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   if(NOT HELP2MAN_PROGRAM)
     return()
