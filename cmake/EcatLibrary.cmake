@@ -1,15 +1,20 @@
 # ecat_library(<target> <dir> [deps...])
-# One static library per layer folder; every .cpp below <dir> (recursively) is part of it.
-# Include paths are relative to the repository root: #include "esc/sync_manager.hpp".
+# One library per layer folder; every .cpp below <dir> (recursively) is part of it.
+# Static by default, shared with -DBUILD_SHARED_LIBS=ON (add_library without a type).
+# Include paths are relative to the repository root: #include "esc/sync_manager.hpp";
+# installed, the same paths resolve below <prefix>/include/ecatslave (cmake/EcatInstall.cmake).
 function(ecat_library target dir)
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${dir}/*.cpp)
+  set(includes $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/ecatslave>)
   if(sources)
-    add_library(${target} STATIC ${sources})
-    target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR})
+    add_library(${target} ${sources})
+    target_include_directories(${target} PUBLIC ${includes})
+    target_compile_features(${target} PUBLIC cxx_std_20)
     target_link_libraries(${target} PUBLIC ${ARGN})
   else()
     add_library(${target} INTERFACE)
-    target_include_directories(${target} INTERFACE ${PROJECT_SOURCE_DIR})
+    target_include_directories(${target} INTERFACE ${includes})
+    target_compile_features(${target} INTERFACE cxx_std_20)
     target_link_libraries(${target} INTERFACE ${ARGN})
   endif()
 endfunction()

@@ -63,6 +63,10 @@ class Firmware {
   coe::CoeServer& coe() noexcept { return coe_; }
   coe::SyncController& sync() noexcept { return sync_; }
   Application* application() noexcept { return app_.get(); }
+  // Replaces the application the device description chose (the CiA402 drive,
+  // or none) with the caller's own, e.g. a digital I/O terminal
+  // (examples/dio16-slave). Set-up only: before the master leaves Init.
+  void set_application(std::unique_ptr<Application> app) noexcept { app_ = std::move(app); }
   const std::vector<std::string>& warnings() const noexcept { return coe_.warnings(); }
 
   void attach_trace(esc::VcdProbe& probe) noexcept;

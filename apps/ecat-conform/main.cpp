@@ -23,6 +23,7 @@ constexpr int kExitUsage = 2;
 int main(int argc, char** argv) {
   using namespace ecat;
   CLI::App app{"ecat-conform: EtherCAT slave conformance tests over the ecatslave master"};
+  app.set_version_flag("--version", "ecat-conform (ecatslave) " ECAT_VERSION);
   std::string device, iface, udp, junit, filter, pcap;
   std::size_t slave = 0;
   bool list = false;

@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   Options o;
   CLI::App app{"ecat-esigen: ESI (ETG.2000), SII EEPROM (ETG.2010), C++ tables and device XML "
                "from one device description"};
+  app.set_version_flag("--version", "ecat-esigen (ecatslave) " ECAT_VERSION);
   app.add_option("device", o.device, "device file in the ecatslave format (default: built-in generic servo)");
   app.add_option("--from-esi", o.from_esi, "import this vendor ESI instead of a device file");
   app.add_option("--product-code", o.product_code, "with --from-esi: device to take (#x.., 0x.. or decimal)");

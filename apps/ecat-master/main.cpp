@@ -65,6 +65,7 @@ int report(const ecat::app::SessionReport& r, const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App cli{"ecat-master: scan an EtherCAT segment, bring it to Op and exchange process data"};
+  cli.set_version_flag("--version", "ecat-master (ecatslave) " ECAT_VERSION);
   auto* iface = cli.add_option("--iface", o.iface, "Network interface of the segment (raw Ethernet)");
   auto* udp = cli.add_option("--udp", o.udp, "Slave(s) served as EtherCAT-in-UDP at ADDR[:PORT]");
   auto* inproc = cli.add_flag("--in-process", o.in_process, "Run against virtual slaves in this process");
@@ -84,6 +85,8 @@ int main(int argc, char** argv) {
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return cli.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "ecat-master: %s (see --help)\n", e.what());

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   CLI::App cli{
       "ecat-slave: virtual EtherCAT CoE slaves (a software ESC with mailbox, CoE and a CiA402 drive).\n"
       "With no device option it runs the embedded generic CiA402 servo."};
+  cli.set_version_flag("--version", "ecat-slave (ecatslave) " ECAT_VERSION);
   cli.add_option("--device", o.device_files, "Device description (our XML format); repeat for a chain")
       ->check(CLI::ExistingFile);
   cli.add_option("--esi", o.esi_files, "Vendor ESI file to emulate (first device, or --product-code/--revision)")
@@ -85,6 +86,8 @@ int main(int argc, char** argv) {
   try {
     cli.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return cli.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return cli.exit(e);
