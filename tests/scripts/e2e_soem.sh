@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Interoperability with an independent open-source master (issue 5): SOEM's
-# sample programs slaveinfo and simple_test against ecat-slave over a veth
+# Interoperability with an independent open-source master (issue 5, issue 14):
+# SOEM's sample programs (1.x: slaveinfo, simple_test; 2.x: slaveinfo,
+# simple_ng, ec_sample, eni_test; whichever exist) against ecat-slave over a veth
 # pair between two network namespaces (see docs/e2e.md "Independent master").
 #  (a) the embedded generic servo: slaveinfo -map (SII + CoE PDO map), slaveinfo
 #      -sdo (SDO information walk), simple_test (SafeOp -> Op, 10000 LRW cycles,
@@ -29,8 +30,18 @@ soem_find() {
     command -v "$name" 2> /dev/null
   fi
 }
+# SOEM 1.x ships simple_test; SOEM 2.x replaced it by simple_ng and added
+# ec_sample (DC, cyclic mailbox) and eni_test (built with SOEM's sample ENI).
+# Whatever is present is run; slaveinfo exists in both generations.
 slaveinfo=$(soem_find slaveinfo) || { echo "skip: SOEM slaveinfo not found (set ECAT_SOEM_BIN=dir)"; exit 77; }
-simple_test=$(soem_find simple_test) || { echo "skip: SOEM simple_test not found (set ECAT_SOEM_BIN=dir)"; exit 77; }
+simple_test=$(soem_find simple_test) || simple_test=""
+simple_ng=$(soem_find simple_ng) || simple_ng=""
+ec_sample=$(soem_find ec_sample) || ec_sample=""
+eni_test=$(soem_find eni_test) || eni_test=""
+if [ -z "$simple_test" ] && [ -z "$simple_ng" ]; then
+  echo "skip: neither SOEM simple_test (1.x) nor simple_ng (2.x) found (set ECAT_SOEM_BIN=dir)"; exit 77
+fi
+echo "SOEM programs: slaveinfo ${simple_test:+simple_test }${simple_ng:+simple_ng }${ec_sample:+ec_sample }${eni_test:+eni_test}"
 e2e_require_bins ecat-slave
 e2e_require_netns
 e2e_setup so
@@ -102,15 +113,69 @@ check_op() {
   echo "$name: expected WKC $want, $exact/10000 cycles exact; last: $(grep '^Processdata cycle' "$E2E_TMP/$name.log" | tail -1)"
 }
 
+# simple_ng (SOEM 2.x): Op, then 10000 iterations "Iteration N: T usec  WKC W
+# O: .. I: .. T: .."; it prints "wrong (expected E)" for a short WKC, so
+# every iteration must show exactly the expected WKC (given: 3 per slave with
+# outputs and inputs, LRW).
+check_op_ng() {
+  local name=$1 want=$2
+  soem_run "$name" 150 "$simple_ng" || e2e_fail "$name: simple_ng exit $?"
+  expect_line "$name" 'all slaves are now operational$' "Op not reached"
+  local iters exact
+  iters=$(grep -cE '^Iteration +[0-9]+:' "$E2E_TMP/$name.log")
+  exact=$(grep -cE "^Iteration +[0-9]+: +[0-9]+ usec  WKC $want  O:" "$E2E_TMP/$name.log")
+  [ "$iters" -eq 10000 ] && [ "$exact" -eq 10000 ] || e2e_fail "$name: $iters iterations, $exact with WKC $want (want 10000)"
+  ! grep -q 'wrong (expected' "$E2E_TMP/$name.log" || e2e_fail "$name: a short WKC"
+  echo "$name: $(grep -m1 'slaves found' "$E2E_TMP/$name.log" | tr -s ' '), $exact/10000 iterations with WKC $want;" \
+    "last: $(grep -E '^Iteration' "$E2E_TMP/$name.log" | tail -1)"
+}
+
+# ec_sample (SOEM 2.x): DC configured, a cyclic thread at 1 ms with the DC
+# time and its PI loop, 5000 samples 20 ms apart printing the thread's WKC
+# and DC time; the CoE slaves in the cyclic mailbox handler (an SDO read of
+# 1018h:02 every sample).
+check_dc_sample() {
+  local name=$1 count=$2 want=$3
+  soem_run "$name" 150 "$ec_sample" || e2e_fail "$name: ec_sample exit $?"
+  expect_line "$name" "^$count slaves found and configured\.$" "slave count"
+  expect_line "$name" '^EtherCAT OP$' "Op not reached"
+  local samples exact
+  samples=$(grep -cE '^Processdata cycle +[0-9]+ , Wck +[0-9]+, DCtime' "$E2E_TMP/$name.log")
+  exact=$(grep -cE "^Processdata cycle +[0-9]+ , Wck +$want, DCtime +[1-9][0-9]*," "$E2E_TMP/$name.log")
+  # A sample line can be cut by the cyclic thread's own output (seen: 3 of
+  # 5000), so at least 4990 lines and every one with the expected Wck.
+  [ "$samples" -ge 4990 ] && [ "$exact" -eq "$samples" ] || e2e_fail "$name: $samples samples, $exact with Wck $want and a DC time"
+  ! grep -qE '^(ERROR|WARNING) : slave' "$E2E_TMP/$name.log" || e2e_fail "$name: state check fired"
+  echo "$name: $(grep -c 'added to cyclic mailbox handler' "$E2E_TMP/$name.log") slaves in the cyclic mailbox handler," \
+    "$exact/5000 samples with Wck $want; last: $(grep -E '^Processdata cycle' "$E2E_TMP/$name.log" | tail -1)"
+}
+
+check_op_any() {  # NAME WANT_WKC
+  if [ -n "$simple_test" ]; then check_op "$1"; fi
+  if [ -n "$simple_ng" ]; then check_op_ng "${1}_ng" "$2"; fi
+}
+
 # (a) the embedded generic servo.
 if e2e_start_slave servo "${slave_rt[@]}"; then
   check_map si_servo_map 1 ECATSLAVE-SERVO-1
   check_sdo si_servo_sdo 1
-  check_op st_servo
+  check_op_any st_servo 3
   e2e_stop "$E2E_SLAVE_PID"
   e2e_check_no_watchdog_during_run servo
 else
   e2e_fail "(a) slave did not start"
+fi
+
+# (a2) ec_sample on its own slave: it stops its 1 ms cyclic thread before it
+# asks for SafeOp, so the slave's SM watchdog rightly expires at the end; no
+# watchdog check for this run.
+if [ -n "$ec_sample" ]; then
+  if e2e_start_slave ec_servo "${slave_rt[@]}"; then
+    check_dc_sample ec_servo 1 3
+    e2e_stop "$E2E_SLAVE_PID"
+  else
+    e2e_fail "(a2) slave did not start"
+  fi
 fi
 
 # (b) the four seed drives in one chain.
@@ -119,11 +184,32 @@ chain="$d/simtach-rse.xml,$d/yaskawa-sigma5-sd.xml,$d/welcon-servo.xml,$d/leadsh
 if e2e_start_slave chain "${slave_rt[@]}" --chain "$chain"; then
   check_map si_chain_map 4 RS400E CACR-JU102ACA Welcon-Servo-1axis iSV2-CAN6040V48
   check_sdo si_chain_sdo 4
-  check_op st_chain
+  check_op_any st_chain 12
   e2e_stop "$E2E_SLAVE_PID"
   e2e_check_no_watchdog_during_run chain
 else
   e2e_fail "(b) slave chain did not start"
+fi
+
+# (c) SOEM 2.x eni_test: the master built with SOEM's sample ENI
+# (tests/data/eni/soem-sample-eni.xml) against `ecat-slave --eni` of the same
+# file: the ENI's CoE InitCmds at PreOp->SafeOp (SOEM checks the SII identity
+# against the ENI first), Op, 10000 cycles with the calculated WKC (2: the
+# sample's PDOs are not described, so only the mailbox-status FMMUs count).
+if [ -n "$eni_test" ]; then
+  if e2e_start_slave eni "${slave_rt[@]}" --eni "$src/tests/data/eni/soem-sample-eni.xml"; then
+    soem_run eni_test 150 "$eni_test" || e2e_fail "eni_test: exit $?"
+    expect_line eni_test '^2 slaves found and configured\.$' "slave count"
+    expect_line eni_test '^Operational state reached for all slaves\.$' "Op not reached"
+    want=$(sed -n 's/^Calculated workcounter \([0-9]*\)$/\1/p' "$E2E_TMP/eni_test.log")
+    exact=$(grep -cE "^Processdata cycle +[0-9]+, WKC ${want:-x} , " "$E2E_TMP/eni_test.log")
+    [ "${want:-}" = 2 ] && [ "$exact" -eq 10000 ] || e2e_fail "eni_test: $exact/10000 cycles with WKC ${want:-?} (want 2)"
+    echo "eni_test: expected WKC ${want:-?}, $exact/10000 cycles exact"
+    e2e_stop "$E2E_SLAVE_PID"
+    grep -q 'ENI slave 2: Sample device B' "$E2E_TMP/eni.log" || e2e_fail "eni: ecat-slave did not build the ENI's chain"
+  else
+    e2e_fail "(c) ecat-slave --eni did not start"
+  fi
 fi
 
 if [ "$e2e_status" -ne 0 ] && [ -n "${ECAT_E2E_KEEP:-}" ]; then
