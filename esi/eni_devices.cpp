@@ -1,6 +1,7 @@
 #include "esi/eni_devices.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -122,8 +123,9 @@ Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, c
       auto d = read_esi(c.file, EsiSelection{s.product_code, s.revision, c.entry.type}, &esi_warnings);
       if (!d || d->identity.vendor_id != s.vendor_id) continue;
       if (warnings) {
+        // The ESI's own import warnings, shown at the ENI slave they serve.
         for (auto& w : esi_warnings) {
-          warnings->push_back({w.element, w.line, fmt::format("{}:{}: {}", c.file.string(), w.line, w.message)});
+          warnings->push_back({w.element, s.line, fmt::format("(ESI {}:{}) {}", c.file.string(), w.line, w.message)});
         }
       }
       dev.device = std::move(*d);
