@@ -210,9 +210,16 @@ TEST(EniChain, ServoAndIoRunTheirInitCmdsAndReachOpWithTheEnisWkc) {
     ASSERT_TRUE(r);
     ASSERT_EQ(r->wkc, want) << "cycle " << c;
   }
-  // The process image has the ENI's sizes: Send 112 + 8 bits, Recv 144 + 48.
-  EXPECT_EQ(bus.master.outputs(0).size() * 8, 112u);
-  EXPECT_EQ(bus.master.outputs(1).size() * 8, 8u);
+  // The process image has the ENI's sizes (ProcessData Send/Recv BitLength):
+  // outputs 112 + 8 bits, inputs 128 + 48.
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& s = net->slaves[i];
+    ASSERT_TRUE(s.send_bit_length && s.recv_bit_length);
+    EXPECT_EQ(bus.master.slave(i).pd.output_bytes * 8u, *s.send_bit_length) << "slave " << i;
+    EXPECT_EQ(bus.master.slave(i).pd.input_bytes * 8u, *s.recv_bit_length) << "slave " << i;
+  }
+  EXPECT_EQ(*net->slaves[0].send_bit_length + *net->slaves[1].send_bit_length, 120u);
+  EXPECT_EQ(*net->slaves[0].recv_bit_length + *net->slaves[1].recv_bit_length, 176u);
 }
 
 }  // namespace
