@@ -32,6 +32,13 @@ Expected<std::vector<od::DeviceDescription>, std::string> load_eni(const SlavePr
     }
     devices.push_back(std::move(d.device));
   }
+  // The ENI's cyclic commands with their expected working counters (ETG.2100
+  // Cyclic/Frame/Cmd/Cnt): what a master running this ENI checks each cycle.
+  if (!options.quiet && !net->cyclic.empty()) {
+    unsigned wkc = 0;
+    for (const auto& c : net->cyclic) wkc += c.cnt;
+    fmt::print(stderr, "ecat-slave: ENI cyclic: {} command(s), expected WKC {} per cycle\n", net->cyclic.size(), wkc);
+  }
   return devices;
 }
 
