@@ -2,6 +2,8 @@
 // with file:line; the synthesised device of a slave without ESI.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "esi/eni_devices.hpp"
@@ -118,6 +120,30 @@ TEST(EniDevices, ASynthesisErrorPointsAtTheEniLine) {
   ASSERT_FALSE(devs);
   EXPECT_EQ(devs.error().to_string(),
             "net.xml:11: slave 1: #x6000 is used both as a variable (subindex 0) and with subindices");
+}
+
+// Bad input never crashes: every prefix of both test ENIs is read (and, if it
+// reads, made into devices) with an error or a result.
+TEST(EniReader, EveryPrefixGivesAResultOrAnError) {
+  for (const char* name : {"soem-sample-eni.xml", "servo-and-io.xml"}) {
+    std::ifstream in(data(name), std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string xml = text.str();
+    ASSERT_FALSE(xml.empty()) << name;
+    int read = 0;
+    for (std::size_t n = 0; n < xml.size(); n += 7) {
+      std::vector<EsiWarning> w;
+      auto net = read_eni_string(std::string_view(xml).substr(0, n), "cut.xml", &w);
+      if (!net) {
+        EXPECT_FALSE(net.error().message.empty());
+        continue;
+      }
+      ++read;
+      (void)eni_devices(*net, {}, &w);
+    }
+    EXPECT_EQ(read, 0) << name << ": a cut file read as complete";
+  }
 }
 
 }  // namespace
