@@ -36,6 +36,8 @@ constexpr std::uint16_t kSmAssignLast = 0x1C2F;
 constexpr std::uint16_t kSmRegisterFirst = 0x0800;
 constexpr std::uint16_t kSmRegisterSize = 8;
 constexpr unsigned kSmCount = 8;
+// ETG.1000.4 §8.2: SM register block: start (0), length (2), control (4).
+constexpr std::uint8_t kSmLengthOffset = 2;
 constexpr std::uint8_t kSmControlOffset = 4;
 // ETG.1000.4 Table 13: the write commands a master configures registers with.
 constexpr std::uint8_t kCmdApwr = 2;
@@ -58,6 +60,13 @@ constexpr std::size_t kCompleteAccessSi0Bytes = 2;
 constexpr std::size_t kMappingBytes = 4;
 constexpr std::size_t kAssignBytes = 2;
 constexpr unsigned kMaxBitType = 8;
+constexpr unsigned kMaxIntegerBits = 64;
+// ETG.2100 CoE InitCmd Ccs 2: SDO download.
+constexpr std::uint8_t kCcsDownload = 2;
+// A PDO mapping entry (ETG.1000.6 §5.6.7.4.7): index << 16 | subindex << 8 | bits.
+constexpr unsigned kMappingIndexShift = 16;
+constexpr unsigned kMappingSubShift = 8;
+constexpr std::uint32_t kMappingBitsMask = 0xFF;
 
 std::string escape(std::string_view text) {
   std::string out;
@@ -107,7 +116,7 @@ SynthEntry entry_type(const std::string& esi, unsigned bits) {
   }
   if (bits >= 1 && bits <= kMaxBitType && bits != kBitsPerByte) {
     e.type = fmt::format("BIT{}", bits);
-  } else if (bits % kBitsPerByte == 0 && bits <= 64 && bits > 0) {
+  } else if (bits % kBitsPerByte == 0 && bits <= kMaxIntegerBits && bits > 0) {
     e.type = fmt::format("UNSIGNED{}", bits);
   } else {
     e.type = "OCTET_STRING";
@@ -143,7 +152,7 @@ class Builder {
       if ((c.ado - kSmRegisterFirst) % kSmRegisterSize != 0) continue;
       for (unsigned k = 0; (k + 1) * kSmRegisterSize <= c.data.size() && first + k < kSmCount; ++k) {
         const std::uint8_t* p = c.data.data() + k * kSmRegisterSize;
-        RegisterSm r{load_le<std::uint16_t>(p), load_le<std::uint16_t>(p + 2), p[kSmControlOffset], c.line};
+        RegisterSm r{load_le<std::uint16_t>(p), load_le<std::uint16_t>(p + kSmLengthOffset), p[kSmControlOffset], c.line};
         if (r.start != 0 || r.length != 0) reg_sm_[first + k] = r;
       }
     }
@@ -226,7 +235,7 @@ class Builder {
     }
     // What the CoE InitCmds assign and map.
     for (const auto& c : s_.coe_init_cmds) {
-      if (c.ccs != 2) continue;
+      if (c.ccs != kCcsDownload) continue;
       if (c.index >= kSmAssignFirst && c.index <= kSmAssignLast) {
         const unsigned sm = c.index - kSmAssignFirst;
         std::vector<std::uint16_t> listed;
@@ -292,9 +301,9 @@ class Builder {
       }
     }
     for (const auto& m : mapped_by_cmd_) {
-      const auto index = static_cast<std::uint16_t>(m.word >> 16);
-      const auto sub = static_cast<std::uint8_t>(m.word >> 8);
-      const auto bits = static_cast<unsigned>(m.word & 0xFF);
+      const auto index = static_cast<std::uint16_t>(m.word >> kMappingIndexShift);
+      const auto sub = static_cast<std::uint8_t>(m.word >> kMappingSubShift);
+      const auto bits = static_cast<unsigned>(m.word & kMappingBitsMask);
       if (index == 0 || (index >= kCommunicationFirst && index <= kCommunicationLast)) continue;
       SynthEntry e = entry_type("", bits);
       e.name = fmt::format("Object {:04X}h:{:02X}h", index, sub);
@@ -304,7 +313,7 @@ class Builder {
       note_object(index, sub, std::move(e));
     }
     for (const auto& c : s_.coe_init_cmds) {
-      if (c.ccs != 2 || (c.index >= kCommunicationFirst && c.index <= kCommunicationLast)) continue;
+      if (c.ccs != kCcsDownload || (c.index >= kCommunicationFirst && c.index <= kCommunicationLast)) continue;
       if (c.complete_access) {
         if (!objects_.contains(c.index)) {
           warn(c.line, "InitCmd", fmt::format("complete access to #x{:04X}, an object the ENI does not describe: "

@@ -21,6 +21,10 @@ constexpr unsigned kMaxSyncManagers = 8;
 // ETG.2100 CoE InitCmd Ccs: 1 upload, 2 download (ETG.1000.6 SDO command specifiers).
 constexpr std::uint8_t kCcsUpload = 1;
 constexpr std::uint8_t kCcsDownload = 2;
+// ETG.1000.6 §5.6.7: RxPDO mapping objects 1600h-17FFh, TxPDO 1A00h-1BFFh.
+constexpr std::uint16_t kRxPdoFirst = 0x1600;
+constexpr std::uint16_t kTxPdoFirst = 0x1A00;
+constexpr std::uint16_t kPdoAreaSpan = 0x1FF;
 
 class EniReader {
  public:
@@ -168,10 +172,10 @@ class EniReader {
     out.rx = rx;
     out.line = ctx_.line(p);
     out.index = number<std::uint16_t>(p, "Index");
-    const std::uint16_t first = rx ? 0x1600 : 0x1A00;
-    if (out.index < first || out.index > first + 0x1FF) {
+    const std::uint16_t first = rx ? kRxPdoFirst : kTxPdoFirst;
+    if (out.index < first || out.index > first + kPdoAreaSpan) {
       fail(p.child("Index"), fmt::format("{} index #x{:04X} outside #x{:04X}..#x{:04X}", p.name(), out.index,
-                                         first, first + 0x1FF));
+                                         first, first + kPdoAreaSpan));
     }
     out.name = esi_name(p);
     out.fixed = esi_bool(p.attribute("Fixed"));
