@@ -65,37 +65,59 @@ Expected<od::DeviceDescription, LoadError> read_esi_string(std::string_view xml,
   auto info = doc.child("EtherCATInfo");
   if (!info) return ecat::fail(LoadError{std::string(name), 0, "not an ESI file: no EtherCATInfo root element"});
   auto devices = info.child("Descriptions").child("Devices");
-  std::vector<std::string> seen;
+  std::vector<pugi::xml_node> nodes;
+  std::vector<EsiDeviceEntry> entries;
   for (auto dev : devices.children("Device")) {
-    auto type = dev.child("Type");
-    auto pc = u32_of(type.attribute("ProductCode").value());
-    auto rev = u32_of(type.attribute("RevisionNo").value());
-    seen.push_back(fmt::format("{} (product code {}, revision {})", type.child_value(),
-                               type.attribute("ProductCode").value(), type.attribute("RevisionNo").value()));
-    if ((sel.product_code && pc != sel.product_code) || (sel.revision && rev != sel.revision)) continue;
-    od::DeviceDescription d;
-    d.source_file = std::string(name);
-    if (auto ok = read_esi_device(info, dev, ctx, d); !ok) return ecat::fail(ok.error());
-    return d;
+    nodes.push_back(dev);
+    entries.push_back(device_entry(dev, ctx));
   }
-  if (seen.empty()) return ecat::fail(ctx.error(devices ? devices : info, "the file describes no device"));
-  std::string want;
-  if (sel.product_code) want += fmt::format(" product code #x{:08X}", *sel.product_code);
-  if (sel.revision) want += fmt::format(" revision #x{:08X}", *sel.revision);
-  std::string list;
-  for (const auto& s : seen) list += (list.empty() ? "" : "; ") + s;
-  return ecat::fail(ctx.error(devices, fmt::format("no device with{} in this file (it has: {})", want, list)));
+  if (entries.empty()) return ecat::fail(ctx.error(devices ? devices : info, "the file describes no device"));
+  std::vector<std::size_t> chosen;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (selection_matches(sel, entries[i])) chosen.push_back(i);
+  }
+  auto list = [&](const std::vector<std::size_t>& which) {
+    std::string out;
+    for (std::size_t i : which) out += (out.empty() ? "" : "; ") + describe_device(entries[i]);
+    return out;
+  };
+  std::vector<std::size_t> all(entries.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  if (chosen.empty()) {
+    return ecat::fail(ctx.error(devices, fmt::format("no device with{} in this file (it has: {})",
+                                                     describe_selection(sel), list(all))));
+  }
+  if (chosen.size() > 1 && selection_given(sel)) {
+    return ecat::fail(ctx.error(devices, fmt::format("{} devices match{}; add --product-code, --revision or "
+                                                     "--type to choose one of: {}",
+                                                     chosen.size(), describe_selection(sel), list(chosen))));
+  }
+  if (chosen.size() > 1) {
+    ctx.warn(nodes[chosen[0]], fmt::format("the file describes {} devices; the first is taken (choose with "
+                                           "--product-code, --revision or --type; --list shows them)",
+                                           chosen.size()));
+  }
+  od::DeviceDescription d;
+  d.source_file = std::string(name);
+  if (auto ok = read_esi_device(info, nodes[chosen[0]], ctx, d); !ok) return ecat::fail(ok.error());
+  return d;
 }
 
 Expected<od::DeviceDescription, LoadError> read_esi(const std::filesystem::path& path,
                                                     std::optional<std::uint32_t> product_code,
                                                     std::optional<std::uint32_t> revision,
                                                     std::vector<EsiWarning>* warnings) {
+  return read_esi(path, EsiSelection{product_code, revision, std::nullopt}, warnings);
+}
+
+Expected<od::DeviceDescription, LoadError> read_esi(const std::filesystem::path& path,
+                                                    const EsiSelection& selection,
+                                                    std::vector<EsiWarning>* warnings) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return ecat::fail(LoadError{path.string(), 0, "cannot open file"});
   std::ostringstream text;
   text << in.rdbuf();
-  return read_esi_string(text.str(), path.string(), EsiSelection{product_code, revision}, warnings);
+  return read_esi_string(text.str(), path.string(), selection, warnings);
 }
 
 }  // namespace ecat::esi

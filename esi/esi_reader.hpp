@@ -25,16 +25,23 @@ struct EsiWarning {
   std::string to_string(std::string_view file) const;
 };
 
-// Which device of a file with several: by product code and/or revision;
-// neither: the first device in the file.
+// Which device of a file with several: by product code, revision and/or type
+// name (Type element text), all given ones must match and exactly one device
+// may match (else an error listing the candidates, esi_device_list.hpp).
+// None given: the first device in the file (a warning names the others).
 struct EsiSelection {
   std::optional<std::uint32_t> product_code;
   std::optional<std::uint32_t> revision;
+  std::optional<std::string> type_name;
 };
 
 Expected<od::DeviceDescription, LoadError> read_esi(const std::filesystem::path& path,
                                                     std::optional<std::uint32_t> product_code = {},
                                                     std::optional<std::uint32_t> revision = {},
+                                                    std::vector<EsiWarning>* warnings = nullptr);
+
+Expected<od::DeviceDescription, LoadError> read_esi(const std::filesystem::path& path,
+                                                    const EsiSelection& selection,
                                                     std::vector<EsiWarning>* warnings = nullptr);
 
 // `name` is used in messages.

@@ -12,6 +12,7 @@
 #include <pugixml.hpp>
 
 #include "esi/device_error.hpp"
+#include "esi/esi_device_list.hpp"
 #include "esi/esi_reader.hpp"
 #include "esi/xml_lines.hpp"
 #include "od/device.hpp"
@@ -62,6 +63,9 @@ T ranged(const EsiContext& ctx, const pugi::xml_node& where, std::string_view wh
   }
   return static_cast<T>(*v);
 }
+
+// The listing entry of one Device element (esi_device_list.cpp).
+EsiDeviceEntry device_entry(const pugi::xml_node& device, const EsiContext& ctx);
 
 // Reads one Device element (and the file's Vendor/Groups from `info`).
 Expected<void, LoadError> read_esi_device(const pugi::xml_node& info, const pugi::xml_node& device,

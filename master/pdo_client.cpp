@@ -62,6 +62,9 @@ Expected<std::vector<std::uint32_t>, SdoError> CoeClient::read_pdo_mapping(std::
 
 Expected<std::uint32_t, SdoError> CoeClient::assigned_bits(std::uint16_t assign) {
   auto pdos = read_pdo_assignment(assign);
+  // ETG.1000.6 §5.6.7.4.2: 1C12h/1C13h exist only for a sync manager of that
+  // direction; an inputs-only or outputs-only slave has no bits the other way.
+  if (!pdos && pdos.error().from_slave && pdos.error().code == SdoAbortCode::ObjectNotFound) return 0u;
   if (!pdos) return fail(pdos.error());
   std::uint32_t bits = 0;
   for (std::uint16_t pdo : *pdos) {

@@ -3,8 +3,10 @@
 // generic servo) or, with --from-esi, a vendor's ESI.
 //
 //   ecat-esigen DEVICE.xml --esi OUT.xml [--sii OUT.bin] [--cpp OUT.hpp]
-//   ecat-esigen --from-esi VENDOR.xml [--product-code X --revision Y]
+//   ecat-esigen --from-esi VENDOR.xml [--product-code X] [--revision Y] [--type NAME]
 //               [--device-xml OUT.xml] [--esi OUT.xml] [--sii OUT.bin] [--cpp OUT.hpp]
+//   ecat-esigen --from-esi VENDOR.xml --list   (one line per device: type, product
+//               code, revision, name, tab-separated; esi/esi_device_list.hpp)
 //
 // Every output is made in memory first, then written to a temporary name next
 // to its target and renamed only when all outputs are ready, so a failed run
@@ -22,6 +24,7 @@
 
 #include "esi/atomic_file.hpp"
 #include "esi/cpp_writer.hpp"
+#include "esi/esi_device_list.hpp"
 #include "esi/device_loader.hpp"
 #include "esi/esi_reader.hpp"
 #include "esi/esi_writer.hpp"
@@ -38,6 +41,8 @@ struct Options {
   std::string from_esi;
   std::string product_code;
   std::string revision;
+  std::string type_name;
+  bool list = false;
   std::string esi_out;
   std::string sii_out;
   std::string cpp_out;
@@ -85,8 +90,10 @@ int run(const Options& o) {
       return usage_error(fmt::format("--revision '{}' is not a number (#x.., 0x.. or decimal)",
                                      o.revision));
     }
+    std::optional<std::string> type;
+    if (!o.type_name.empty()) type = o.type_name;
     std::vector<ecat::esi::EsiWarning> warnings;
-    device = ecat::esi::read_esi(o.from_esi, pc, rev, &warnings);
+    device = ecat::esi::read_esi(o.from_esi, ecat::esi::EsiSelection{pc, rev, type}, &warnings);
     for (const auto& w : warnings) std::fprintf(stderr, "%s\n", w.to_string(o.from_esi).c_str());
     source = o.from_esi;
   } else if (!o.device.empty()) {
@@ -129,6 +136,14 @@ int run(const Options& o) {
   return 0;
 }
 
+// --list: every device of the file, one stable line each, on stdout.
+int list_devices(const Options& o) {
+  auto devices = ecat::esi::list_esi_file(o.from_esi);
+  if (!devices) return error(devices.error().to_string());
+  for (const auto& d : *devices) std::printf("%s\n", ecat::esi::format_device_line(d).c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -140,6 +155,8 @@ int main(int argc, char** argv) {
   app.add_option("--from-esi", o.from_esi, "import this vendor ESI instead of a device file");
   app.add_option("--product-code", o.product_code, "with --from-esi: device to take (#x.., 0x.. or decimal)");
   app.add_option("--revision", o.revision, "with --from-esi: revision to take");
+  app.add_option("--type", o.type_name, "with --from-esi: device to take by its type name (Type element)");
+  app.add_flag("--list", o.list, "with --from-esi: list the file's devices (type, product code, revision, name)");
   app.add_option("--esi", o.esi_out, "write the ESI XML here");
   app.add_option("--sii", o.sii_out, "write the SII EEPROM image here");
   app.add_option("--cpp", o.cpp_out, "write constexpr C++ tables here");
@@ -154,8 +171,19 @@ int main(int argc, char** argv) {
   if (!o.device.empty() && !o.from_esi.empty()) {
     return usage_error("give either a DEVICE file or --from-esi, not both");
   }
-  if (o.from_esi.empty() && (!o.product_code.empty() || !o.revision.empty())) {
-    return usage_error("--product-code and --revision need --from-esi");
+  if (o.from_esi.empty() && (!o.product_code.empty() || !o.revision.empty() || !o.type_name.empty() || o.list)) {
+    return usage_error("--product-code, --revision, --type and --list need --from-esi");
+  }
+  if (o.list) {
+    if (!o.esi_out.empty() || !o.sii_out.empty() || !o.cpp_out.empty() || !o.device_xml_out.empty() ||
+        !o.product_code.empty() || !o.revision.empty() || !o.type_name.empty()) {
+      return usage_error("--list takes no selection and writes no file");
+    }
+    try {
+      return list_devices(o);
+    } catch (const std::exception& e) {
+      return error(fmt::format("ecat-esigen: {}", e.what()));
+    }
   }
   if (!valid_namespace(o.cpp_namespace)) {
     return usage_error(fmt::format("--cpp-namespace '{}' is not a C++ namespace name", o.cpp_namespace));

@@ -35,7 +35,7 @@ std::vector<std::string> split_commas(const std::string& text) {
 int main(int argc, char** argv) {
   using ecat::app::SlaveProgramOptions;
   SlaveProgramOptions o;
-  std::string chain, product_code, revision, ppm;
+  std::string chain, product_code, revision, type_name, ppm;
 
   CLI::App cli{
       "ecat-slave: virtual EtherCAT CoE slaves (a software ESC with mailbox, CoE and a CiA402 drive).\n"
@@ -43,10 +43,17 @@ int main(int argc, char** argv) {
   cli.set_version_flag("--version", "ecat-slave (ecatslave) " ECAT_VERSION);
   cli.add_option("--device", o.device_files, "Device description (our XML format); repeat for a chain")
       ->check(CLI::ExistingFile);
-  cli.add_option("--esi", o.esi_files, "Vendor ESI file to emulate (first device, or --product-code/--revision)")
-      ->check(CLI::ExistingFile);
-  cli.add_option("--product-code", product_code, "Device of the ESI to emulate (#x hex or decimal)");
-  cli.add_option("--revision", revision, "Revision of the ESI device to emulate (#x hex or decimal)");
+  auto* esi = cli.add_option("--esi", o.esi_files,
+                             "Vendor ESI file to emulate (first device, or --product-code/--revision/--type)")
+                  ->check(CLI::ExistingFile);
+  auto* pc = cli.add_option("--product-code", product_code, "Device of the ESI to emulate (#x hex or decimal)");
+  auto* rev = cli.add_option("--revision", revision, "Revision of the ESI device to emulate (#x hex or decimal)");
+  auto* type = cli.add_option("--type", type_name, "Device of the ESI to emulate by its type name (Type element)");
+  auto* eni = cli.add_option("--eni", o.eni_file,
+                             "ETG.2100 network description (ENI): the chain of its slaves, in its order")
+                  ->check(CLI::ExistingFile);
+  auto* esi_dir = cli.add_option("--esi-dir", o.esi_dir, "With --eni: directory of ESI files for the slaves' dictionaries")
+                      ->check(CLI::ExistingDirectory);
   cli.add_option("--chain", chain, "Comma-separated device files, in line order (port 0 -> port 1)");
   cli.add_option("--count", o.count, "Number of slaves: the listed devices, then copies of the last")
       ->check(CLI::Range(1u, 4096u));
@@ -77,6 +84,11 @@ int main(int argc, char** argv) {
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");
   cli.add_flag("--keep-privileges", o.keep_privileges, "Do not drop root after opening the raw socket");
   cli.add_flag("-q,--quiet", o.quiet, "Print only errors");
+  pc->needs(esi);
+  rev->needs(esi);
+  type->needs(esi);
+  esi_dir->needs(eni);
+  eni->excludes(esi);
   pin->needs(pout);
   pout->needs(pin);
   iface->excludes(pin)->excludes(udp);
@@ -113,6 +125,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "ecat-slave: --revision: not a number: %s\n", revision.c_str());
       return kExitUsage;
     }
+  }
+  if (!type_name.empty()) o.type_name = type_name;
+  if (!o.eni_file.empty() && (!o.device_files.empty() || !o.esi_files.empty())) {
+    std::fprintf(stderr, "ecat-slave: --eni gives the whole chain; it takes no --device, --chain or --esi\n");
+    return kExitUsage;
   }
   for (auto& p : split_commas(ppm)) {
     try {

@@ -19,6 +19,9 @@ struct SlaveProgramOptions {
   std::vector<std::string> esi_files;     // --esi
   std::optional<std::uint32_t> product_code;
   std::optional<std::uint32_t> revision;
+  std::optional<std::string> type_name;   // --type: ESI device by its Type text
+  std::string eni_file;                   // --eni: the chain of an ETG.2100 ENI
+  std::string esi_dir;                    // --esi-dir: ESI files for the ENI's slaves
   unsigned count = 1;                     // --count: copies of the (last) device
 
   // Exactly one medium.

@@ -209,13 +209,22 @@ TEST(VendorEsiSelection, FirstDeviceWithoutSelection) {
   EXPECT_FALSE(d->mailbox.complete_access);
 }
 
-TEST(VendorEsiSelection, ProductCodeOnlyTakesTheFirstMatch) {
+// Issue 14 item 5: a selection that matches several devices is an error that
+// lists them (it used to take the first); a unique one is taken.
+TEST(VendorEsiSelection, AmbiguousProductCodeIsAnErrorListingTheCandidates) {
   auto d = read_esi(kFile, 0x1001);
-  ASSERT_TRUE(d);
-  EXPECT_EQ(d->identity.revision, 0x10000u);
+  ASSERT_FALSE(d);
+  EXPECT_EQ(d.error().to_string(),
+            kFile + ":25: 3 devices match product code #x00001001; add --product-code, --revision or --type to "
+                    "choose one of: EXD-100 (product code #x00001001, revision #x00010000, line 26); EXD-100 "
+                    "(product code #x00001001, revision #x00020000, line 36); EXIO-8 (product code #x00001001, "
+                    "revision #x00000001, line 731)");
   auto rev2 = read_esi(kFile, std::nullopt, 0x20000);
   ASSERT_TRUE(rev2);
   EXPECT_EQ(rev2->identity.name, "EXD-100 servo");
+  auto rev1 = read_esi(kFile, EsiSelection{std::nullopt, 0x10000, std::string("EXD-100")});
+  ASSERT_TRUE(rev1);
+  EXPECT_EQ(rev1->identity.name, "EXD-100 servo (rev 1)");
 }
 
 TEST(VendorEsiSelection, DecimalProductCodeInFile) {
@@ -233,9 +242,9 @@ TEST(VendorEsiSelection, UnknownDeviceIsAnError) {
   ASSERT_FALSE(d);
   EXPECT_EQ(d.error().to_string(),
             kFile + ":25: no device with product code #x00001001 revision #x00030000 in this file "
-                    "(it has: EXD-100 (product code #x00001001, revision #x00010000); EXD-100 "
-                    "(product code #x00001001, revision #x00020000); EXIO-8 (product code 4097, "
-                    "revision 1))");
+                    "(it has: EXD-100 (product code #x00001001, revision #x00010000, line 26); EXD-100 "
+                    "(product code #x00001001, revision #x00020000, line 36); EXIO-8 (product code "
+                    "#x00001001, revision #x00000001, line 731))");
 }
 
 TEST(EsiReaderErrors, BadInputGivesFileLineMessage) {

@@ -93,5 +93,31 @@ expect_rc 1 "unwritable output" "$gen" --esi "$out/no-such-dir/a.xml" --sii "$ou
 [ -e "$out/partial.bin" ] && fail "partial.bin written although another output failed"
 ls -A "$out" | grep -q '\.tmp-' && fail "temporary files left behind after failures"
 
+# 7. Multi-device files (issue 14 item 5): --list, one stable line per device
+# (type, product code, revision, name; tab-separated), and the selection by
+# product code, revision and type name; no match or several: an error listing
+# the candidates.
+expect_rc 0 "--list" "$gen" --from-esi "$vendor" --list
+printf 'EXD-100\t#x00001001\t#x00010000\tEXD-100 servo (rev 1)\nEXD-100\t#x00001001\t#x00020000\tEXD-100 servo\nEXIO-8\t#x00001001\t#x00000001\tEXIO-8 digital I/O\n' > "$out/list.want"
+cmp -s "$out/stdout" "$out/list.want" || fail "--list output: $(cat -A "$out/stdout")"
+[ -s "$out/stderr" ] && fail "--list wrote to stderr: $(cat "$out/stderr")"
+expect_rc 2 "--list with a selection" "$gen" --from-esi "$vendor" --list --type EXD-100
+expect_rc 2 "--type without --from-esi" "$gen" --type EXD-100 --esi "$out/x.xml"
+expect_rc 1 "ambiguous product code" "$gen" --from-esi "$vendor" --product-code '#x1001' --esi "$out/x.xml"
+grep -qxF "$vendor:25: 3 devices match product code #x00001001; add --product-code, --revision or --type to choose one of: EXD-100 (product code #x00001001, revision #x00010000, line 26); EXD-100 (product code #x00001001, revision #x00020000, line 36); EXIO-8 (product code #x00001001, revision #x00000001, line 731)" "$out/stderr" \
+  || fail "ambiguous selection message: $(cat "$out/stderr")"
+expect_rc 1 "ambiguous type" "$gen" --from-esi "$vendor" --type EXD-100 --esi "$out/x.xml"
+grep -qF ": 2 devices match type 'EXD-100';" "$out/stderr" || fail "ambiguous type message: $(cat "$out/stderr")"
+expect_rc 1 "missing type" "$gen" --from-esi "$vendor" --type EXD-200 --esi "$out/x.xml"
+grep -qxF "$vendor:25: no device with type 'EXD-200' in this file (it has: EXD-100 (product code #x00001001, revision #x00010000, line 26); EXD-100 (product code #x00001001, revision #x00020000, line 36); EXIO-8 (product code #x00001001, revision #x00000001, line 731))" "$out/stderr" \
+  || fail "missing type message: $(cat "$out/stderr")"
+expect_rc 0 "type and revision" "$gen" --from-esi "$vendor" --type EXD-100 --revision '#x10000' --device-xml "$out/sel.device.xml"
+grep -q 'name="EXD-100 servo (rev 1)"' "$out/sel.device.xml" || fail "--type/--revision took another device"
+expect_rc 0 "type alone" "$gen" --from-esi "$vendor" --type EXIO-8 --device-xml "$out/io.device.xml"
+grep -q 'productCode="#x00001001" revision="#x00000001"' "$out/io.device.xml" || fail "--type EXIO-8 took another device"
+expect_rc 0 "no selection" "$gen" --from-esi "$vendor" --device-xml "$out/first.device.xml"
+grep -qF "$vendor:26: warning: Device: the file describes 3 devices; the first is taken" "$out/stderr" \
+  || fail "no warning when the first of several devices is taken"
+
 [ $status -eq 0 ] && echo "esigen_cli: ok"
 exit $status

@@ -1,0 +1,159 @@
+#include "esi/eni_devices.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "esi/device_loader.hpp"
+#include "esi/esi_device_list.hpp"
+
+namespace ecat::esi {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::uint16_t kSmAssignFirst = 0x1C10;
+
+struct EsiCandidate {
+  fs::path file;
+  EsiDeviceEntry entry;
+};
+
+// Every device of every *.xml ESI in `dir`, files in name order; files that
+// are no ESI are passed over.
+std::vector<EsiCandidate> scan_esi_dir(const fs::path& dir) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (e.is_regular_file(ec) && ext == ".xml") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<EsiCandidate> out;
+  for (const auto& f : files) {
+    auto listed = list_esi_file(f);
+    if (!listed) continue;
+    for (auto& entry : *listed) out.push_back({f, std::move(entry)});
+  }
+  return out;
+}
+
+// The ENI's layout on a device from an ESI: identity serial, mailbox
+// addresses, and the ENI's PDO assignment as the default one (the PDOs'
+// sync manager and the 1C1xh defaults), since that is what the configured
+// network runs with.
+void apply_eni_layout(const EniSlave& s, od::DeviceDescription& d, std::vector<EsiWarning>* warnings) {
+  d.identity.serial = s.serial;
+  auto warn = [&](int line, std::string element, std::string message) {
+    if (warnings) warnings->push_back({std::move(element), line, std::move(message)});
+  };
+  if (s.mailbox) {
+    for (auto& sm : d.sync_managers) {
+      if (sm.type == od::SmType::MailboxOut) {
+        sm.start_address = s.mailbox->out_start;
+        sm.default_size = s.mailbox->out_length;
+      } else if (sm.type == od::SmType::MailboxIn) {
+        sm.start_address = s.mailbox->in_start;
+        sm.default_size = s.mailbox->in_length;
+      }
+    }
+  }
+  for (const auto& esm : s.sync_managers) {
+    if (esm.number >= d.sync_managers.size()) {
+      warn(esm.line, fmt::format("Sm{}", esm.number), "the ESI has no such sync manager; ignored");
+      continue;
+    }
+    auto& sm = d.sync_managers[esm.number];
+    const od::SmType want = esm.outputs ? od::SmType::Outputs : od::SmType::Inputs;
+    if (sm.type != want) {
+      warn(esm.line, fmt::format("Sm{}", esm.number), "the ESI gives this sync manager another type; the ESI's is kept");
+      continue;
+    }
+    if (esm.start) sm.start_address = *esm.start;
+    if (esm.control) sm.control = *esm.control;
+    auto& pdos = esm.outputs ? d.rx_pdos : d.tx_pdos;
+    for (auto& p : pdos) {
+      const bool listed = std::find(esm.pdos.begin(), esm.pdos.end(), p.index) != esm.pdos.end();
+      if (listed) {
+        p.sm = esm.number;
+      } else if (p.sm == esm.number) {
+        p.sm.reset();
+      }
+    }
+    for (auto index : esm.pdos) {
+      if (std::none_of(pdos.begin(), pdos.end(), [&](const od::Pdo& p) { return p.index == index; })) {
+        warn(esm.line, "Pdo", fmt::format("PDO #x{:04X} is not in the ESI", index));
+      }
+    }
+    // The default assignment in the dictionary follows (ETG.1000.6 §5.6.7.4.2).
+    if (od::Object* o = d.dictionary.find(static_cast<std::uint16_t>(kSmAssignFirst + esm.number))) {
+      if (esm.pdos.size() > o->max_subindex()) {
+        warn(esm.line, fmt::format("Sm{}", esm.number), "the ESI's assignment object has too few subindices");
+        continue;
+      }
+      for (auto& e : o->entries) {
+        if (e.subindex == 0) {
+          e.default_value = {static_cast<std::uint8_t>(esm.pdos.size())};
+        } else {
+          const std::uint16_t v = e.subindex <= esm.pdos.size() ? esm.pdos[e.subindex - 1] : 0;
+          e.default_value = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8)};
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, const fs::path& esi_dir,
+                                                        std::vector<EsiWarning>* warnings) {
+  std::vector<EsiCandidate> esis;
+  if (!esi_dir.empty()) esis = scan_esi_dir(esi_dir);
+  std::vector<EniDevice> out;
+  for (std::size_t i = 0; i < net.slaves.size(); ++i) {
+    const EniSlave& s = net.slaves[i];
+    EniDevice dev;
+    bool found = false;
+    for (const auto& c : esis) {
+      if (c.entry.product_code != s.product_code || c.entry.revision != s.revision) continue;
+      std::vector<EsiWarning> esi_warnings;
+      auto d = read_esi(c.file, EsiSelection{s.product_code, s.revision, c.entry.type}, &esi_warnings);
+      if (!d || d->identity.vendor_id != s.vendor_id) continue;
+      if (warnings) {
+        // The ESI's own import warnings, shown at the ENI slave they serve.
+        for (auto& w : esi_warnings) {
+          warnings->push_back({w.element, s.line, fmt::format("(ESI {}:{}) {}", c.file.string(), w.line, w.message)});
+        }
+      }
+      dev.device = std::move(*d);
+      dev.esi_file = c.file.string();
+      apply_eni_layout(s, dev.device, warnings);
+      found = true;
+      break;
+    }
+    if (!found) {
+      EniDeviceXml x = eni_device_xml(s, warnings);
+      if (!x.error.empty()) {
+        return fail(LoadError{net.file, x.eni_lines.front(), fmt::format("slave {}: {}", i + 1, x.error)});
+      }
+      const std::string name = fmt::format("{}#slave{}", net.file, i + 1);
+      auto d = load_device_string(x.xml, name);
+      if (!d) {
+        const LoadError& e = d.error();
+        const int line = e.file == name && e.line > 0 && static_cast<std::size_t>(e.line) <= x.eni_lines.size()
+                             ? x.eni_lines[static_cast<std::size_t>(e.line - 1)]
+                             : s.line;
+        return fail(LoadError{net.file, line, fmt::format("slave {} ({}): {}", i + 1, s.name, e.message)});
+      }
+      dev.device = std::move(*d);
+      dev.device.source_file = net.file;
+    }
+    out.push_back(std::move(dev));
+  }
+  return out;
+}
+
+}  // namespace ecat::esi

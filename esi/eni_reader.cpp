@@ -1,0 +1,306 @@
+#include "esi/eni_reader.hpp"
+
+#include <cctype>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <pugixml.hpp>
+
+#include "esi/device_failure.hpp"
+#include "esi/device_values.hpp"
+#include "esi/esi_reader_context.hpp"
+#include "esi/esi_writer_names.hpp"
+
+namespace ecat::esi {
+namespace {
+
+// ETG.2100: ProcessData has Sm0..Sm7 (one per sync manager of the ESC).
+constexpr unsigned kMaxSyncManagers = 8;
+// ETG.2100 CoE InitCmd Ccs: 1 upload, 2 download (ETG.1000.6 SDO command specifiers).
+constexpr std::uint8_t kCcsUpload = 1;
+constexpr std::uint8_t kCcsDownload = 2;
+// ETG.1000.6 §5.6.7: RxPDO mapping objects 1600h-17FFh, TxPDO 1A00h-1BFFh.
+constexpr std::uint16_t kRxPdoFirst = 0x1600;
+constexpr std::uint16_t kTxPdoFirst = 0x1A00;
+constexpr std::uint16_t kPdoAreaSpan = 0x1FF;
+
+class EniReader {
+ public:
+  explicit EniReader(const EsiContext& ctx) : ctx_(ctx) {}
+
+  EniNetwork read(const pugi::xml_node& root) {
+    EniNetwork net;
+    net.file = ctx_.file();
+    auto config = root.child("Config");
+    if (!config) fail(root, "EtherCATConfig has no Config element");
+    for (auto s : config.children("Slave")) net.slaves.push_back(slave(s));
+    if (net.slaves.empty()) fail(config, "Config lists no Slave");
+    for (auto cyclic : config.children("Cyclic")) {
+      for (auto frame : cyclic.children("Frame")) {
+        for (auto cmd : frame.children("Cmd")) {
+          EniCyclicCmd c;
+          c.line = ctx_.line(cmd);
+          c.cmd = number<std::uint8_t>(cmd, "Cmd");
+          c.cnt = cmd.child("Cnt") ? number<std::uint16_t>(cmd, "Cnt") : 0;
+          net.cyclic.push_back(c);
+        }
+      }
+    }
+    return net;
+  }
+
+ private:
+  [[noreturn]] void fail(const pugi::xml_node& n, std::string message) const {
+    throw LoadFailure{ctx_.error(n, std::move(message))};
+  }
+
+  static std::string trimmed(const pugi::xml_node& n) {
+    std::string_view t = n.child_value();
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.remove_prefix(1);
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
+    return std::string(t);
+  }
+
+  // A number child that must fit T; xs:int values written negative (an
+  // AutoIncAddr of -1, an identity with the top bit set) are taken as the
+  // two's complement of T's width, as ETG.2100 writes them.
+  template <typename T>
+  T number(const pugi::xml_node& parent, const char* child) const {
+    auto n = parent.child(child);
+    if (!n) fail(parent, fmt::format("{}: {} missing", parent.name(), child));
+    const std::string text = trimmed(n);
+    auto lit = parse_integer(text);
+    constexpr std::uint64_t max = std::numeric_limits<T>::max();
+    if (!lit || lit->magnitude > max || (lit->negative && lit->magnitude > (max >> 1) + 1)) {
+      fail(n, fmt::format("{}: '{}' is not a number that fits {} bits", child, text, sizeof(T) * 8));
+    }
+    const std::uint64_t v = lit->negative ? (max + 1 - lit->magnitude) & max : lit->magnitude;
+    return static_cast<T>(v);
+  }
+
+  template <typename T>
+  std::optional<T> optional_number(const pugi::xml_node& parent, const char* child) const {
+    if (!parent.child(child)) return std::nullopt;
+    return number<T>(parent, child);
+  }
+
+  bool boolean(const pugi::xml_node& n, bool fallback) const {
+    if (!n) return fallback;
+    auto b = parse_bool(trimmed(n));
+    if (!b) fail(n, fmt::format("{}: '{}' is not a boolean", n.name(), trimmed(n)));
+    return *b;
+  }
+
+  od::Value hex(const pugi::xml_node& n) const {
+    std::string text;
+    for (char c : trimmed(n)) {
+      if (!std::isspace(static_cast<unsigned char>(c))) text.push_back(c);
+    }
+    auto v = parse_hex_binary(text);
+    if (!v) fail(n, fmt::format("{}: '{}' is not hex binary (two hex digits per byte)", n.name(), text));
+    return *v;
+  }
+
+  std::vector<std::string> transitions(const pugi::xml_node& cmd) const {
+    std::vector<std::string> out;
+    for (auto t : cmd.children("Transition")) out.push_back(trimmed(t));
+    if (out.empty()) fail(cmd, "InitCmd without Transition");
+    return out;
+  }
+
+  EniSlave slave(const pugi::xml_node& s) {
+    EniSlave out;
+    out.line = ctx_.line(s);
+    auto info = s.child("Info");
+    if (!info) fail(s, "Slave without Info");
+    out.info_line = ctx_.line(info);
+    out.name = trimmed(info.child("Name"));
+    out.vendor_id = number<std::uint32_t>(info, "VendorId");
+    out.product_code = number<std::uint32_t>(info, "ProductCode");
+    out.revision = number<std::uint32_t>(info, "RevisionNo");
+    out.serial = optional_number<std::uint32_t>(info, "SerialNo").value_or(0);
+    out.phys_addr = optional_number<std::uint16_t>(info, "PhysAddr");
+    out.auto_inc_addr = optional_number<std::uint16_t>(info, "AutoIncAddr");
+    if (auto pd = s.child("ProcessData")) process_data(pd, out);
+    if (auto mbx = s.child("Mailbox")) mailbox(mbx, out);
+    for (auto cmd : s.child("InitCmds").children("InitCmd")) out.init_cmds.push_back(register_cmd(cmd));
+    for (auto child : s.children()) {
+      const std::string_view n = child.name();
+      if (n != "Info" && n != "ProcessData" && n != "Mailbox" && n != "InitCmds" && child.type() == pugi::node_element) {
+        ctx_.warn(child, "not used by the virtual chain; ignored");
+      }
+    }
+    return out;
+  }
+
+  void process_data(const pugi::xml_node& pd, EniSlave& out) {
+    if (auto send = pd.child("Send")) out.send_bit_length = optional_number<std::uint32_t>(send, "BitLength");
+    if (auto recv = pd.child("Recv")) out.recv_bit_length = optional_number<std::uint32_t>(recv, "BitLength");
+    for (unsigned i = 0; i < kMaxSyncManagers; ++i) {
+      auto sm = pd.child(fmt::format("Sm{}", i).c_str());
+      if (!sm) continue;
+      EniSyncManager m;
+      m.number = static_cast<std::uint8_t>(i);
+      m.line = ctx_.line(sm);
+      const std::string type = trimmed(sm.child("Type"));
+      if (type == "Outputs") {
+        m.outputs = true;
+      } else if (type == "Inputs") {
+        m.outputs = false;
+      } else {
+        fail(sm.child("Type") ? sm.child("Type") : sm,
+             fmt::format("Sm{}: Type '{}' is neither Outputs nor Inputs", i, type));
+      }
+      m.start = optional_number<std::uint16_t>(sm, "StartAddress");
+      m.control = optional_number<std::uint8_t>(sm, "ControlByte");
+      m.enable = boolean(sm.child("Enable"), true);
+      for (auto p : sm.children("Pdo")) {
+        auto v = parse_unsigned(trimmed(p), std::numeric_limits<std::uint16_t>::max());
+        if (!v) fail(p, fmt::format("Sm{}: Pdo '{}' is not a PDO index", i, trimmed(p)));
+        m.pdos.push_back(static_cast<std::uint16_t>(*v));
+      }
+      out.sync_managers.push_back(std::move(m));
+    }
+    for (auto p : pd.children("RxPdo")) out.rx_pdos.push_back(pdo(p, true));
+    for (auto p : pd.children("TxPdo")) out.tx_pdos.push_back(pdo(p, false));
+  }
+
+  EniPdo pdo(const pugi::xml_node& p, bool rx) {
+    EniPdo out;
+    out.rx = rx;
+    out.line = ctx_.line(p);
+    out.index = number<std::uint16_t>(p, "Index");
+    const std::uint16_t first = rx ? kRxPdoFirst : kTxPdoFirst;
+    if (out.index < first || out.index > first + kPdoAreaSpan) {
+      fail(p.child("Index"), fmt::format("{} index #x{:04X} outside #x{:04X}..#x{:04X}", p.name(), out.index,
+                                         first, first + kPdoAreaSpan));
+    }
+    out.name = esi_name(p);
+    out.fixed = esi_bool(p.attribute("Fixed"));
+    if (auto sm = p.attribute("Sm")) {
+      auto v = parse_unsigned(sm.value(), kMaxSyncManagers - 1);
+      if (!v) fail(p, fmt::format("{}@Sm '{}' is not a sync manager number", p.name(), sm.value()));
+      out.sm = static_cast<std::uint8_t>(*v);
+    }
+    for (auto e : p.children("Entry")) {
+      EniPdoEntry entry;
+      entry.line = ctx_.line(e);
+      entry.index = number<std::uint16_t>(e, "Index");
+      entry.subindex = entry.index == 0 ? optional_number<std::uint8_t>(e, "SubIndex").value_or(0)
+                                        : number<std::uint8_t>(e, "SubIndex");
+      entry.bit_length = number<std::uint8_t>(e, "BitLen");
+      entry.name = esi_name(e);
+      entry.data_type = trimmed(e.child("DataType"));
+      out.entries.push_back(std::move(entry));
+    }
+    return out;
+  }
+
+  void mailbox(const pugi::xml_node& mbx, EniSlave& out) {
+    EniMailbox m;
+    m.line = ctx_.line(mbx);
+    auto send = mbx.child("Send");
+    // ETG.2100 names the slave -> master mailbox "Recv"; SOEM's sample ENI
+    // writes "Receive", which is read the same way.
+    auto recv = mbx.child("Recv") ? mbx.child("Recv") : mbx.child("Receive");
+    if (!send || !recv) fail(mbx, "Mailbox needs Send and Recv (start and length of both mailboxes)");
+    m.out_start = number<std::uint16_t>(send, "Start");
+    m.out_length = number<std::uint16_t>(send, "Length");
+    m.in_start = number<std::uint16_t>(recv, "Start");
+    m.in_length = number<std::uint16_t>(recv, "Length");
+    for (auto p : mbx.children("Protocol")) {
+      const std::string name = trimmed(p);
+      if (name == "CoE") m.coe = true;
+      else if (name == "FoE") m.foe = true;
+      else if (name == "EoE") m.eoe = true;
+      else if (name == "SoE") m.soe = true;
+      else if (name == "AoE") m.aoe = true;
+      else if (name == "VoE") m.voe = true;
+      else ctx_.warn(p, fmt::format("mailbox protocol '{}' unknown; ignored", name));
+    }
+    if (mbx.child("CoE")) m.coe = true;
+    for (auto cmd : mbx.child("CoE").child("InitCmds").children("InitCmd")) {
+      if (boolean(cmd.child("Disabled"), false)) continue;
+      out.coe_init_cmds.push_back(coe_cmd(cmd));
+    }
+    for (const char* other : {"SoE", "EoE", "FoE", "AoE", "VoE"}) {
+      if (auto n = mbx.child(other).child("InitCmds")) {
+        ctx_.warn(n, fmt::format("{} InitCmds are not sent to the virtual slave's model; ignored", other));
+      }
+    }
+    out.mailbox = m;
+  }
+
+  EniCoeInitCmd coe_cmd(const pugi::xml_node& cmd) const {
+    EniCoeInitCmd c;
+    c.line = ctx_.line(cmd);
+    c.transitions = transitions(cmd);
+    c.ccs = number<std::uint8_t>(cmd, "Ccs");
+    if (c.ccs != kCcsUpload && c.ccs != kCcsDownload) {
+      fail(cmd.child("Ccs"), fmt::format("Ccs {} is neither 1 (upload) nor 2 (download)", c.ccs));
+    }
+    c.index = number<std::uint16_t>(cmd, "Index");
+    c.subindex = number<std::uint8_t>(cmd, "SubIndex");
+    c.complete_access = esi_bool(cmd.attribute("CompleteAccess"));
+    if (auto d = cmd.child("Data")) c.data = hex(d);
+    if (c.ccs == kCcsDownload && c.data.empty()) fail(cmd, "a download InitCmd (Ccs 2) without Data");
+    c.comment = trimmed(cmd.child("Comment"));
+    return c;
+  }
+
+  EniRegisterInitCmd register_cmd(const pugi::xml_node& cmd) const {
+    EniRegisterInitCmd c;
+    c.line = ctx_.line(cmd);
+    c.transitions = transitions(cmd);
+    c.cmd = number<std::uint8_t>(cmd, "Cmd");
+    c.adp = optional_number<std::uint16_t>(cmd, "Adp").value_or(0);
+    c.ado = optional_number<std::uint16_t>(cmd, "Ado").value_or(0);
+    if (auto d = cmd.child("Data")) {
+      c.data = hex(d);
+    } else if (auto len = optional_number<std::uint16_t>(cmd, "DataLength")) {
+      c.data.assign(*len, 0);
+    }
+    c.cnt = optional_number<std::uint16_t>(cmd, "Cnt");
+    if (auto v = cmd.child("Validate")) {
+      if (v.child("Data")) c.validate_data = hex(v.child("Data"));
+      if (v.child("DataMask")) c.validate_mask = hex(v.child("DataMask"));
+    }
+    c.comment = trimmed(cmd.child("Comment"));
+    return c;
+  }
+
+  const EsiContext& ctx_;
+};
+
+}  // namespace
+
+Expected<EniNetwork, LoadError> read_eni_string(std::string_view xml, std::string_view name,
+                                                std::vector<EsiWarning>* warnings) {
+  EsiContext ctx(std::string(name), xml, warnings);
+  pugi::xml_document doc;
+  auto parsed = doc.load_buffer(xml.data(), xml.size());
+  if (!parsed) {
+    LineIndex lines(xml);
+    return ecat::fail(LoadError{std::string(name), lines.line_of(parsed.offset),
+                                fmt::format("XML parse error: {}", parsed.description())});
+  }
+  auto root = doc.child("EtherCATConfig");
+  if (!root) return ecat::fail(LoadError{std::string(name), 0, "not an ENI file: no EtherCATConfig root element"});
+  try {
+    return EniReader(ctx).read(root);
+  } catch (const LoadFailure& f) {
+    return ecat::fail(f.error);
+  }
+}
+
+Expected<EniNetwork, LoadError> read_eni(const std::filesystem::path& path, std::vector<EsiWarning>* warnings) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return ecat::fail(LoadError{path.string(), 0, "cannot open file"});
+  std::ostringstream text;
+  text << in.rdbuf();
+  return read_eni_string(text.str(), path.string(), warnings);
+}
+
+}  // namespace ecat::esi

@@ -1,0 +1,226 @@
+// Networks from an ENI (issue 14 item 4): the chain an ETG.2100 ENI describes
+// runs in one process with the project's master, which sends the ENI's
+// register and CoE InitCmds as a master would and checks every answer (the
+// working counter of each register command, no SDO abort, upload data equal
+// to the ENI's), then brings the chain to Op with the ENI's expected WKC.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "common/clock.hpp"
+#include "esi/device_loader.hpp"
+#include "esi/eni_devices.hpp"
+#include "esi/eni_reader.hpp"
+#include "esi/esi_writer.hpp"
+#include "master/coe_client.hpp"
+#include "master/master.hpp"
+#include "slave/chain.hpp"
+#include "transport/in_memory_transport.hpp"
+
+namespace ecat::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr Nanoseconds kWire = std::chrono::microseconds(5);
+constexpr std::uint16_t kSmAssignOutputs = 0x1C12;
+constexpr std::uint16_t kSmAssignInputs = 0x1C13;
+
+std::string eni_path(const char* name) { return std::string(ECAT_SOURCE_DIR) + "/tests/data/eni/" + name; }
+
+bool in_transition(const std::vector<std::string>& ts, const char* t) {
+  return std::find(ts.begin(), ts.end(), t) != ts.end();
+}
+
+// The chain of an ENI behind the in-memory wire, with a master whose station
+// addresses start at the ENI's first PhysAddr (so the ENI's Adp values hold).
+struct EniBus {
+  explicit EniBus(const esi::EniNetwork& net, const fs::path& esi_dir = {})
+      : master(wire, clock, config_for(net)) {
+    std::vector<esi::EsiWarning> warnings;
+    auto devs = esi::eni_devices(net, esi_dir, &warnings);
+    if (!devs) throw std::runtime_error(devs.error().to_string());
+    for (auto& d : *devs) {
+      sources.push_back(d.esi_file);
+      auto ok = chain.add(std::move(d.device), {});
+      if (!ok) throw std::runtime_error(ok.error());
+    }
+  }
+
+  static master::MasterConfig config_for(const esi::EniNetwork& net) {
+    master::MasterConfig c;
+    if (net.slaves.front().phys_addr) c.first_station_address = *net.slaves.front().phys_addr;
+    return c;
+  }
+
+  // Scan, mailboxes, PreOp; then every PS InitCmd of every slave, register
+  // commands first (ETG.2100: they set up the ESC before the mailbox ones).
+  // Returns "" or what went wrong, naming the ENI line.
+  std::string run_init_cmds(const esi::EniNetwork& net, int& sent) {
+    auto n = master.scan();
+    if (!n || *n != net.slaves.size()) return "scan";
+    for (std::size_t i = 0; i < *n; ++i) {
+      if (net.slaves[i].mailbox && !master.configure_mailbox(i)) return "mailbox";
+      auto st = master.request_state(i, master::AlState::PreOp);
+      if (!st || st->error()) return "preop";
+    }
+    for (std::size_t i = 0; i < *n; ++i) {
+      for (const auto& c : net.slaves[i].init_cmds) {
+        if (!in_transition(c.transitions, "PS")) continue;
+        std::vector<std::uint8_t> data = c.data;
+        auto wkc = master.transact(static_cast<Command>(c.cmd),
+                                   static_cast<std::uint32_t>(c.ado) << 16 | c.adp, data);
+        if (!wkc) return "register InitCmd line " + std::to_string(c.line) + ": no reply";
+        if (c.cnt && *wkc != *c.cnt) {
+          return "register InitCmd line " + std::to_string(c.line) + ": WKC " + std::to_string(*wkc);
+        }
+        ++sent;
+      }
+      master::CoeClient coe(master, i);
+      for (const auto& c : net.slaves[i].coe_init_cmds) {
+        if (!in_transition(c.transitions, "PS")) continue;
+        const std::string where = "slave " + std::to_string(i + 1) + " CoE InitCmd line " + std::to_string(c.line);
+        if (c.ccs == 2) {
+          auto ok = coe.download(c.index, c.subindex, c.data, c.complete_access);
+          if (!ok) return where + ": abort " + std::to_string(static_cast<std::uint32_t>(ok.error().code));
+        } else {
+          auto got = coe.upload(c.index, c.subindex, c.complete_access);
+          if (!got) return where + ": abort " + std::to_string(static_cast<std::uint32_t>(got.error().code));
+          if (*got != c.data) return where + ": upload differs from the ENI's data";
+        }
+        ++sent;
+      }
+    }
+    return "";
+  }
+
+  std::string to_op() {
+    for (std::size_t i = 0; i < master.slave_count(); ++i) {
+      master::CoeClient coe(master, i);
+      if (!coe.read_pdo_sizes()) return "pdo sizes";
+    }
+    if (!master.configure_process_data()) return "process data";
+    for (std::size_t i = 0; i < master.slave_count(); ++i) {
+      auto st = master.request_state(i, master::AlState::SafeOp);
+      if (!st || st->error()) return "safeop slave " + std::to_string(i + 1);
+    }
+    for (int c = 0; c < 10; ++c) cycle();
+    for (std::size_t i = 0; i < master.slave_count(); ++i) {
+      auto st = master.request_state(i, master::AlState::Op);
+      if (!st || st->error()) return "op slave " + std::to_string(i + 1);
+    }
+    return "";
+  }
+
+  Expected<master::CyclicResult, master::MasterError> cycle() {
+    clock.advance(std::chrono::milliseconds(1));
+    (void)chain.poll(clock.now());
+    return master.exchange_process_data();
+  }
+
+  std::vector<std::uint8_t> upload(std::size_t slave, std::uint16_t index, std::uint8_t sub) {
+    master::CoeClient coe(master, slave);
+    auto v = coe.upload(index, sub);
+    return v ? *v : std::vector<std::uint8_t>{};
+  }
+
+  ManualClock clock;
+  slave::Chain chain{clock};
+  transport::InMemoryTransport wire{[this](Bytes frame) {
+    clock.advance(kWire);
+    (void)chain.process_frame(frame, clock.now());
+  }};
+  master::Master master;
+  std::vector<std::string> sources;
+};
+
+// A directory holding the ESI of the built-in generic servo, the ESI the
+// first slave of servo-and-io.xml matches.
+struct EsiDir {
+  EsiDir() {
+    dir = fs::temp_directory_path() / ("ecat-eni-esi-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                                       "-" + std::to_string(reinterpret_cast<std::uintptr_t>(this)));
+    fs::create_directories(dir);
+    auto d = esi::load_default_device();
+    if (!d) throw std::runtime_error(d.error().to_string());
+    std::ofstream(dir / "generic-servo.esi.xml") << esi::write_esi(*d);
+    std::ofstream(dir / "notes.xml") << "<NotAnEsi/>";
+  }
+  ~EsiDir() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  fs::path dir;
+};
+
+TEST(EniChain, SoemSampleInitCmdsAreAcceptedAndTheChainReachesOp) {
+  auto net = esi::read_eni(eni_path("soem-sample-eni.xml"));
+  ASSERT_TRUE(net) << net.error().to_string();
+  EniBus bus(*net);
+  int sent = 0;
+  ASSERT_EQ(bus.run_init_cmds(*net, sent), "");
+  EXPECT_EQ(sent, 5);
+  // What the InitCmds wrote is what the slaves now hold.
+  EXPECT_EQ(bus.upload(0, kSmAssignInputs, 0), (std::vector<std::uint8_t>{0x02}));
+  EXPECT_EQ(bus.upload(0, kSmAssignInputs, 1), (std::vector<std::uint8_t>{0x02, 0x1A}));
+  EXPECT_EQ(bus.upload(0, kSmAssignInputs, 2), (std::vector<std::uint8_t>{0x05, 0x1A}));
+  EXPECT_EQ(bus.upload(1, kSmAssignOutputs, 0), (std::vector<std::uint8_t>{0x03}));
+  EXPECT_EQ(bus.upload(1, kSmAssignOutputs, 1), (std::vector<std::uint8_t>{0x01, 0x16}));
+  EXPECT_EQ(bus.upload(1, kSmAssignOutputs, 2), (std::vector<std::uint8_t>{0x07, 0x16}));
+  EXPECT_EQ(bus.upload(1, kSmAssignOutputs, 3), (std::vector<std::uint8_t>{0x1C, 0x16}));
+  // Identity as the ENI gives it, in the SII and in 1018h.
+  EXPECT_EQ(bus.master.slave(0).sii.product_code, 0x1234u);
+  EXPECT_EQ(bus.master.slave(1).sii.product_code, 0x010055AAu);
+  EXPECT_EQ(bus.upload(1, 0x1018, 2), (std::vector<std::uint8_t>{0xAA, 0x55, 0x00, 0x01}));
+  // The ENI does not describe the PDOs' entries: they are empty, the slaves
+  // exchange no process data and still reach Op.
+  ASSERT_EQ(bus.to_op(), "");
+  for (std::size_t i = 0; i < 2; ++i) {
+    auto st = bus.master.read_al_status(i);
+    ASSERT_TRUE(st);
+    EXPECT_EQ(st->raw, 0x0008) << "slave " << i;
+  }
+}
+
+TEST(EniChain, ServoAndIoRunTheirInitCmdsAndReachOpWithTheEnisWkc) {
+  auto net = esi::read_eni(eni_path("servo-and-io.xml"));
+  ASSERT_TRUE(net) << net.error().to_string();
+  EsiDir esis;
+  EniBus bus(*net, esis.dir);
+  ASSERT_EQ(bus.sources.size(), 2u);
+  EXPECT_EQ(bus.sources[0], (esis.dir / "generic-servo.esi.xml").string());  // dictionary from the ESI
+  EXPECT_EQ(bus.sources[1], "");                                             // synthesised
+  EXPECT_EQ(bus.chain[0].device().identity.serial, 17u);
+  int sent = 0;
+  ASSERT_EQ(bus.run_init_cmds(*net, sent), "");
+  EXPECT_EQ(sent, 6 + 2 + 9);  // servo: 6 CoE; IO: 2 register + 9 CoE (one disabled)
+  EXPECT_EQ(bus.upload(0, 0x6060, 0), (std::vector<std::uint8_t>{0x08}));
+  EXPECT_EQ(bus.upload(1, 0x8000, 1), (std::vector<std::uint8_t>{0x0A, 0x00}));
+  EXPECT_EQ(bus.upload(1, 0x1A00, 2), (std::vector<std::uint8_t>{0x20, 0x02, 0x00, 0x60}));
+  ASSERT_EQ(bus.to_op(), "");
+  std::uint16_t want = 0;
+  for (const auto& c : net->cyclic) want = static_cast<std::uint16_t>(want + c.cnt);
+  EXPECT_EQ(want, 6);
+  EXPECT_EQ(bus.master.expected_wkc(), want);
+  for (int c = 0; c < 100; ++c) {
+    auto r = bus.cycle();
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->wkc, want) << "cycle " << c;
+  }
+  // The process image has the ENI's sizes (ProcessData Send/Recv BitLength):
+  // outputs 112 + 8 bits, inputs 128 + 48.
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& s = net->slaves[i];
+    ASSERT_TRUE(s.send_bit_length && s.recv_bit_length);
+    EXPECT_EQ(bus.master.slave(i).pd.output_bytes * 8u, *s.send_bit_length) << "slave " << i;
+    EXPECT_EQ(bus.master.slave(i).pd.input_bytes * 8u, *s.recv_bit_length) << "slave " << i;
+  }
+  EXPECT_EQ(*net->slaves[0].send_bit_length + *net->slaves[1].send_bit_length, 120u);
+  EXPECT_EQ(*net->slaves[0].recv_bit_length + *net->slaves[1].recv_bit_length, 176u);
+}
+
+}  // namespace
+}  // namespace ecat::test
