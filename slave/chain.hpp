@@ -54,7 +54,9 @@ class Chain {
   Expected<void, std::string> open_trace(const std::string& path);
   // SVG plot of the first drive's motion trace.
   Expected<void, std::string> write_plot(const std::string& path) const;
-  void shutdown() noexcept;
+  // Ends the run: flushes and closes the VCD trace; an error names the file
+  // (a short or failed write included).
+  Expected<void, std::string> shutdown() noexcept;
 
  private:
   void count_returned(std::span<const std::uint8_t> frame) noexcept;
@@ -65,6 +67,7 @@ class Chain {
     void operator()(std::FILE* f) const noexcept { std::fclose(f); }
   };
   std::unique_ptr<std::FILE, FileCloser> trace_file_;
+  std::string trace_path_;
   std::unique_ptr<esc::VcdTrace> trace_;
   esc::Segment segment_;
   ChainStats stats_;

@@ -14,6 +14,7 @@ std::string_view describe(TransportError e) noexcept {
     case TransportError::SendFailed: return "send failed";
     case TransportError::ReceiveFailed: return "receive failed";
     case TransportError::PermissionDenied: return "permission denied";
+    case TransportError::WriteFailed: return "write to the output file failed";
   }
   return "unknown transport error";
 }

@@ -37,6 +37,7 @@ enum class TransportError : std::uint8_t {
   SendFailed = 8,      // OS refused to send
   ReceiveFailed = 9,   // OS refused to receive
   PermissionDenied = 10,
+  WriteFailed = 11,    // an output file took a short or failed write
 };
 
 std::string_view describe(TransportError e) noexcept;

@@ -77,11 +77,17 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
   }
   if (o.rt_priority > 0) {
-    for (auto ok : {set_realtime_priority(o.rt_priority), lock_memory()}) {
-      if (!ok) {
-        std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
-        return 1;
-      }
+    if (auto ok = set_realtime_priority(o.rt_priority); !ok) {
+      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+      return 1;
+    }
+    auto locked = lock_memory();
+    if (!locked) {
+      std::fprintf(stderr, "ecat-slave: %s\n", locked.error().c_str());
+      return 1;
+    }
+    if (*locked == MemoryLock::CurrentOnly && !o.quiet) {
+      std::fprintf(stderr, "ecat-slave: RLIMIT_MEMLOCK cannot be raised: only the memory mapped now is locked\n");
     }
   }
   auto medium = open_medium(o);
@@ -128,12 +134,19 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       std::fputs(format_stats(line).c_str(), stderr);
     }
   }
-  line.shutdown();
+  int status = 0;
+  if (auto ok = line.shutdown(); !ok) {
+    std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    status = 1;
+  }
   if (!o.plot_svg.empty()) {
-    if (auto ok = line.write_plot(o.plot_svg); !ok) std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    if (auto ok = line.write_plot(o.plot_svg); !ok) {
+      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+      status = 1;
+    }
   }
   if (!o.quiet) std::fputs(format_stats(line).c_str(), stderr);
-  return 0;
+  return status;
 }
 
 }  // namespace ecat::app
