@@ -28,6 +28,7 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
 }
 
 bool Chain::pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+  seen_ = std::max(seen_, now);
   ++stats_.frames_received;
   const bool returned = segment_.process_frame(frame, now);
   if (returned) {
@@ -58,12 +59,20 @@ void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
 }
 
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
+  seen_ = std::max(seen_, now);
   std::optional<Nanoseconds> next;
   for (auto& s : slaves_) {
     const auto t = s->poll(now);
     if (t && (!next || *t < *next)) next = t;
   }
   return next;
+}
+
+Nanoseconds Chain::catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept {
+  const Nanoseconds latest = std::max(now, seen_);
+  const Nanoseconds at = arrival ? std::clamp(*arrival, seen_, latest) : latest;
+  (void)poll(at);
+  return at;
 }
 
 Expected<void, std::string> Chain::open_trace(const std::string& path) {

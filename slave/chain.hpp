@@ -43,6 +43,17 @@ class Chain {
   // Timers and firmware of every slave; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
+  // Live runs, where the process may be woken late (issue 19): the time at
+  // which to process a frame that the medium says arrived at `arrival`
+  // (nullopt: not known) while the clock reads `now`. It is the arrival,
+  // kept within [the latest time the chain has seen, now] so the chain's time
+  // never runs backwards, and the timers due by then run first: a SYNC0 that
+  // fell before the frame arrived is seen before it, one that fell after is
+  // not. Pass the frame and run the firmware at the time returned.
+  Nanoseconds catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept;
+  // The latest time the chain has been polled or has passed a frame at.
+  Nanoseconds time_seen() const noexcept { return seen_; }
+
   std::size_t size() const noexcept { return slaves_.size(); }
   VirtualSlave& operator[](std::size_t i) noexcept { return *slaves_[i]; }
   const VirtualSlave& operator[](std::size_t i) const noexcept { return *slaves_[i]; }
@@ -71,6 +82,7 @@ class Chain {
   std::unique_ptr<esc::VcdTrace> trace_;
   esc::Segment segment_;
   ChainStats stats_;
+  Nanoseconds seen_{Nanoseconds::min()};
 };
 
 }  // namespace ecat::slave

@@ -10,6 +10,8 @@
 #include <memory>
 #include <string>
 
+#include "transport/socket_timestamp.hpp"
+
 namespace ecat::transport {
 
 namespace {
@@ -39,6 +41,8 @@ Expected<void, TransportError> open_socket(const UdpEndpoint& ep, bool passive,
   for (addrinfo* a = list; a != nullptr; a = a->ai_next) {
     UniqueFd fd(::socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, a->ai_protocol));
     if (!fd.valid()) continue;
+    // Kernel receive timestamps: best effort (without them frames carry no arrival time).
+    (void)enable_receive_timestamps(fd.get());
     out = std::move(fd);
     chosen = *a;
     std::memcpy(&addr, a->ai_addr, a->ai_addrlen);
@@ -138,14 +142,28 @@ Expected<void, TransportError> UdpTransport::send(ConstBytes frame) {
 }
 
 Expected<std::size_t, TransportError> UdpTransport::receive(Bytes buffer, Nanoseconds timeout) {
+  auto r = receive_stamped(buffer, timeout);
+  if (!r) return fail(r.error());
+  return r->length;
+}
+
+Expected<Received, TransportError> UdpTransport::receive_stamped(Bytes buffer, Nanoseconds timeout) {
   if (!fd_.valid()) return fail(TransportError::NotOpen);
   if (buffer.size() < kEthernetHeaderSize) return fail(TransportError::BufferTooSmall);
   if (auto w = wait_readable(fd_.get(), timeout); !w) return fail(w.error());
   sockaddr_storage from{};
-  socklen_t from_len = sizeof from;
   const Bytes payload = buffer.subspan(kEthernetHeaderSize);
-  const ssize_t n = ::recvfrom(fd_.get(), payload.data(), payload.size(), MSG_TRUNC,
-                               reinterpret_cast<sockaddr*>(&from), &from_len);
+  iovec iov{payload.data(), payload.size()};
+  alignas(cmsghdr) std::uint8_t control[kTimestampControlSize];
+  msghdr msg{};
+  msg.msg_name = &from;
+  msg.msg_namelen = sizeof from;
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
+  const ssize_t n = ::recvmsg(fd_.get(), &msg, MSG_TRUNC);
+  const socklen_t from_len = msg.msg_namelen;
   if (n < 0) {
     last_errno_ = errno;
     // A connected UDP socket reports an ICMP "port unreachable" here: no slave yet.
@@ -165,7 +183,7 @@ Expected<std::size_t, TransportError> UdpTransport::receive(Bytes buffer, Nanose
   std::memset(buffer.data() + kMacSize, 0x00, kMacSize);     // source: unknown
   buffer[kEtherTypeOffset] = static_cast<std::uint8_t>(kEtherTypeEthercat >> 8);
   buffer[kEtherTypeOffset + 1] = static_cast<std::uint8_t>(kEtherTypeEthercat & 0xFF);
-  return kEthernetHeaderSize + static_cast<std::size_t>(n);
+  return Received{kEthernetHeaderSize + static_cast<std::size_t>(n), arrival_time(msg)};
 }
 
 }  // namespace ecat::transport
