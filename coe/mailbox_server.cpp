@@ -185,13 +185,23 @@ std::size_t MailboxServer::next_fragment(int slot, std::uint16_t sm1_length) noe
     continuing_ = nullptr;
     return 0;
   }
+  reply_header(continuing_->type(), n, continuing_header_).pack({written_[slot].data(), MailboxHeader::kSize});
+  return MailboxHeader::kSize + n;
+}
+
+// A reply goes back to whoever sent the request: the request's Address (0
+// from a plain master; a gateway's tag otherwise, ETG.8200) and priority; the
+// channel is always 0, the only one defined (ETG.1000.4 §5.6).
+MailboxHeader MailboxServer::reply_header(MailboxType type, std::size_t payload_length,
+                                          const MailboxHeader& to) noexcept {
   reply_counter_ = MailboxHeader::next_counter(reply_counter_);
   MailboxHeader h;
-  h.length = static_cast<std::uint16_t>(n);
-  h.type = static_cast<std::uint8_t>(continuing_->type());
+  h.length = static_cast<std::uint16_t>(payload_length);
+  h.address = to.address;
+  h.priority = to.priority;
+  h.type = static_cast<std::uint8_t>(type);
   h.counter = reply_counter_;
-  h.pack({written_[slot].data(), MailboxHeader::kSize});
-  return MailboxHeader::kSize + n;
+  return h;
 }
 
 void MailboxServer::receive(const SmRegs& sm0) noexcept {
@@ -207,6 +217,7 @@ void MailboxServer::receive(const SmRegs& sm0) noexcept {
     return;
   }
   last_request_counter_ = header->counter;
+  request_header_ = *header;
   if (header->length > sm0.length - MailboxHeader::kSize) return queue_error(MailboxError::InvalidSize);
   if (header->length == 0 || header->type == static_cast<std::uint8_t>(MailboxType::Error)) {
     return queue_error(MailboxError::InvalidHeader);
@@ -226,15 +237,11 @@ void MailboxServer::dispatch(const MailboxHeader& header, ConstBytes payload) no
   if (!n) return queue_error(n.error());
   if (*n > 0) queue_reply(service->type(), *n);
   continuing_ = service;
+  continuing_header_ = header;
 }
 
 void MailboxServer::queue_reply(MailboxType type, std::size_t payload_length) noexcept {
-  reply_counter_ = MailboxHeader::next_counter(reply_counter_);
-  MailboxHeader h;
-  h.length = static_cast<std::uint16_t>(payload_length);
-  h.type = static_cast<std::uint8_t>(type);
-  h.counter = reply_counter_;
-  h.pack({reply_.data(), MailboxHeader::kSize});
+  reply_header(type, payload_length, request_header_).pack({reply_.data(), MailboxHeader::kSize});
   const std::size_t length = MailboxHeader::kSize + payload_length;
   (void)queue_.push_back({reply_.data(), length});
 }
@@ -250,12 +257,9 @@ Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes pa
   if (!open_ || unsolicited_.full()) return fail(MailboxError::NoMoreMemory);
   if (payload.size() + MailboxHeader::kSize > sm1_length_) return fail(MailboxError::InvalidSize);
   std::uint8_t header[MailboxHeader::kSize];
-  reply_counter_ = MailboxHeader::next_counter(reply_counter_);
-  MailboxHeader h;
-  h.length = static_cast<std::uint16_t>(payload.size());
-  h.type = static_cast<std::uint8_t>(type);
-  h.counter = reply_counter_;
-  h.pack(header);
+  // The slave is the client of an unsolicited message: Address 0, the
+  // master, and never a gateway's tag (docs/coe.md "Mailbox header of replies").
+  reply_header(type, payload.size(), MailboxHeader{}).pack(header);
   // Build in SM1 image scratch: poll() is not running (single-threaded).
   std::memcpy(sm1_image_.data(), header, MailboxHeader::kSize);
   if (!payload.empty()) std::memcpy(sm1_image_.data() + MailboxHeader::kSize, payload.data(), payload.size());

@@ -18,6 +18,11 @@
 // out only when no request is waiting for its reply and no segmented
 // transfer is in progress, so a master never finds one in place of a reply. The mailbox is open in PreOp, SafeOp and Op (and Bootstrap for
 // services that say so).
+// Every reply to a request (mailbox error replies and SDO information
+// fragments included) carries the request's Address and priority, channel 0
+// (ETG.1000.4 §5.6, ETG.8200: a gateway matches replies on the address);
+// unsolicited messages carry Address 0, priority 0 (docs/coe.md "Mailbox
+// header of replies").
 #pragma once
 
 #include <array>
@@ -88,6 +93,7 @@ class MailboxServer {
   void receive(const SmRegs& sm0) noexcept;
   void dispatch(const MailboxHeader& header, ConstBytes payload) noexcept;
   void queue_reply(MailboxType type, std::size_t payload_length) noexcept;
+  MailboxHeader reply_header(MailboxType type, std::size_t payload_length, const MailboxHeader& to) noexcept;
   void queue_error(MailboxError error) noexcept;
   MailboxService* find(std::uint8_t type) const noexcept;
 
@@ -98,6 +104,8 @@ class MailboxServer {
   std::array<MailboxService*, kMaxServices> services_{};
   std::size_t service_count_ = 0;
   MailboxService* continuing_ = nullptr;  // service with more replies to give
+  MailboxHeader request_header_;          // of the request being answered: its address and priority
+  MailboxHeader continuing_header_;       // of the request continuing_ answers
 
   od::EsmState state_ = od::EsmState::Init;
   bool open_ = false;

@@ -113,16 +113,23 @@ std::size_t SdoServer::initiate_download(std::uint8_t cmd, std::uint16_t index, 
     if (auto ok = commit(index, sub, ca, data4.first(n), state); !ok) return abort(reply, index, sub, ok.error());
     return initiate_reply(reply, sdo::command(sdo::kScsInitiateDownload), index, sub);
   }
-  // Normal transfer: complete size, then as much data as fits this frame.
-  const std::size_t size = load_le<std::uint32_t>(data4.data());
-  if (!(cmd & sdo::kSizeIndicated)) return abort(reply, index, sub, SdoAbort::CommandSpecifier);
+  // Normal transfer (ETG.1000.6 §5.6.2.1): the complete-size field, then as
+  // much data as fits this frame. s = 0 is "size not indicated" (CiA 301
+  // §7.2.4.3.3), a valid request (KickCAT sends 0x20/0x30 with the size in the
+  // field): a non-zero field is still the complete size; a zero field means
+  // the data is what arrives, this frame's own or, when it carries none, the
+  // segments up to the one marked last (docs/coe.md "Normal download, s = 0").
+  const std::size_t field = load_le<std::uint32_t>(data4.data());
+  const ConstBytes first = request.subspan(sdo::kHeaderSize);
+  const bool size_indicated = (cmd & sdo::kSizeIndicated) || field != 0;
+  const bool open_ended = !size_indicated && first.empty();
+  const std::size_t size = size_indicated ? field : open_ended ? capacity : first.size();
   if (size > capacity) return abort(reply, index, sub, SdoAbort::LengthTooHigh);
-  if (!ca && !store_.slot(index, sub)->variable() && size < capacity) {
+  if (!open_ended && !ca && !store_.slot(index, sub)->variable() && size < capacity) {
     return abort(reply, index, sub, SdoAbort::LengthTooLow);
   }
-  const ConstBytes first = request.subspan(sdo::kHeaderSize);
   if (first.size() > size) return abort(reply, index, sub, SdoAbort::LengthMismatch);
-  if (first.size() == size) {
+  if (first.size() == size && !open_ended) {
     if (auto ok = commit(index, sub, ca, first.first(size), state); !ok) return abort(reply, index, sub, ok.error());
   } else {
     std::memcpy(buffer_.data(), first.data(), first.size());
@@ -132,6 +139,7 @@ std::size_t SdoServer::initiate_download(std::uint8_t cmd, std::uint16_t index, 
     complete_access_ = ca;
     toggle_ = false;
     size_ = size;
+    size_known_ = !open_ended;
     offset_ = first.size();
   }
   return initiate_reply(reply, sdo::command(sdo::kScsInitiateDownload), index, sub);
@@ -152,8 +160,8 @@ std::size_t SdoServer::download_segment(std::uint8_t cmd, ConstBytes request, By
   toggle_ = !toggle_;
   if (cmd & sdo::kLastSegment) {
     transfer_ = Transfer::None;
-    if (offset_ != size_) return abort(reply, index_, subindex_, SdoAbort::LengthTooLow);
-    if (auto ok = commit(index_, subindex_, complete_access_, {buffer_.data(), size_}, state); !ok) {
+    if (size_known_ && offset_ != size_) return abort(reply, index_, subindex_, SdoAbort::LengthTooLow);
+    if (auto ok = commit(index_, subindex_, complete_access_, {buffer_.data(), offset_}, state); !ok) {
       return abort(reply, index_, subindex_, ok.error());
     }
   }

@@ -56,7 +56,8 @@ class SdoServer {
   std::uint8_t subindex_ = 0;
   bool complete_access_ = false;
   bool toggle_ = false;
-  std::size_t size_ = 0;    // complete size
+  std::size_t size_ = 0;    // complete size (the buffer's room when not indicated)
+  bool size_known_ = true;  // false: a download whose size only its last segment tells
   std::size_t offset_ = 0;  // bytes received / sent
 };
 

@@ -1,12 +1,16 @@
 #include "ds402/motion_trace.hpp"
 
 #include <array>
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <cstdlib>
 #include <type_traits>
 #include <fstream>
 #include <limits>
 #include <string_view>
+
+#include <fmt/format.h>
 
 namespace ecat::ds402 {
 
@@ -31,9 +35,11 @@ void MotionTrace::write_csv(std::ostream& os) const {
 
 Expected<void, std::string> MotionTrace::write_csv(const std::string& path) const {
   std::ofstream f(path);
-  if (!f) return fail("cannot open " + path + " for writing");
+  if (!f) return fail(fmt::format("cannot open {} for writing: {}", path, std::strerror(errno)));
   write_csv(f);
-  if (!f) return fail("cannot write " + path);
+  // A write the buffer still holds fails only when it is flushed: close and check.
+  f.close();
+  if (!f) return fail(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
   return {};
 }
 

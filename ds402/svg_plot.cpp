@@ -1,10 +1,14 @@
 #include "ds402/svg_plot.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string_view>
+
+#include <fmt/format.h>
 
 #include "ds402/statusword.hpp"
 
@@ -149,9 +153,11 @@ std::string svg_plot(std::span<const TraceRow> rows, const std::string& title) {
 Expected<void, std::string> write_svg_plot(std::span<const TraceRow> rows, const std::string& path,
                                            const std::string& title) {
   std::ofstream f(path);
-  if (!f) return fail("cannot open " + path + " for writing");
+  if (!f) return fail(fmt::format("cannot open {} for writing: {}", path, std::strerror(errno)));
   f << svg_plot(rows, title);
-  if (!f) return fail("cannot write " + path);
+  // A write the buffer still holds fails only when it is flushed: close and check.
+  f.close();
+  if (!f) return fail(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
   return {};
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/clock.hpp"
+#include "common/expected.hpp"
 #include "esc/al_status_code.hpp"
 
 namespace ecat::slave {
@@ -17,8 +18,12 @@ class Application {
   virtual void cycle(Nanoseconds dt, bool outputs_valid) noexcept = 0;
   // The ESM changed state (e.g. leaving Op: outputs are no longer valid).
   virtual void on_state(esc::AlState state) noexcept { (void)state; }
-  // Motion trace / plot, for applications that have one.
-  virtual bool write_plot(const std::string& path) const { (void)path; return false; }
+  // Motion trace / plot, for applications that record one.
+  virtual bool has_motion_trace() const noexcept { return false; }
+  // Writes it; an error names the file and says why (a short write included).
+  virtual Expected<void, std::string> write_plot(const std::string& path) const {
+    return fail(path + ": this slave records no motion trace");
+  }
 };
 
 }  // namespace ecat::slave

@@ -1,6 +1,9 @@
 #include "slave/chain.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 #include <fmt/format.h>
 
@@ -25,6 +28,7 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
 }
 
 bool Chain::pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+  seen_ = std::max(seen_, now);
   ++stats_.frames_received;
   const bool returned = segment_.process_frame(frame, now);
   if (returned) {
@@ -55,6 +59,7 @@ void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
 }
 
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
+  seen_ = std::max(seen_, now);
   std::optional<Nanoseconds> next;
   for (auto& s : slaves_) {
     const auto t = s->poll(now);
@@ -63,9 +68,17 @@ std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
   return next;
 }
 
+Nanoseconds Chain::catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept {
+  const Nanoseconds latest = std::max(now, seen_);
+  const Nanoseconds at = arrival ? std::clamp(*arrival, seen_, latest) : latest;
+  (void)poll(at);
+  return at;
+}
+
 Expected<void, std::string> Chain::open_trace(const std::string& path) {
   trace_file_.reset(std::fopen(path.c_str(), "w"));
-  if (!trace_file_) return fail(fmt::format("{}: cannot open for writing", path));
+  if (!trace_file_) return fail(fmt::format("{}: cannot open for writing: {}", path, std::strerror(errno)));
+  trace_path_ = path;
   std::vector<std::string> names;
   for (std::size_t i = 0; i < slaves_.size(); ++i) names.push_back(fmt::format("slave{}", i + 1));
   trace_ = std::make_unique<esc::VcdTrace>(trace_file_.get(), names, clock_);
@@ -74,17 +87,27 @@ Expected<void, std::string> Chain::open_trace(const std::string& path) {
 }
 
 Expected<void, std::string> Chain::write_plot(const std::string& path) const {
+  // The first drive that records a trace writes it; a failed write is that
+  // error (it names the file), never "no trace" (issue 19).
   for (const auto& s : slaves_) {
     Application* app = s->firmware().application();
-    if (app && app->write_plot(path)) return {};
+    if (app && app->has_motion_trace()) return app->write_plot(path);
   }
-  return fail(fmt::format("{}: no drive in the chain has a motion trace", path));
+  return fail(fmt::format("{}: not written: no slave of the chain records a motion trace (a CiA402 drive as the first slave does)", path));
 }
 
-void Chain::shutdown() noexcept {
+Expected<void, std::string> Chain::shutdown() noexcept {
   for (auto& s : slaves_) s->shutdown();
-  if (trace_) trace_->flush();
-  if (trace_file_) std::fflush(trace_file_.get());
+  if (!trace_file_) return {};
+  const bool written = trace_->finish();
+  // fclose flushes what stdio still holds: its result is the last word.
+  const bool closed = std::fclose(trace_file_.release()) == 0;
+  if (written && closed) return {};
+  try {
+    return fail(fmt::format("cannot write {}: {}", trace_path_, std::strerror(errno)));
+  } catch (...) {
+    return fail(std::string("cannot write the VCD trace"));
+  }
 }
 
 }  // namespace ecat::slave

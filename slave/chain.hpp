@@ -43,6 +43,17 @@ class Chain {
   // Timers and firmware of every slave; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
+  // Live runs, where the process may be woken late (issue 19): the time at
+  // which to process a frame that the medium says arrived at `arrival`
+  // (nullopt: not known) while the clock reads `now`. It is the arrival,
+  // kept within [the latest time the chain has seen, now] so the chain's time
+  // never runs backwards, and the timers due by then run first: a SYNC0 that
+  // fell before the frame arrived is seen before it, one that fell after is
+  // not. Pass the frame and run the firmware at the time returned.
+  Nanoseconds catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept;
+  // The latest time the chain has been polled or has passed a frame at.
+  Nanoseconds time_seen() const noexcept { return seen_; }
+
   std::size_t size() const noexcept { return slaves_.size(); }
   VirtualSlave& operator[](std::size_t i) noexcept { return *slaves_[i]; }
   const VirtualSlave& operator[](std::size_t i) const noexcept { return *slaves_[i]; }
@@ -54,7 +65,9 @@ class Chain {
   Expected<void, std::string> open_trace(const std::string& path);
   // SVG plot of the first drive's motion trace.
   Expected<void, std::string> write_plot(const std::string& path) const;
-  void shutdown() noexcept;
+  // Ends the run: flushes and closes the VCD trace; an error names the file
+  // (a short or failed write included).
+  Expected<void, std::string> shutdown() noexcept;
 
  private:
   void count_returned(std::span<const std::uint8_t> frame) noexcept;
@@ -65,9 +78,11 @@ class Chain {
     void operator()(std::FILE* f) const noexcept { std::fclose(f); }
   };
   std::unique_ptr<std::FILE, FileCloser> trace_file_;
+  std::string trace_path_;
   std::unique_ptr<esc::VcdTrace> trace_;
   esc::Segment segment_;
   ChainStats stats_;
+  Nanoseconds seen_{Nanoseconds::min()};
 };
 
 }  // namespace ecat::slave

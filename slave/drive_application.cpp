@@ -64,8 +64,9 @@ class DriveApplication final : public Application {
     if (tracing_) trace_.record(std::chrono::duration<double>(elapsed_).count(), in_, out_);
   }
 
-  bool write_plot(const std::string& path) const override {
-    return tracing_ && static_cast<bool>(ds402::write_svg_plot(trace_.rows(), path));
+  bool has_motion_trace() const noexcept override { return tracing_; }
+  Expected<void, std::string> write_plot(const std::string& path) const override {
+    return ds402::write_svg_plot(trace_.rows(), path);
   }
 
  private:

@@ -61,8 +61,14 @@ Expected<void, TransportError> PcapWriter::write(ConstBytes frame, Nanoseconds t
   return {};
 }
 
-void PcapWriter::flush() noexcept {
-  if (dumper_ != nullptr) ::pcap_dump_flush(dumper_);
+Expected<void, TransportError> PcapWriter::flush() noexcept {
+  if (dumper_ == nullptr) return fail(TransportError::NotOpen);
+  // pcap_dump() reports nothing: a short write shows in the flush or the
+  // stream's error flag.
+  if (::pcap_dump_flush(dumper_) != 0 || std::ferror(::pcap_dump_file(dumper_))) {
+    return fail(TransportError::WriteFailed);
+  }
+  return {};
 }
 
 Expected<PcapReader, TransportError> PcapReader::open(const std::string& path) {

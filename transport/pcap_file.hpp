@@ -29,7 +29,8 @@ class PcapWriter {
   ~PcapWriter();
 
   Expected<void, TransportError> write(ConstBytes frame, Nanoseconds timestamp);
-  void flush() noexcept;
+  // Writes what is buffered; WriteFailed when any write came up short.
+  Expected<void, TransportError> flush() noexcept;
   std::size_t records() const noexcept { return records_; }
 
  private:

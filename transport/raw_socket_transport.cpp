@@ -1,5 +1,7 @@
 #include "transport/raw_socket_transport.hpp"
 
+#include "transport/socket_timestamp.hpp"
+
 #include <arpa/inet.h>
 #include <grp.h>
 #include <linux/if_packet.h>
@@ -55,6 +57,8 @@ Expected<RawSocketTransport, TransportError> RawSocketTransport::open(std::strin
       return fail(open_error(errno));
     }
   }
+  // Kernel receive timestamps: best effort (without them frames carry no arrival time).
+  (void)enable_receive_timestamps(fd.get());
   // Drop whatever arrived between socket() and bind() on other interfaces.
   std::uint8_t scratch[kMaxFrameSize];
   while (::recv(fd.get(), scratch, sizeof scratch, MSG_DONTWAIT) >= 0) {
@@ -78,13 +82,26 @@ Expected<void, TransportError> RawSocketTransport::send(ConstBytes frame) {
 }
 
 Expected<std::size_t, TransportError> RawSocketTransport::receive(Bytes buffer, Nanoseconds timeout) {
+  auto r = receive_stamped(buffer, timeout);
+  if (!r) return fail(r.error());
+  return r->length;
+}
+
+Expected<Received, TransportError> RawSocketTransport::receive_stamped(Bytes buffer, Nanoseconds timeout) {
   if (!fd_.valid()) return fail(TransportError::NotOpen);
   if (auto w = wait_readable(fd_.get(), timeout); !w) return fail(w.error());
   sockaddr_ll from{};
-  socklen_t from_len = sizeof from;
+  iovec iov{buffer.data(), buffer.size()};
+  alignas(cmsghdr) std::uint8_t control[kTimestampControlSize];
+  msghdr msg{};
+  msg.msg_name = &from;
+  msg.msg_namelen = sizeof from;
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
   // MSG_TRUNC: the return value is the real length, so a short buffer is detected.
-  const ssize_t n = ::recvfrom(fd_.get(), buffer.data(), buffer.size(), MSG_TRUNC,
-                               reinterpret_cast<sockaddr*>(&from), &from_len);
+  const ssize_t n = ::recvmsg(fd_.get(), &msg, MSG_TRUNC);
   if (n < 0) {
     last_errno_ = errno;
     if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return fail(TransportError::Timeout);
@@ -92,7 +109,7 @@ Expected<std::size_t, TransportError> RawSocketTransport::receive(Bytes buffer, 
   }
   if (!ignore_outgoing_ && from.sll_pkttype == PACKET_OUTGOING) return fail(TransportError::Timeout);
   if (static_cast<std::size_t>(n) > buffer.size()) return fail(TransportError::BufferTooSmall);
-  return static_cast<std::size_t>(n);
+  return Received{static_cast<std::size_t>(n), arrival_time(msg)};
 }
 
 Expected<void, TransportError> drop_privileges(uid_t uid, gid_t gid) noexcept {

@@ -27,6 +27,8 @@ class RawSocketTransport final : public Transport {
 
   Expected<void, TransportError> send(ConstBytes frame) override;
   Expected<std::size_t, TransportError> receive(Bytes buffer, Nanoseconds timeout) override;
+  // With the kernel's receive timestamp (SO_TIMESTAMPNS).
+  Expected<Received, TransportError> receive_stamped(Bytes buffer, Nanoseconds timeout) override;
 
   const std::string& interface_name() const noexcept { return name_; }
   int interface_index() const noexcept { return ifindex_; }

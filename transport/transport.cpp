@@ -15,6 +15,7 @@ std::string_view describe(TransportError e) noexcept {
     case TransportError::ReceiveFailed: return "receive failed";
     case TransportError::PermissionDenied: return "permission denied";
     case TransportError::Dropped: return "datagram dropped (source not allowed or length mismatch)";
+    case TransportError::WriteFailed: return "write to the output file failed";
   }
   return "unknown transport error";
 }

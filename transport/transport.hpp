@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 #include "common/clock.hpp"
@@ -38,6 +39,7 @@ enum class TransportError : std::uint8_t {
   ReceiveFailed = 9,   // OS refused to receive
   PermissionDenied = 10,
   Dropped = 11,        // a datagram arrived and was dropped by policy (UDP device side: source, length)
+  WriteFailed = 12,    // an output file took a short or failed write
 };
 
 std::string_view describe(TransportError e) noexcept;
@@ -48,6 +50,14 @@ constexpr std::uint16_t ether_type_of(ConstBytes frame) noexcept {
   return static_cast<std::uint16_t>((frame[kEtherTypeOffset] << 8) | frame[kEtherTypeOffset + 1]);
 }
 
+// A frame taken from the medium: its length and, where the medium stamps
+// frames (the kernel does on sockets: transport/socket_timestamp.hpp), when
+// it arrived, on the steady clock (SteadyClock's time base).
+struct Received {
+  std::size_t length = 0;
+  std::optional<Nanoseconds> arrival;
+};
+
 class Transport {
  public:
   virtual ~Transport() = default;
@@ -56,6 +66,13 @@ class Transport {
   // Waits at most `timeout` for one frame and copies it into `buffer`;
   // returns its length. A zero timeout polls.
   virtual Expected<std::size_t, TransportError> receive(Bytes buffer, Nanoseconds timeout) = 0;
+  // receive() that also says when the frame arrived. Media that know no
+  // arrival time (in-memory, pcap: they keep their own time) leave it empty.
+  virtual Expected<Received, TransportError> receive_stamped(Bytes buffer, Nanoseconds timeout) {
+    auto n = receive(buffer, timeout);
+    if (!n) return fail(n.error());
+    return Received{*n, std::nullopt};
+  }
 };
 
 }  // namespace ecat::transport

@@ -12,6 +12,8 @@
 #include <memory>
 #include <string>
 
+#include "transport/socket_timestamp.hpp"
+
 namespace ecat::transport {
 
 namespace {
@@ -41,6 +43,8 @@ Expected<void, TransportError> open_socket(const UdpEndpoint& ep, bool passive,
   for (addrinfo* a = list; a != nullptr; a = a->ai_next) {
     UniqueFd fd(::socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, a->ai_protocol));
     if (!fd.valid()) continue;
+    // Kernel receive timestamps: best effort (without them frames carry no arrival time).
+    (void)enable_receive_timestamps(fd.get());
     out = std::move(fd);
     chosen = *a;
     std::memcpy(&addr, a->ai_addr, a->ai_addrlen);
@@ -125,6 +129,7 @@ Expected<UdpTransport, TransportError> UdpTransport::bind_loopback(std::uint16_t
   v4.sin_port = htons(port);
   UniqueFd fd4(::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
   if (!fd4.valid()) return fail(TransportError::OpenFailed);
+  (void)enable_receive_timestamps(fd4.get());  // best effort, as open_socket
   if (auto b = bind_socket(fd4, reinterpret_cast<const sockaddr*>(&v4), sizeof v4); !b) return fail(b.error());
   UdpTransport t(std::move(fd4), false);
   sockaddr_in6 v6{};
@@ -138,6 +143,7 @@ Expected<UdpTransport, TransportError> UdpTransport::bind_loopback(std::uint16_t
   }
   int one = 1;
   (void)::setsockopt(fd6.get(), IPPROTO_IPV6, IPV6_V6ONLY, &one, sizeof one);
+  (void)enable_receive_timestamps(fd6.get());
   if (auto b = bind_socket(fd6, reinterpret_cast<const sockaddr*>(&v6), sizeof v6); !b) {
     // ::1 absent (IPv6 disabled on lo): 127.0.0.1 alone. Anything else
     // (port taken on ::1) is an error: the slave would be half reachable.
@@ -238,15 +244,29 @@ Expected<std::size_t, TransportError> UdpTransport::wait_any(Nanoseconds timeout
 }
 
 Expected<std::size_t, TransportError> UdpTransport::receive(Bytes buffer, Nanoseconds timeout) {
+  auto r = receive_stamped(buffer, timeout);
+  if (!r) return fail(r.error());
+  return r->length;
+}
+
+Expected<Received, TransportError> UdpTransport::receive_stamped(Bytes buffer, Nanoseconds timeout) {
   if (count_ == 0 || !fds_[0].valid()) return fail(TransportError::NotOpen);
   if (buffer.size() < kEthernetHeaderSize) return fail(TransportError::BufferTooSmall);
   auto which = wait_any(timeout);
   if (!which) return fail(which.error());
   sockaddr_storage from{};
-  socklen_t from_len = sizeof from;
   const Bytes payload = buffer.subspan(kEthernetHeaderSize);
-  const ssize_t n = ::recvfrom(fds_[*which].get(), payload.data(), payload.size(), MSG_TRUNC,
-                               reinterpret_cast<sockaddr*>(&from), &from_len);
+  iovec iov{payload.data(), payload.size()};
+  alignas(cmsghdr) std::uint8_t control[kTimestampControlSize];
+  msghdr msg{};
+  msg.msg_name = &from;
+  msg.msg_namelen = sizeof from;
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
+  const ssize_t n = ::recvmsg(fds_[*which].get(), &msg, MSG_TRUNC);
+  const socklen_t from_len = msg.msg_namelen;
   if (n < 0) {
     last_errno_ = errno;
     // A connected UDP socket reports an ICMP "port unreachable" here: no slave yet.
@@ -280,7 +300,7 @@ Expected<std::size_t, TransportError> UdpTransport::receive(Bytes buffer, Nanose
   std::memset(buffer.data() + kMacSize, 0x00, kMacSize);     // source: unknown
   buffer[kEtherTypeOffset] = static_cast<std::uint8_t>(kEtherTypeEthercat >> 8);
   buffer[kEtherTypeOffset + 1] = static_cast<std::uint8_t>(kEtherTypeEthercat & 0xFF);
-  return kEthernetHeaderSize + size;
+  return Received{kEthernetHeaderSize + size, arrival_time(msg)};
 }
 
 }  // namespace ecat::transport

@@ -68,6 +68,8 @@ class UdpTransport final : public Transport {
 
   Expected<void, TransportError> send(ConstBytes frame) override;
   Expected<std::size_t, TransportError> receive(Bytes buffer, Nanoseconds timeout) override;
+  // With the kernel's receive timestamp (SO_TIMESTAMPNS).
+  Expected<Received, TransportError> receive_stamped(Bytes buffer, Nanoseconds timeout) override;
 
   std::uint16_t local_port() const noexcept;
   std::size_t socket_count() const noexcept { return count_; }

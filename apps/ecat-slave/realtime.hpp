@@ -10,7 +10,10 @@
 namespace ecat::app {
 
 Expected<void, std::string> set_realtime_priority(int priority);
-Expected<void, std::string> lock_memory();
+// How much lock_memory() could lock: everything, now and later (the memlock
+// limit was raised), or only the pages mapped now (it could not be).
+enum class MemoryLock { CurrentAndFuture, CurrentOnly };
+Expected<MemoryLock, std::string> lock_memory();
 Expected<void, std::string> pin_to_cpu(int cpu);
 
 }  // namespace ecat::app

@@ -119,11 +119,17 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
   }
   if (o.rt_priority > 0) {
-    for (auto ok : {set_realtime_priority(o.rt_priority), lock_memory()}) {
-      if (!ok) {
-        std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
-        return 1;
-      }
+    if (auto ok = set_realtime_priority(o.rt_priority); !ok) {
+      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+      return 1;
+    }
+    auto locked = lock_memory();
+    if (!locked) {
+      std::fprintf(stderr, "ecat-slave: %s\n", locked.error().c_str());
+      return 1;
+    }
+    if (*locked == MemoryLock::CurrentOnly && !o.quiet) {
+      std::fprintf(stderr, "ecat-slave: RLIMIT_MEMLOCK cannot be raised: only the memory mapped now is locked\n");
     }
   }
   auto medium = open_medium(o);
@@ -144,40 +150,63 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   const Nanoseconds stats_period{static_cast<std::int64_t>(o.stats_seconds * 1e9)};
   Nanoseconds next_stats = clock.now() + stats_period;
 
+  // Time moves on to the clock only when no frame waits: frames that queued
+  // while the process was not scheduled are each processed at the time the
+  // kernel stamped them, after the timers due before them (Chain::catch_up),
+  // so a late wake-up does not reorder SYNC0 events and frames, and the DC
+  // latches and watchdogs see when a frame arrived (docs/e2e.md "Live timing").
+  std::optional<Nanoseconds> deadline = line.poll(clock.now());
+  bool drained = true;
   while (!g_stop) {
-    Nanoseconds now = clock.now();
     Nanoseconds wait = kMaxWait;
-    if (auto deadline = line.poll(now)) wait = std::clamp(*deadline - now, Nanoseconds{0}, kMaxWait);
-    if (o.busy_poll) wait = Nanoseconds{0};
-    auto n = t.receive(buffer, wait);
-    if (n) {
-      std::span<std::uint8_t> frame(buffer.data(), *n);
+    if (!drained || o.busy_poll) {
+      wait = Nanoseconds{0};
+    } else if (deadline) {
+      wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
+    }
+    auto r = t.receive_stamped(buffer, wait);
+    if (r) {
+      const Nanoseconds at = line.catch_up(r->arrival, clock.now());
+      std::span<std::uint8_t> frame(buffer.data(), r->length);
       // The frame goes back as soon as the ESCs are done with it; the
       // firmware reacts afterwards, as a µC behind a real ESC does.
-      if (line.pass_frame(frame, clock.now())) {
+      if (line.pass_frame(frame, at)) {
         if (auto s = t.send(frame); !s && !o.quiet) {
           std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
         }
       }
-      line.run_firmware(clock.now());
-    } else if (n.error() != transport::TransportError::Timeout &&
-               n.error() != transport::TransportError::BufferTooSmall &&
-               n.error() != transport::TransportError::Dropped) {
-      std::fprintf(stderr, "ecat-slave: receive failed: %s\n", std::string(transport::describe(n.error())).c_str());
+      line.run_firmware(at);
+      drained = false;  // look for the next queued frame before time moves on
+      continue;
+    }
+    // A datagram dropped by policy (UDP source or length) is no error: time
+    // moves on below, so a flood of refused datagrams cannot stall the timers.
+    if (r.error() != transport::TransportError::Timeout && r.error() != transport::TransportError::BufferTooSmall &&
+        r.error() != transport::TransportError::Dropped) {
+      std::fprintf(stderr, "ecat-slave: receive failed: %s\n", std::string(transport::describe(r.error())).c_str());
       break;
     }
+    drained = r.error() == transport::TransportError::Timeout;
+    deadline = line.poll(clock.now());
     if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
       g_print_stats = 0;
       next_stats = clock.now() + stats_period;
       print_stats(line, medium->udp);
     }
   }
-  line.shutdown();
+  int status = 0;
+  if (auto ok = line.shutdown(); !ok) {
+    std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    status = 1;
+  }
   if (!o.plot_svg.empty()) {
-    if (auto ok = line.write_plot(o.plot_svg); !ok) std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    if (auto ok = line.write_plot(o.plot_svg); !ok) {
+      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+      status = 1;
+    }
   }
   if (!o.quiet) print_stats(line, medium->udp);
-  return 0;
+  return status;
 }
 
 }  // namespace ecat::app

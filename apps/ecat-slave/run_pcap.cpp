@@ -56,8 +56,14 @@ int run_pcap(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       }
     }
   }
-  writer->flush();
-  line.shutdown();
+  if (auto w = writer->flush(); !w) {
+    std::fprintf(stderr, "ecat-slave: %s: %s\n", o.pcap_out.c_str(), std::string(transport::describe(w.error())).c_str());
+    return 1;
+  }
+  if (auto ok = line.shutdown(); !ok) {
+    std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    return 1;
+  }
   if (!o.quiet) {
     std::fprintf(stderr, "ecat-slave: replayed %s -> %s (%zu replies in the capture skipped)\n%s",
                  o.pcap_in.c_str(), o.pcap_out.c_str(), skipped, format_stats(line).c_str());

@@ -160,10 +160,18 @@ void VcdTrace::marker(unsigned slave, Signal s, Nanoseconds t) noexcept {
   marker_end_[slave][s] = (t + VcdProbe::kEventWidth).count();
 }
 
-void VcdTrace::flush() noexcept {
-  if (used_ != 0 && out_ != nullptr) std::fwrite(buffer_.data(), 1, used_, out_);
+bool VcdTrace::flush() noexcept {
+  if (out_ == nullptr) return true;
+  if (used_ != 0 && std::fwrite(buffer_.data(), 1, used_, out_) != used_) failed_ = true;
   used_ = 0;
-  if (out_ != nullptr) std::fflush(out_);
+  if (std::fflush(out_) != 0) failed_ = true;
+  return !failed_;
+}
+
+bool VcdTrace::finish() noexcept {
+  const bool ok = flush();
+  out_ = nullptr;
+  return ok;
 }
 
 }  // namespace ecat::esc

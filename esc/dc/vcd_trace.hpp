@@ -53,7 +53,11 @@ class VcdTrace {
   // Writes a value change (and any marker pulse ends due before t).
   void change(unsigned slave, Signal s, std::uint32_t value, Nanoseconds t) noexcept;
   void marker(unsigned slave, Signal s, Nanoseconds t) noexcept;
-  void flush() noexcept;
+  // Writes what is buffered; false once any write to the file has failed or
+  // come up short.
+  bool flush() noexcept;
+  // The last flush; the file is not touched again (the caller closes it).
+  bool finish() noexcept;
   const Clock& clock() const noexcept { return clock_; }
 
  private:
@@ -71,6 +75,7 @@ class VcdTrace {
   std::array<char, kBufferSize> buffer_{};
   std::size_t used_ = 0;
   std::int64_t now_ = -1;
+  bool failed_ = false;
 };
 
 }  // namespace ecat::esc

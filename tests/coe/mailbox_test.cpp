@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "coe/emergency.hpp"
 #include "tests/coe/rig.hpp"
 
 namespace ecat::coe {
@@ -190,6 +191,85 @@ TEST(Mailbox, RepliesQueueWhileSm1IsFullAndAreNeverLost) {
   ASSERT_TRUE(last);
   EXPECT_EQ((*last)[9] | ((*last)[10] << 8), 0x1000);
   EXPECT_FALSE(rig.fetch());
+}
+
+}  // namespace
+}  // namespace ecat::coe
+
+namespace ecat::coe {
+namespace {
+
+using test::Frame;
+using test::sdo;
+
+// A request as a mailbox gateway tags it (ETG.8200; KickCAT sets bit 15 and
+// an index): Address 0x8003, priority 2.
+Frame tagged(std::uint8_t type, std::uint8_t counter, Frame payload, std::uint16_t address, std::uint8_t priority,
+             std::uint8_t channel = 0) {
+  Frame f = test::mbx(type, counter, std::move(payload), channel);
+  f[2] = static_cast<std::uint8_t>(address);
+  f[3] = static_cast<std::uint8_t>(address >> 8);
+  f[4] = static_cast<std::uint8_t>(f[4] | (priority << 6));
+  return f;
+}
+
+// Issue 19: replies always carried Address 0, so a gateway never matched them.
+TEST(MailboxAddress, EveryReplyEchoesTheRequestsAddressAndPriority) {
+  test::Rig rig;
+  auto reply = rig.request(tagged(3, 1, sdo(0x40, 0x1000, 0), 0x8003, 2));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Frame{0x0A, 0x00, 0x03, 0x80, 0x80, 0x13, 0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01,
+                           0x02, 0x00}));
+  // An SDO abort.
+  reply = rig.request(tagged(3, 2, sdo(0x40, 0x5555, 0), 0x0007, 1));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Frame{0x0A, 0x00, 0x07, 0x00, 0x40, 0x23, 0x00, 0x20, 0x80, 0x55, 0x55, 0x00, 0x00, 0x00,
+                           0x02, 0x06}));
+  // Mailbox error replies: unsupported protocol, and a wrong channel (the
+  // reply's own channel is 0).
+  reply = rig.request(tagged(2, 3, Frame(10, 0), 0x8004, 3));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Frame{0x04, 0x00, 0x04, 0x80, 0xC0, 0x30, 0x01, 0x00, 0x02, 0x00}));
+  reply = rig.request(tagged(3, 4, sdo(0x40, 0x1000, 0), 0x8005, 0, 5));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Frame{0x04, 0x00, 0x05, 0x80, 0x00, 0x40, 0x01, 0x00, 0x03, 0x00}));
+  // Length beyond SM0: the header is still read, the error still goes back to it.
+  Frame too_long = tagged(3, 5, sdo(0x40, 0x1000, 0), 0x8006, 0);
+  too_long[0] = 0x7B;
+  reply = rig.request(too_long);
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(*reply, (Frame{0x04, 0x00, 0x06, 0x80, 0x00, 0x50, 0x01, 0x00, 0x08, 0x00}));
+  // A plain master's request (Address 0) is answered with Address 0.
+  reply = rig.request(test::mbx(3, 6, sdo(0x40, 0x1000, 0)));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(Frame(reply->begin(), reply->begin() + 6), (Frame{0x0A, 0x00, 0x00, 0x00, 0x00, 0x63}));
+}
+
+TEST(MailboxAddress, EveryFragmentOfALongAnswerCarriesIt) {
+  od::DeviceDescription d = test::make_device();
+  for (std::uint16_t i = 0; i < 150; ++i) {
+    (void)d.dictionary.put(test::var(static_cast<std::uint16_t>(0x3000 + i), "Filler", od::DataType::Unsigned8, 8, test::kRw));
+  }
+  test::Rig rig(std::move(d));
+  // SDO information, get OD list of all objects: several fragments.
+  auto first = rig.request(tagged(3, 1, {0x00, 0x80, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00}, 0x8009, 1));
+  ASSERT_TRUE(first);
+  EXPECT_EQ(Frame(first->begin() + 2, first->begin() + 5), (Frame{0x09, 0x80, 0x40}));
+  int fragments = 1;
+  while (auto next = rig.fetch()) {
+    EXPECT_EQ(Frame(next->begin() + 2, next->begin() + 5), (Frame{0x09, 0x80, 0x40}));
+    ++fragments;
+  }
+  EXPECT_GT(fragments, 2);
+  // Emergencies are the slave's own messages: Address 0, priority 0.
+  Emergency emcy(rig.mailbox, rig.store);
+  ASSERT_TRUE(emcy.raise(0x8611, 0x81, {1, 2, 3, 4, 5}));
+  rig.mailbox.poll(Nanoseconds{0});
+  auto msg = rig.fetch();
+  ASSERT_TRUE(msg);
+  EXPECT_EQ(Frame(msg->begin(), msg->begin() + 5), (Frame{0x0A, 0x00, 0x00, 0x00, 0x00}));
+  EXPECT_EQ((*msg)[5] & 0x0F, 0x03);
+  EXPECT_EQ(Frame(msg->begin() + 6, msg->begin() + 8), (Frame{0x00, 0x10}));
 }
 
 }  // namespace

@@ -54,9 +54,9 @@ Frame pattern(std::size_t n) {
 
 // Downloads `data` to 0x2002 as SOEM does: a normal initiate with as much as
 // fits, then segments of up to 128 - 6 - 3 bytes, toggling from 0.
-Frame segmented_download(test::Rig& rig, const Frame& data, int break_toggle_at = -1) {
+Frame segmented_download(test::Rig& rig, const Frame& data, int break_toggle_at = -1, std::uint8_t initiate = 0x21) {
   const std::size_t first = std::min<std::size_t>(data.size(), test::kMbxLen - 6 - 10);
-  Frame init = sdo(0x21, 0x2002, 0, static_cast<std::uint32_t>(data.size()), Frame(data.begin(), data.begin() + first));
+  Frame init = sdo(initiate, 0x2002, 0, static_cast<std::uint32_t>(data.size()), Frame(data.begin(), data.begin() + first));
   Frame reply = rig.sdo_request(init);
   if (reply.size() < 3 || reply[2] != 0x60) return reply;
   std::size_t offset = first;
@@ -123,6 +123,57 @@ TEST_F(SdoServerTest, ShortLastSegmentIsPaddedToSeven) {
   Frame first = request(sdo(0x40, 0x2002, 0));
   EXPECT_EQ(first.size(), 122u);
   EXPECT_EQ(request(sdo(0x60, 0, 0)), (Frame{0x00, 0x30, 0x09, data[112], data[113], data[114], 0, 0, 0, 0}));
+}
+
+// Issue 19: KickCAT sends normal downloads as 0x20 (0x30 with complete
+// access), s = 0, the complete size in the size field. They were refused with
+// 05040001h.
+TEST_F(SdoServerTest, NormalDownloadWithoutSizeBitTakesTheSizeField) {
+  const Frame ok{0x00, 0x30, 0x60, 0x02, 0x20, 0x00, 0, 0, 0, 0};
+  EXPECT_EQ(request(sdo(0x20, 0x2002, 0, 5, {1, 2, 3, 4, 5})), ok);
+  const auto v = rig.store.value(0x2002, 0);
+  EXPECT_EQ(Frame(v.begin(), v.end()), (Frame{1, 2, 3, 4, 5}));
+  // The field still bounds the data, as with s = 1.
+  EXPECT_EQ(abort_code(request(sdo(0x20, 0x2002, 0, 2, {1, 2, 3}))), 0x06070010u);
+  EXPECT_EQ(abort_code(request(sdo(0x20, 0x2000, 0, 6, {1, 2, 3, 4, 5, 6}))), 0x06070012u);
+  // Longer than one frame: the first 112 bytes, then segments.
+  const Frame data = pattern(300);
+  EXPECT_EQ(segmented_download(rig, data, -1, 0x20).size(), 10u);
+  const auto stored = rig.store.value(0x2002, 0);
+  EXPECT_EQ(Frame(stored.begin(), stored.end()), data);
+}
+
+TEST_F(SdoServerTest, CompleteAccessDownloadWithoutSizeBit) {
+  // PDO mapping by complete access as KickCAT writes it: 0x30, size 10.
+  EXPECT_EQ(request(sdo(0x30, 0x1601, 0, 10, {2, 0, 0x20, 0x00, 0x02, 0x70, 0x08, 0x00, 0x01, 0x70})),
+            (Frame{0x00, 0x30, 0x60, 0x01, 0x16, 0x00, 0, 0, 0, 0}));
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x1601, 0), 2);
+  EXPECT_EQ(rig.store.get<std::uint32_t>(0x1601, 1), 0x70020020u);
+  EXPECT_EQ(rig.store.get<std::uint32_t>(0x1601, 2), 0x70010008u);
+  // The size field against the object's complete size (sub 0 = 1: 6 bytes).
+  EXPECT_EQ(abort_code(request(sdo(0x30, 0x1601, 0, 8, {1, 0, 0x20, 0x00, 0x02, 0x70, 0, 0}))), 0x06070012u);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x1601, 0), 2);
+}
+
+TEST_F(SdoServerTest, NormalDownloadOfUnindicatedSize) {
+  const Frame ok{0x00, 0x30, 0x60, 0x02, 0x20, 0x00, 0, 0, 0, 0};
+  // Size field 0 and data in the frame: the frame's data is the value.
+  EXPECT_EQ(request(sdo(0x20, 0x2002, 0, 0, {7, 8, 9})), ok);
+  auto v = rig.store.value(0x2002, 0);
+  EXPECT_EQ(Frame(v.begin(), v.end()), (Frame{7, 8, 9}));
+  // No data in the frame: segments up to the last one carry it (CiA 301).
+  EXPECT_EQ(request(sdo(0x20, 0x2002, 0, 0)), ok);
+  EXPECT_EQ(request(segment(0x00, {1, 2, 3, 4, 5, 6, 7})), (Frame{0x00, 0x30, 0x20, 0, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(rig.store.value(0x2002, 0).size(), 3u);  // nothing written before the last segment
+  EXPECT_EQ(request(segment(0x10 | (5 << 1) | 1, {8, 9})), (Frame{0x00, 0x30, 0x30, 0, 0, 0, 0, 0, 0, 0}));
+  v = rig.store.value(0x2002, 0);
+  EXPECT_EQ(Frame(v.begin(), v.end()), (Frame{1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  // A fixed-size entry learns the size at the last segment: 3 bytes into 16 bits.
+  EXPECT_EQ(request(sdo(0x20, 0x2000, 0, 0))[2], 0x60);
+  EXPECT_EQ(abort_code(request(segment(0x00 | (4 << 1) | 1, {1, 2, 3}))), 0x06070012u);
+  EXPECT_EQ(request(sdo(0x20, 0x2000, 0, 0))[2], 0x60);
+  EXPECT_EQ(request(segment(0x00 | (5 << 1) | 1, {0x42, 0x00}))[2], 0x20);
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x2000, 0), 0x42);
 }
 
 TEST_F(SdoServerTest, ToggleErrorsAbortAndLeaveTheValue) {
