@@ -53,6 +53,13 @@ int main(int argc, char** argv) {
   auto* pin = cli.add_option("--pcap-in", o.pcap_in, "Replay the master frames of this capture")->check(CLI::ExistingFile);
   auto* pout = cli.add_option("--pcap-out", o.pcap_out, "Write the frames as the segment returns them");
   auto* udp = cli.add_option("--udp", o.udp, "Serve EtherCAT-in-UDP on [ADDR:]PORT (default port 34980 = 0x88A4)");
+  auto* pdi = cli.add_option("--pdi", o.pdi,
+                             "Run the firmware on a real ESC: lan9252:/dev/spidevB.C or et1100-spi:/dev/spidevB.C "
+                             "(its EEPROM written from ecat-esigen --sii of the same device file)");
+  cli.add_option("--spi-hz", o.spi_hz, "SPI clock for --pdi (default 10000000)")->check(CLI::Range(1u, 100'000'000u));
+  cli.add_option("--spi-mode", o.spi_mode, "SPI mode 0-3 for --pdi (default 0)")->check(CLI::Range(0u, 3u));
+  cli.add_option("--irq-gpio", o.irq_gpio, "GPIO chip and line of the ESC's IRQ for --pdi (/dev/gpiochip0:25); "
+                                           "without it the firmware polls");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
   cli.add_option("--stats", o.stats_seconds, "Print statistics every SECONDS (SIGUSR1 prints them once)")
       ->check(CLI::NonNegativeNumber);
@@ -69,6 +76,7 @@ int main(int argc, char** argv) {
   pout->needs(pin);
   iface->excludes(pin)->excludes(udp);
   udp->excludes(pin);
+  pdi->excludes(iface)->excludes(pin)->excludes(udp);
 
   try {
     cli.parse(argc, argv);
@@ -80,8 +88,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ecat-slave: %s (see --help)\n", e.what());
     return kExitUsage;
   }
-  if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty()) {
-    std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out or --udp (see --help)\n");
+  if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty() && o.pdi.empty()) {
+    std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out, --udp or --pdi (see --help)\n");
     return kExitUsage;
   }
   for (auto& f : split_commas(chain)) o.device_files.push_back(f);
@@ -114,5 +122,6 @@ int main(int argc, char** argv) {
     return kExitFailure;
   }
   if (!o.pcap_in.empty()) return ecat::app::run_pcap(o, std::move(*devices));
+  if (!o.pdi.empty()) return ecat::app::run_spi(o, std::move(*devices));
   return ecat::app::run_live(o, std::move(*devices));
 }

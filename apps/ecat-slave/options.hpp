@@ -21,6 +21,12 @@ struct SlaveProgramOptions {
   std::string pcap_in;
   std::string pcap_out;
   std::string udp;  // "[ADDR:]PORT"
+  // Or a real ESC on SPI: the firmware alone, over a LAN9252 / ET1100
+  // (run_spi.cpp, docs/real-esc.md).
+  std::string pdi;            // --pdi CHIP:SPIDEV
+  std::uint32_t spi_hz = 10'000'000;
+  unsigned spi_mode = 0;
+  std::string irq_gpio;       // CHIP:OFFSET, e.g. /dev/gpiochip0:25
 
   std::string state_dir;  // stored parameters and FoE files
   double stats_seconds = 0;
