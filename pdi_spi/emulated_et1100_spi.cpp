@@ -38,7 +38,7 @@ bool EmulatedEt1100Spi::transfer(std::span<const std::uint8_t> tx, std::span<std
       return true;
     case kCmdReadWaitState:
       if (data >= tx.size() || tx[data] != kWaitStateByte) violation();
-      rx[std::min(data, rx.size() - 1)] = kWaitStateByte;  // MISO during the wait state: undefined, 0xFF here
+      if (data < rx.size()) rx[data] = kWaitStateByte;  // MISO during the wait state: undefined, 0xFF here
       ++data;
       [[fallthrough]];
     case kCmdRead: {

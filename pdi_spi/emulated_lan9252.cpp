@@ -13,7 +13,8 @@ namespace {
 
 constexpr std::uint32_t kIrqCfgInt = 1u << 12;  // IRQ_CFG.IRQ_INT: an enabled interrupt is pending
 constexpr unsigned kBitsPerByte = 8;
-constexpr std::uint16_t kDwordMask = 0xFFFC;
+constexpr std::uint16_t kDwordMask = 0xFFFC;  // the DWORD holding a byte address
+constexpr std::uint32_t kByteMask = 0xFF;
 
 bool in_read_fifo(std::uint16_t a) { return a < kPramReadFifo + kFifoPortSize; }
 bool in_write_fifo(std::uint16_t a) { return a >= kPramWriteFifo && a < kPramWriteFifo + kFifoPortSize; }
@@ -58,7 +59,7 @@ std::uint32_t EmulatedLan9252::read_register(std::uint16_t a) noexcept {
 void EmulatedLan9252::write_register_byte(std::uint16_t a, std::uint8_t value) noexcept {
   const std::uint16_t reg = a & kDwordMask;
   const unsigned shift = (a % kDword) * kBitsPerByte;
-  const auto put = [&](std::uint32_t& r) { r = (r & ~(0xFFu << shift)) | (std::uint32_t{value} << shift); };
+  const auto put = [&](std::uint32_t& r) { r = (r & ~(kByteMask << shift)) | (std::uint32_t{value} << shift); };
   const bool last = a % kDword == kDword - 1;
   switch (reg) {
     case kIrqCfg: put(irq_cfg_); break;
@@ -106,7 +107,7 @@ void EmulatedLan9252::csr_command() noexcept {
 
 void EmulatedLan9252::pram_read_start() noexcept {
   rd_cmd_ &= ~kPramBusy;
-  const auto address = static_cast<std::uint16_t>(rd_.addr_len & 0xFFFF);
+  const auto address = static_cast<std::uint16_t>(rd_.addr_len & kPramAddrMask);
   const std::size_t length = rd_.addr_len >> kPramLenShift;
   const std::size_t lead = address % kDword;
   rd_.total = whole_dwords(lead, length);
@@ -120,7 +121,7 @@ void EmulatedLan9252::pram_read_start() noexcept {
 
 void EmulatedLan9252::pram_write_start() noexcept {
   wr_cmd_ &= ~kPramBusy;
-  const auto address = static_cast<std::uint16_t>(wr_.addr_len & 0xFFFF);
+  const auto address = static_cast<std::uint16_t>(wr_.addr_len & kPramAddrMask);
   const std::size_t length = wr_.addr_len >> kPramLenShift;
   wr_.total = whole_dwords(address % kDword, length);
   wr_.position = 0;
@@ -145,7 +146,7 @@ void EmulatedLan9252::fifo_push(std::uint8_t value) noexcept {
   wr_.data[wr_.position++] = value;
   if (wr_.position < wr_.total) return;
   wr_.active = false;
-  const auto address = static_cast<std::uint16_t>(wr_.addr_len & 0xFFFF);
+  const auto address = static_cast<std::uint16_t>(wr_.addr_len & kPramAddrMask);
   const std::size_t length = wr_.addr_len >> kPramLenShift;
   esc_.write(address, std::span<const std::uint8_t>(wr_.data).subspan(address % kDword, length));
 }

@@ -61,9 +61,8 @@ bool Lan9252Pdi::poll(std::uint16_t reg, std::uint32_t mask, std::uint32_t want)
 }
 
 bool Lan9252Pdi::init() noexcept {
-  if (!poll(kByteTest, 0xFFFFFFFFu, kByteTestValue)) {
-    return false;
-  }
+  constexpr std::uint32_t kWholeRegister = 0xFFFFFFFF;
+  if (!poll(kByteTest, kWholeRegister, kByteTestValue)) return false;
   if (!poll(kHwCfg, kHwCfgReady, kHwCfgReady)) return false;
   // ECAT_INT is the only interrupt source; the pin is enabled, push-pull,
   // active low (the EasyCAT and Microchip EVB wiring; IRQ_CFG = 0x101).

@@ -57,6 +57,7 @@ inline constexpr std::uint32_t kCsrAddrMask = 0xFFFF;
 
 // ECAT_PRAM_RD/WR_ADDR_LEN: length in bytes (31:16), ESC address (15:0).
 inline constexpr unsigned kPramLenShift = 16;
+inline constexpr std::uint32_t kPramAddrMask = 0xFFFF;
 // ECAT_PRAM_RD/WR_CMD: busy (31, write 1 to start), abort (30, write 1),
 // available count (12:8, DWORDs in the read FIFO / free in the write FIFO),
 // available (0).
