@@ -1,7 +1,6 @@
 #include "pdi_spi/et1100_spi_pdi.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 #include "pdi_spi/et1100_spi_registers.hpp"
 
@@ -37,14 +36,14 @@ std::size_t Et1100SpiPdi::read_once(std::uint16_t address, std::span<std::uint8_
   }
   last_al_event_ = static_cast<std::uint16_t>(rx_[0] | (rx_[1] << 8));
   const std::size_t carried = std::min(phase, al_event.size());
-  std::memcpy(al_event.data(), rx_.data(), carried);
-  std::memcpy(out.data(), rx_.data() + first, out.size());
+  std::copy_n(rx_.begin(), carried, al_event.begin());
+  std::copy_n(rx_.begin() + static_cast<std::ptrdiff_t>(first), out.size(), out.begin());
   return carried;
 }
 
 void Et1100SpiPdi::write_once(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
   std::size_t n = address_phase(address, kCmdWrite);
-  std::memcpy(tx_.data() + n, in.data(), in.size());
+  std::copy(in.begin(), in.end(), tx_.begin() + static_cast<std::ptrdiff_t>(n));
   n += in.size();
   if (transact(std::span(tx_).first(n), std::span(rx_).first(n))) {
     last_al_event_ = static_cast<std::uint16_t>(rx_[0] | (rx_[1] << 8));
@@ -61,7 +60,7 @@ void Et1100SpiPdi::read(std::uint16_t address, std::span<std::uint8_t> out) noex
     const auto rest = static_cast<std::uint16_t>(address + carried);
     std::uint8_t al[3]{};
     read_once(rest, out.subspan(carried, std::min(out.size() - carried, kMaxBurst)), al);
-    std::memcpy(out.data(), al, carried);
+    std::copy_n(al, carried, out.begin());
     done = std::min(out.size(), carried + kMaxBurst);
   }
   while (done < out.size() && !failed()) {
