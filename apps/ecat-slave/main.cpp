@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
   cli.add_option("--spi-mode", o.spi_mode, "SPI mode 0-3 for --pdi (default 0)")->check(CLI::Range(0u, 3u));
   cli.add_option("--irq-gpio", o.irq_gpio, "GPIO chip and line of the ESC's IRQ for --pdi (/dev/gpiochip0:25); "
                                            "without it the firmware polls");
+  cli.add_flag("--lan9252-lean", o.lan9252_lean,
+               "LAN9252: FAST READ, PRAM address+command in one write, CSR data read without polling "
+               "(8 instead of 11 transactions per cycle; not confirmed on the data sheet, docs/real-esc.md)");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
   cli.add_option("--stats", o.stats_seconds, "Print statistics every SECONDS (SIGUSR1 prints them once)")
       ->check(CLI::NonNegativeNumber);

@@ -27,6 +27,7 @@ struct SlaveProgramOptions {
   std::uint32_t spi_hz = 10'000'000;
   unsigned spi_mode = 0;
   std::string irq_gpio;       // CHIP:OFFSET, e.g. /dev/gpiochip0:25
+  bool lan9252_lean = false;  // FAST READ, one PRAM setup write, no CSR busy poll
 
   std::string state_dir;  // stored parameters and FoE files
   double stats_seconds = 0;

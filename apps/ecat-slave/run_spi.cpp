@@ -80,7 +80,9 @@ int run_spi(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> dev
 
   std::unique_ptr<pdi_spi::SpiPdi> pdi;
   if (spec->chip == pdi_spi::SpiChip::Lan9252) {
-    auto lan = std::make_unique<pdi_spi::Lan9252Pdi>(**bus);
+    pdi_spi::Lan9252Options lo;
+    if (o.lan9252_lean) lo = {.fast_read = true, .burst_setup = true, .skip_csr_poll = true};
+    auto lan = std::make_unique<pdi_spi::Lan9252Pdi>(**bus, lo);
     if (!lan->init()) return fail_with(fmt::format("{}: LAN9252 bring-up: {}", spec->device, lan->error()));
     pdi = std::move(lan);
   } else {
