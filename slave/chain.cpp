@@ -82,7 +82,7 @@ Expected<void, std::string> Chain::open_trace(const std::string& path) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < slaves_.size(); ++i) names.push_back(fmt::format("slave{}", i + 1));
   trace_ = std::make_unique<esc::VcdTrace>(trace_file_.get(), names, clock_);
-  for (std::size_t i = 0; i < slaves_.size(); ++i) slaves_[i]->firmware().attach_trace(trace_->probe(i));
+  for (std::size_t i = 0; i < slaves_.size(); ++i) slaves_[i]->attach_trace(trace_->probe(i));
   return {};
 }
 

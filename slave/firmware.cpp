@@ -54,31 +54,31 @@ constexpr std::uint32_t kMailboxEvents = coe::MailboxServer::kEventsHandled | es
 
 }  // namespace
 
-Firmware::Firmware(esc::Esc& esc, const od::DeviceDescription& device, const SlaveOptions& options)
-    : esc_(esc),
-      esm_(esc, esm_config_for(device)),
+Firmware::Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const SlaveOptions& options)
+    : pdi_(pdi),
+      esm_(pdi, esm_config_for(device)),
       state_quota_(quota_for(options)),
-      coe_(esc, device, coe_options(options, state_quota_.get())),
-      sync_(esc, coe_.objects(), device.sync, has_type(device, od::SmType::Outputs),
+      coe_(pdi, device, coe_options(options, state_quota_.get())),
+      sync_(pdi, coe_.objects(), device.sync, has_type(device, od::SmType::Outputs),
             has_type(device, od::SmType::Inputs)) {
   esm_.add_hooks(coe_.esm_hooks());
   sync_.install();
   sync_.attach(esm_);
   app_ = make_drive_application(device, coe_, options.motion_trace);
   esm_.reset();
-  program_event_mask(true);
+  // At power-on the ESC's mask is 0 (Section II 0x0204): program it.
+  program_event_mask(true, EscLines{});
 }
 
 void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
   trace_ = &probe;
   esm_.add_hooks(probe);
-  esc_.dc().set_observer(&probe);
   sync_.set_trace(&probe);
 }
 
-std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
+std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexcept {
   ++polls_;
-  const std::uint32_t events = esc_.read_u32(esc::reg::kAlEventRequest);
+  const std::uint32_t events = pdi_.read_u32(esc::reg::kAlEventRequest);
   // In DC mode the ESM and the synchronisation read 0x0220 again themselves
   // (and the ESM the watchdog status in Op): with the one-read snapshot the
   // e2e DC run over veth lost SYNC events (0x0034/0x001A) - cause not found
@@ -97,11 +97,11 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
     if (!is_operational(state)) last_cycle_.reset();
   }
   const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
-  if (sms_changed) coe_.process_data().load_layout(esc_);
+  if (sms_changed) coe_.process_data().load_layout(pdi_);
   if (changed || (events & kMailboxEvents) != 0 || coe_.mailbox().has_output()) coe_.poll(now);
   const coe::SyncPoll sp = dc ? sync_.poll(now) : sync_.poll(now, events);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
-  program_event_mask(sms_changed);
+  program_event_mask(sms_changed, lines);
   next_ = sp.next;
   wake_ = sp.next.value_or(Nanoseconds::max());
   pass_work_ = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
@@ -111,10 +111,10 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now) noexcept {
 // ETG.1000.4 §6.2 / ESC datasheet Section II 0x0204: the IRQ to the µC is
 // AL event request & mask. Rewritten only when the set changes (state or
 // synchronisation mode).
-void Firmware::program_event_mask(bool sms_changed) noexcept {
+void Firmware::program_event_mask(bool sms_changed, EscLines lines) noexcept {
   const std::uint32_t mask = kBaseEvents | sync_.al_event_mask();
-  if (mask != event_mask_ || mask_lost()) {
-    esc_.write_u32(esc::reg::kAlEventMask, mask);
+  if (mask != event_mask_ || mask_lost(lines)) {
+    pdi_.write_u32(esc::reg::kAlEventMask, mask);
     event_mask_ = mask;
     sms_changed = true;
   }
@@ -128,8 +128,8 @@ bool Firmware::sm_events_enabled(std::uint32_t mask) noexcept {
   for (unsigned n = 0; n < kSmsWithEvents; ++n) {
     if ((mask & (1u << (kAlEventSmShift + n))) == 0) continue;
     const auto base = esc::reg::sync_manager(n);
-    const std::uint8_t control = esc_.read_u8(static_cast<std::uint16_t>(base + esc::reg::sm::kControl));
-    const std::uint8_t activate = esc_.read_u8(static_cast<std::uint16_t>(base + esc::reg::sm::kActivate));
+    const std::uint8_t control = pdi_.read_u8(static_cast<std::uint16_t>(base + esc::reg::sm::kControl));
+    const std::uint8_t activate = pdi_.read_u8(static_cast<std::uint16_t>(base + esc::reg::sm::kActivate));
     if ((activate & coe::bits::kSmActivateEnable) != 0 && (control & kSmControlAlEvent) == 0) return false;
   }
   return true;
@@ -137,13 +137,13 @@ bool Firmware::sm_events_enabled(std::uint32_t mask) noexcept {
 
 void Firmware::application_cycle(Nanoseconds now) noexcept {
   const bool op = esm_.state() == esc::AlState::Op;
-  if (op) coe_.process_data().read_outputs(esc_);
+  if (op) coe_.process_data().read_outputs(pdi_);
   // The first cycle after entering SafeOp has no predecessor: it counts as
   // one nominal cycle, so the application never sees a zero time step.
   const Nanoseconds dt = last_cycle_ && now > *last_cycle_ ? now - *last_cycle_ : kNominalCycle;
   last_cycle_ = now;
   if (app_) app_->cycle(dt, op);
-  coe_.process_data().write_inputs(esc_);
+  coe_.process_data().write_inputs(pdi_);
   sync_.cycle_done(now);
   ++cycles_;
 }
@@ -155,8 +155,6 @@ SlaveStatus Firmware::status() const noexcept {
   s.code = esm_.status_code();
   s.application_cycles = cycles_;
   s.firmware_polls = polls_;
-  // The ESC counts process-data watchdog expiries itself (0x0442, saturating).
-  s.watchdog_expiries = esc_.memory()[esc::reg::kWatchdogCounterProcessData];
   s.sync_errors = sync_.sm_events_missed();
   return s;
 }

@@ -14,8 +14,8 @@
 #include "common/clock.hpp"
 #include "common/le.hpp"
 #include "esc/dc/vcd_trace.hpp"
-#include "esc/esc.hpp"
 #include "esc/esm.hpp"
+#include "esc/pdi.hpp"
 #include "esc/registers.hpp"
 #include "od/device.hpp"
 #include "slave/application.hpp"
@@ -24,9 +24,21 @@
 
 namespace ecat::slave {
 
+// What the firmware's host sees of the ESC without a PDI access: the IRQ
+// pin to the µC and the AL event mask 0x0204 the ESC holds (an ESC reset
+// clears it; the firmware then programs it again). The emulated slave
+// reads both from esc::Esc (a few loads); a host on a real chip passes its
+// interrupt line and the mask the firmware programmed.
+struct EscLines {
+  bool irq = false;
+  std::uint32_t al_event_mask = 0;
+};
+
 class Firmware {
  public:
-  Firmware(esc::Esc& esc, const od::DeviceDescription& device, const SlaveOptions& options);
+  // Runs above any esc::Pdi: the emulated ESC itself, or an SPI backend
+  // to a real (or emulated) LAN9252/ET1100 (pdi_spi/).
+  Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const SlaveOptions& options);
   Firmware(const Firmware&) = delete;
   Firmware& operator=(const Firmware&) = delete;
 
@@ -36,23 +48,23 @@ class Firmware {
   // and the synchronisation read it again, see firmware.cpp); the AL event mask
   // 0x0204 is kept to what this pass found the firmware needs. Returns when
   // it next needs to run by time alone.
-  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> poll(Nanoseconds now, EscLines lines) noexcept;
 
   // Whether a frame that just passed the ESC gives the firmware work at
   // `now`: the ESC's IRQ (AL event request & mask), a deadline due, or
   // something it finishes pass by pass (a transition waiting for a
   // deferral, a mailbox reply waiting for SM1, an SM whose event the master
   // switched off so the firmware has to look by itself).
-  bool wants_poll(Nanoseconds now) const noexcept {
-    return esc_.irq() || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() ||
-           coe_.mailbox().has_output() || mask_lost();
+  bool wants_poll(Nanoseconds now, EscLines lines) const noexcept {
+    return lines.irq || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() ||
+           coe_.mailbox().has_output() || mask_lost(lines);
   }
   // A cheap superset of wants_poll() for the check after every frame of a
   // chain (issue 8): the IRQ and a lost mask as they are now, the deadline
   // and the pass-by-pass work as the last poll() left them - they change
   // only in poll() (the firmware's own state) or by time.
-  bool may_want_poll(Nanoseconds now) const noexcept {
-    return esc_.irq() || now >= wake_ || pass_work_ || mask_lost();
+  bool may_want_poll(Nanoseconds now, EscLines lines) const noexcept {
+    return lines.irq || now >= wake_ || pass_work_ || mask_lost(lines);
   }
   // The time poll() last asked to run again at.
   std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }
@@ -69,19 +81,21 @@ class Firmware {
   void set_application(std::unique_ptr<Application> app) noexcept { app_ = std::move(app); }
   const std::vector<std::string>& warnings() const noexcept { return coe_.warnings(); }
 
+  // The firmware's part of a VCD trace (ESM states, SM events, cycles);
+  // the ESC's DC unit is attached by the host that owns the ESC.
   void attach_trace(esc::VcdProbe& probe) noexcept;
+  // Counters of the firmware; watchdog_expiries is the host's to fill (the
+  // ESC counts them in 0x0442).
   SlaveStatus status() const noexcept;
 
  private:
   void application_cycle(Nanoseconds now) noexcept;
-  void program_event_mask(bool sms_changed) noexcept;
+  void program_event_mask(bool sms_changed, EscLines lines) noexcept;
   // The ESC no longer holds the mask programmed (an ESC reset clears it).
-  bool mask_lost() const noexcept {
-    return load_le<std::uint32_t>(esc_.memory() + esc::reg::kAlEventMask) != event_mask_;
-  }
+  bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != event_mask_; }
   bool sm_events_enabled(std::uint32_t mask) noexcept;
 
-  esc::Esc& esc_;
+  esc::Pdi& pdi_;
   esc::Esm esm_;
   std::shared_ptr<coe::StorageQuota> state_quota_;  // before coe_, which points at it
   coe::CoeServer coe_;

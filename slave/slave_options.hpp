@@ -9,8 +9,14 @@
 
 #include "coe/storage_quota.hpp"
 #include "common/clock.hpp"
+#include "pdi_spi/lan9252_pdi.hpp"
 
 namespace ecat::slave {
+
+// Which PDI the firmware reaches its (emulated) ESC through: the ESC's own
+// esc::Pdi, or SPI framing to an emulated LAN9252 or ET1100 SPI slave
+// (pdi_spi/), byte-exact as on a real chip (docs/real-esc.md).
+enum class PdiKind : std::uint8_t { Direct, Lan9252, Et1100Spi };
 
 struct SlaveOptions {
   // Where stored parameters (1010h) and FoE files live; empty: nothing is
@@ -27,6 +33,8 @@ struct SlaveOptions {
   std::uint64_t clock_start = 0;
   // Keep a per-cycle motion trace of the drive (for --plot).
   bool motion_trace = false;
+  PdiKind pdi = PdiKind::Direct;
+  pdi_spi::Lan9252Options lan9252{};  // with PdiKind::Lan9252
 };
 
 }  // namespace ecat::slave

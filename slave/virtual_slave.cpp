@@ -1,5 +1,12 @@
 #include "slave/virtual_slave.hpp"
 
+#include <fmt/format.h>
+
+#include "pdi_spi/emulated_et1100_spi.hpp"
+#include "pdi_spi/emulated_lan9252.hpp"
+#include "pdi_spi/et1100_spi_pdi.hpp"
+#include "pdi_spi/lan9252_pdi.hpp"
+
 #include "slave/drive_application.hpp"
 #include "slave/esc_setup.hpp"
 #include "slave/firmware.hpp"
@@ -16,7 +23,18 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(od::De
   if (!config) return fail(config.error());
   s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);
   s->esc_->dc().set_clock(options.clock_ppm, options.clock_start);
-  s->firmware_ = std::make_unique<Firmware>(*s->esc_, *s->device_, options);
+  esc::Pdi* pdi = s->esc_.get();
+  if (options.pdi == PdiKind::Lan9252) {
+    s->chip_ = std::make_unique<pdi_spi::EmulatedLan9252>(*s->esc_);
+    auto backend = std::make_unique<pdi_spi::Lan9252Pdi>(*s->chip_, options.lan9252);
+    if (!backend->init()) return fail(fmt::format("LAN9252 bring-up: {}", backend->error()));
+    s->spi_pdi_ = std::move(backend);
+  } else if (options.pdi == PdiKind::Et1100Spi) {
+    s->chip_ = std::make_unique<pdi_spi::EmulatedEt1100Spi>(*s->esc_);
+    s->spi_pdi_ = std::make_unique<pdi_spi::Et1100SpiPdi>(*s->chip_);
+  }
+  if (s->spi_pdi_) pdi = s->spi_pdi_.get();
+  s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
   return s;
 }
 
@@ -28,7 +46,7 @@ std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   esc_wake_ = next.value_or(Nanoseconds::max());
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
   const std::optional<Nanoseconds> fw =
-      firmware_->wants_poll(now) ? firmware_->poll(now) : firmware_->next_deadline();
+      firmware_->wants_poll(now, lines()) ? firmware_->poll(now, lines()) : firmware_->next_deadline();
   if (fw && (!next || *fw < *next)) next = fw;
   return next;
 }
@@ -38,12 +56,22 @@ void VirtualSlave::after_frame(Nanoseconds now) noexcept {
   // firmware looks: silicon raises them in time, the emulation on demand.
   if (esc_next_ && *esc_next_ <= now) {
     (void)poll(now);
-  } else if (firmware_->wants_poll(now)) {
-    (void)firmware_->poll(now);
+  } else if (firmware_->wants_poll(now, lines())) {
+    (void)firmware_->poll(now, lines());
   }
 }
 
-SlaveStatus VirtualSlave::status() const noexcept { return firmware_->status(); }
+void VirtualSlave::attach_trace(esc::VcdProbe& probe) noexcept {
+  firmware_->attach_trace(probe);
+  esc_->dc().set_observer(&probe);
+}
+
+SlaveStatus VirtualSlave::status() const noexcept {
+  SlaveStatus s = firmware_->status();
+  // The ESC counts process-data watchdog expiries itself (0x0442, saturating).
+  s.watchdog_expiries = esc_->memory()[esc::reg::kWatchdogCounterProcessData];
+  return s;
+}
 
 void VirtualSlave::shutdown() noexcept {}
 

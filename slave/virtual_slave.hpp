@@ -13,6 +13,8 @@
 #include "common/expected.hpp"
 #include "esc/esc.hpp"
 #include "od/device.hpp"
+#include "pdi_spi/emulated_chip.hpp"
+#include "pdi_spi/spi_pdi.hpp"
 #include "slave/firmware.hpp"
 #include "slave/slave_options.hpp"
 #include "slave/slave_stats.hpp"
@@ -33,6 +35,18 @@ class VirtualSlave {
   esc::Esc& esc() noexcept { return *esc_; }
   const od::DeviceDescription& device() const noexcept { return *device_; }
   Firmware& firmware() noexcept { return *firmware_; }
+  // The SPI backend the firmware runs over (PdiKind::Lan9252/Et1100Spi),
+  // nullptr for the direct PDI; and the emulated chip it talks to.
+  pdi_spi::SpiPdi* spi_pdi() noexcept { return spi_pdi_.get(); }
+  const pdi_spi::EmulatedChip* spi_chip() const noexcept { return chip_.get(); }
+
+  // What the firmware's host sees without a PDI access: the ESC's IRQ (or
+  // the emulated chip's IRQ pin) and the AL event mask the ESC holds.
+  EscLines lines() const noexcept {
+    return {chip_ ? chip_->irq_pin() : esc_->irq(), load_le<std::uint32_t>(esc_->memory() + esc::reg::kAlEventMask)};
+  }
+  // Attaches the firmware and the ESC's DC unit to a VCD probe.
+  void attach_trace(esc::VcdProbe& probe) noexcept;
 
   // Runs the ESC's timers up to `now`, then the firmware (ESM, mailbox,
   // process data, drive cycle) if the ESC raised its IRQ or the firmware's
@@ -45,7 +59,9 @@ class VirtualSlave {
   void after_frame(Nanoseconds now) noexcept;
   // Whether after_frame(now) may have anything to do: a few loads, so a
   // chain asks every slave after every frame cheaply (issue 8).
-  bool after_frame_due(Nanoseconds now) const noexcept { return now >= esc_wake_ || firmware_->may_want_poll(now); }
+  bool after_frame_due(Nanoseconds now) const noexcept {
+    return now >= esc_wake_ || firmware_->may_want_poll(now, lines());
+  }
 
   SlaveStatus status() const noexcept;
 
@@ -58,6 +74,8 @@ class VirtualSlave {
 
   std::unique_ptr<od::DeviceDescription> device_;
   std::unique_ptr<esc::Esc> esc_;
+  std::unique_ptr<pdi_spi::EmulatedChip> chip_;  // SPI PDI only
+  std::unique_ptr<pdi_spi::SpiPdi> spi_pdi_;      // SPI PDI only
   std::unique_ptr<Firmware> firmware_;
   std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
   Nanoseconds esc_wake_ = Nanoseconds::max();  // the same, max when none

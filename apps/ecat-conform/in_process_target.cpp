@@ -19,12 +19,13 @@ class InProcessTarget final : public Target {
   explicit InProcessTarget(std::string description)
       : chain_(clock_), transport_([this](Bytes f) { process(f); }), description_(std::move(description)) {}
 
-  Expected<void, std::string> add(od::DeviceDescription device) {
+  Expected<void, std::string> add(od::DeviceDescription device, slave::PdiKind pdi) {
     identity_ = master::conformance::ExpectedIdentity{device.identity.vendor_id, device.identity.product_code,
                                                       device.identity.revision};
     device_ = device;
     slave::SlaveOptions options;
     options.name = "conform";
+    options.pdi = pdi;
     return chain_.add(std::move(device), options);
   }
   const od::DeviceDescription* device() const override { return &device_; }
@@ -61,11 +62,15 @@ class InProcessTarget final : public Target {
 
 }  // namespace
 
-Expected<std::unique_ptr<Target>, std::string> make_in_process_target(const std::string& device_file) {
+Expected<std::unique_ptr<Target>, std::string> make_in_process_target(const std::string& device_file,
+                                                                      slave::PdiKind pdi) {
   auto device = esi::load_device_file(device_file);
   if (!device) return fail(device.error().to_string());
-  auto target = std::make_unique<InProcessTarget>(fmt::format("in-process {}", device_file));
-  if (auto r = target->add(std::move(*device)); !r) return fail(r.error());
+  const char* over = pdi == slave::PdiKind::Lan9252     ? " (firmware over SPI to an emulated LAN9252)"
+                     : pdi == slave::PdiKind::Et1100Spi ? " (firmware over SPI to an emulated ET1100)"
+                                                         : "";
+  auto target = std::make_unique<InProcessTarget>(fmt::format("in-process {}{}", device_file, over));
+  if (auto r = target->add(std::move(*device), pdi); !r) return fail(r.error());
   return std::unique_ptr<Target>(std::move(target));
 }
 

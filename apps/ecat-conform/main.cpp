@@ -11,6 +11,7 @@
 #include "apps/ecat-conform/target.hpp"
 #include "master/conformance/suite.hpp"
 #include "master/master.hpp"
+#include "pdi_spi/pdi_spec.hpp"
 #include "transport/pcap_file.hpp"
 
 namespace {
@@ -24,14 +25,17 @@ int main(int argc, char** argv) {
   using namespace ecat;
   CLI::App app{"ecat-conform: EtherCAT slave conformance tests over the ecatslave master"};
   app.set_version_flag("--version", "ecat-conform (ecatslave) " ECAT_VERSION);
-  std::string device, iface, udp, junit, filter, pcap;
+  std::string device, iface, udp, junit, filter, pcap, pdi_name;
   std::size_t slave = 0;
   bool list = false;
   auto* g = app.add_option_group("target", "what to test (exactly one)");
-  g->add_option("--device", device, "device file: test a virtual slave in-process");
+  auto* device_option = g->add_option("--device", device, "device file: test a virtual slave in-process");
   g->add_option("--iface", iface, "network interface: test the slave(s) on this link (needs CAP_NET_RAW)");
   g->add_option("--udp", udp, "ADDR:PORT of a slave speaking EtherCAT in UDP (ETG.1000.4)");
   g->require_option(0, 1);
+  app.add_option("--pdi", pdi_name,
+                 "with --device: the firmware reaches the ESC over SPI to an emulated lan9252 or et1100-spi")
+      ->needs(device_option);
   app.add_option("--junit", junit, "write JUnit XML to this file");
   app.add_option("--filter", filter, "run only tests whose name contains PATTERN (or matches a * ? glob)");
   app.add_option("--slave", slave, "position of the slave to test (default 0)");
@@ -58,8 +62,18 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
 
+  slave::PdiKind pdi = slave::PdiKind::Direct;
+  if (!pdi_name.empty()) {
+    auto chip = pdi_spi::parse_spi_chip(pdi_name);
+    if (!chip) {
+      fmt::print(stderr, "ecat-conform: --pdi: {}\n", chip.error());
+      return kExitUsage;
+    }
+    pdi = *chip == pdi_spi::SpiChip::Lan9252 ? slave::PdiKind::Lan9252 : slave::PdiKind::Et1100Spi;
+  }
+
   try {
-    auto target = !device.empty() ? conform::make_in_process_target(device)
+    auto target = !device.empty() ? conform::make_in_process_target(device, pdi)
                   : !iface.empty() ? conform::make_raw_socket_target(iface)
                                    : conform::make_udp_target(udp);
     if (!target) {

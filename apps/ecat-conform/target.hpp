@@ -12,6 +12,7 @@
 #include "common/expected.hpp"
 #include "master/conformance/suite.hpp"
 #include "od/device.hpp"
+#include "slave/slave_options.hpp"
 #include "transport/transport.hpp"
 
 namespace ecat::conform {
@@ -32,8 +33,11 @@ class Target {
 };
 
 // A virtual slave from `device_file` (the integrator's slave::Chain), on a
-// ManualClock that advances `frame_time` per frame.
-Expected<std::unique_ptr<Target>, std::string> make_in_process_target(const std::string& device_file);
+// ManualClock that advances `frame_time` per frame; its firmware reaches
+// the ESC through `pdi` (direct, or SPI framing to an emulated LAN9252 /
+// ET1100 SPI slave).
+Expected<std::unique_ptr<Target>, std::string> make_in_process_target(const std::string& device_file,
+                                                                      slave::PdiKind pdi = slave::PdiKind::Direct);
 Expected<std::unique_ptr<Target>, std::string> make_raw_socket_target(const std::string& interface_name);
 Expected<std::unique_ptr<Target>, std::string> make_udp_target(const std::string& address);
 

@@ -66,6 +66,16 @@ int main(int argc, char** argv) {
   auto* allow = cli.add_option("--udp-allow", o.udp_allow,
                                "Serve only UDP sources in these prefixes: CIDR[,CIDR...] (IPv4/IPv6); "
                                "others are dropped unanswered and counted");
+  auto* pdi = cli.add_option("--pdi", o.pdi,
+                             "Run the firmware on a real ESC: lan9252:/dev/spidevB.C or et1100-spi:/dev/spidevB.C "
+                             "(its EEPROM written from ecat-esigen --sii of the same device file)");
+  cli.add_option("--spi-hz", o.spi_hz, "SPI clock for --pdi (default 10000000)")->check(CLI::Range(1u, 100'000'000u));
+  cli.add_option("--spi-mode", o.spi_mode, "SPI mode 0-3 for --pdi (default 0)")->check(CLI::Range(0u, 3u));
+  cli.add_option("--irq-gpio", o.irq_gpio, "GPIO chip and line of the ESC's IRQ for --pdi (/dev/gpiochip0:25); "
+                                           "without it the firmware polls");
+  cli.add_flag("--lan9252-lean", o.lan9252_lean,
+               "LAN9252: FAST READ, PRAM address+command in one write, CSR data read without polling "
+               "(8 instead of 11 transactions per cycle; not confirmed on the data sheet, docs/real-esc.md)");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
   cli.add_option("--state-quota", o.state_quota_bytes,
                  "Most bytes all files in --state-dir may hold (FoE files + stored parameters; "
@@ -94,6 +104,7 @@ int main(int argc, char** argv) {
   iface->excludes(pin)->excludes(udp);
   udp->excludes(pin);
   allow->needs(udp);
+  pdi->excludes(iface)->excludes(pin)->excludes(udp);
 
   try {
     cli.parse(argc, argv);
@@ -107,8 +118,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ecat-slave: %s (see --help)\n", e.what());
     return kExitUsage;
   }
-  if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty()) {
-    std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out or --udp (see --help)\n");
+  if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty() && o.pdi.empty()) {
+    std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out, --udp or --pdi (see --help)\n");
     return kExitUsage;
   }
   for (auto& f : split_commas(chain)) o.device_files.push_back(f);
@@ -146,5 +157,6 @@ int main(int argc, char** argv) {
     return kExitFailure;
   }
   if (!o.pcap_in.empty()) return ecat::app::run_pcap(o, std::move(*devices));
+  if (!o.pdi.empty()) return ecat::app::run_spi(o, std::move(*devices));
   return ecat::app::run_live(o, std::move(*devices));
 }

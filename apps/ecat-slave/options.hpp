@@ -30,6 +30,13 @@ struct SlaveProgramOptions {
   std::string pcap_out;
   std::string udp;        // "PORT" (loopback only) or "ADDR:PORT" / "[V6ADDR]:PORT"
   std::string udp_allow;  // "CIDR[,CIDR...]": UDP sources served; empty: all
+  // Or a real ESC on SPI: the firmware alone, over a LAN9252 / ET1100
+  // (run_spi.cpp, docs/real-esc.md).
+  std::string pdi;            // --pdi CHIP:SPIDEV
+  std::uint32_t spi_hz = 10'000'000;
+  unsigned spi_mode = 0;
+  std::string irq_gpio;       // CHIP:OFFSET, e.g. /dev/gpiochip0:25
+  bool lan9252_lean = false;  // FAST READ, one PRAM setup write, no CSR busy poll
 
   std::string state_dir;  // stored parameters and FoE files
   std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together

@@ -12,5 +12,7 @@ namespace ecat::app {
 
 int run_live(const SlaveProgramOptions& options, std::vector<od::DeviceDescription> devices);
 int run_pcap(const SlaveProgramOptions& options, std::vector<od::DeviceDescription> devices);
+// The firmware of the first device on a real ESC behind spidev (--pdi).
+int run_spi(const SlaveProgramOptions& options, std::vector<od::DeviceDescription> devices);
 
 }  // namespace ecat::app

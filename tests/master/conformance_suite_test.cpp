@@ -31,6 +31,38 @@ TEST(ConformanceSuite, GenericServoPassesEveryCase) {
   EXPECT_EQ(conformance::failures(reports), 0u);
 }
 
+// Issue 18: the same suite with the firmware reaching the ESC over SPI
+// framing to an emulated LAN9252 / ET1100 SPI slave (pdi_spi/), every
+// transaction within the chip's framing rules.
+class ConformanceOverSpi : public testing::TestWithParam<slave::PdiKind> {};
+
+TEST_P(ConformanceOverSpi, GenericServoPassesEveryCase) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 1, GetParam()));
+  Master master(bus.transport, bus.clock);
+  conformance::SuiteOptions options;
+  options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
+  const auto& id = bus.chain()[0].device().identity;
+  options.identity = conformance::ExpectedIdentity{id.vendor_id, id.product_code, id.revision};
+  const auto reports = conformance::run_suite(master, options);
+  EXPECT_GT(reports.size(), 50u);
+  for (const auto& r : reports) {
+    EXPECT_NE(r.result.verdict, Verdict::Fail) << r.name << ": expected " << r.result.expected << ", seen "
+                                               << r.result.seen;
+  }
+  EXPECT_EQ(conformance::failures(reports), 0u);
+  slave::VirtualSlave& s = bus.chain()[0];
+  ASSERT_NE(s.spi_pdi(), nullptr);
+  EXPECT_FALSE(s.spi_pdi()->failed()) << s.spi_pdi()->error();
+  EXPECT_EQ(s.spi_chip()->violations(), 0u);
+  EXPECT_GT(s.spi_chip()->transactions(), 1000u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Chips, ConformanceOverSpi, testing::Values(slave::PdiKind::Lan9252, slave::PdiKind::Et1100Spi),
+                         [](const testing::TestParamInfo<slave::PdiKind>& p) {
+                           return p.param == slave::PdiKind::Lan9252 ? std::string("Lan9252") : std::string("Et1100");
+                         });
+
 TEST(ConformanceSuite, FilterSelectsCases) {
   EXPECT_TRUE(conformance::matches_filter("esm.init_to_preop", ""));
   EXPECT_TRUE(conformance::matches_filter("esm.init_to_preop", "init_to"));

@@ -26,12 +26,14 @@ class InProcessBus {
                      clock.advance(kFrameTime);
                    }) {}
 
-  ::testing::AssertionResult add(const std::string& file, int count = 1) {
+  ::testing::AssertionResult add(const std::string& file, int count = 1,
+                                 slave::PdiKind pdi = slave::PdiKind::Direct) {
     for (int i = 0; i < count; ++i) {
       auto dev = esi::load_device_file(file);
       if (!dev) return ::testing::AssertionFailure() << dev.error().to_string();
       slave::SlaveOptions o;
       o.name = "slave-" + std::to_string(i + 1);
+      o.pdi = pdi;
       if (auto r = chain_.add(std::move(*dev), o); !r) return ::testing::AssertionFailure() << r.error();
     }
     return ::testing::AssertionSuccess();

@@ -8,6 +8,7 @@ declare -A allowed=(
   [common]="common"
   [od]="common od"
   [esc]="common esc"
+  [pdi_spi]="common esc pdi_spi"
   [coe]="common od esc coe"
   [ds402]="common od esc coe ds402"
   [esi]="common od esi"

@@ -137,11 +137,12 @@ TEST(FirmwareEvents, CheapCheckAfterEachFrameCoversEveryReasonToPoll) {
   auto covered = [&](const char* what) {
     for (std::size_t i = 0; i < p.chain.size(); ++i) {
       const slave::Firmware& fw = p.chain[i].firmware();
+      const slave::EscLines lines = p.chain[i].lines();
       for (const Nanoseconds later : {Nanoseconds{0}, Nanoseconds{500'000}, Nanoseconds{1'000'000},
                                       Nanoseconds{3'000'000}}) {
         const Nanoseconds t = p.clock.now() + later;
-        if (fw.wants_poll(t)) {
-          ASSERT_TRUE(fw.may_want_poll(t)) << what << ": slave " << i << " at +" << later.count() << " ns";
+        if (fw.wants_poll(t, lines)) {
+          ASSERT_TRUE(fw.may_want_poll(t, lines)) << what << ": slave " << i << " at +" << later.count() << " ns";
         }
       }
     }

@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/le.hpp"
 #include "tests/slave/inprocess_fixture.hpp"
@@ -58,6 +59,7 @@ struct Seed {
   std::uint16_t error_code;  // 603Fh the drive reports
   std::uint16_t emcy_code;   // EMCY code the master receives
   bool home_found_bit;       // statusword bit 15 once homed
+  slave::PdiKind pdi = slave::PdiKind::Direct;  // issue 18: firmware over SPI to an emulated chip
 };
 
 std::ostream& operator<<(std::ostream& os, const Seed& s) { return os << s.file; }
@@ -74,7 +76,9 @@ class Rig {
   explicit Rig(const Seed& seed) {
     auto d = esi::load_device_file(std::string(ECAT_SOURCE_DIR) + "/xml/devices/" + seed.file);
     if (!d) throw std::runtime_error(d.error().to_string());
-    p.add(std::move(*d));
+    slave::SlaveOptions o;
+    o.pdi = seed.pdi;
+    p.add(std::move(*d), o);
   }
 
   std::string start() {
@@ -387,26 +391,51 @@ TEST_P(SeedDriveSequence, EnableHomingPpCyclicQuickStopFaultReset) {
   ASSERT_NO_FATAL_FAILURE(cyclic_motion(r, seed));
   ASSERT_NO_FATAL_FAILURE(quick_stop(r));
   ASSERT_NO_FATAL_FAILURE(fault_and_reset(r, seed));
+  if (seed.pdi != slave::PdiKind::Direct) {
+    slave::VirtualSlave& s = r.p.chain[0];
+    EXPECT_FALSE(s.spi_pdi()->failed()) << s.spi_pdi()->error();
+    EXPECT_EQ(s.spi_chip()->violations(), 0u);
+  }
 }
 
 // Homing methods from each drive's list (docs/ds402.md): an index pulse
 // (33/34), the home switch edge (19), or the current position (35/37).
 // Leadshine has no 6065h (following error) and no cyclic mode (6502h = 2Dh):
 // PV and a software limit (8612h) stand in.
-INSTANTIATE_TEST_SUITE_P(
-    Seeds, SeedDriveSequence,
-    ::testing::Values(Seed{"generic-servo.xml", 34, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, false},
-                      Seed{"simtach-rse.xml", 19, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, true},
-                      Seed{"yaskawa-sigma5-sd.xml", 33, kCsp, FaultPlan::FollowingErrorInCsp, 0x0D00, 0xFF00, false},
-                      Seed{"welcon-servo.xml", 37, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, false},
-                      Seed{"leadshine-isv2-can.xml", 35, kPv, FaultPlan::SoftwareLimitInPv, 0x8612, 0x8612, true}),
-    [](const ::testing::TestParamInfo<Seed>& param) {
-      std::string n = param.param.file;
-      n = n.substr(0, n.find('.'));
-      for (char& ch : n)
-        if (ch == '-') ch = '_';
-      return n;
-    });
+constexpr Seed kSeeds[] = {
+    {"generic-servo.xml", 34, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, false},
+    {"simtach-rse.xml", 19, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, true},
+    {"yaskawa-sigma5-sd.xml", 33, kCsp, FaultPlan::FollowingErrorInCsp, 0x0D00, 0xFF00, false},
+    {"welcon-servo.xml", 37, kCsp, FaultPlan::FollowingErrorInCsp, 0x8611, 0x8611, false},
+    {"leadshine-isv2-can.xml", 35, kPv, FaultPlan::SoftwareLimitInPv, 0x8612, 0x8612, true}};
+
+std::vector<Seed> seeds_over(slave::PdiKind pdi) {
+  std::vector<Seed> v(std::begin(kSeeds), std::end(kSeeds));
+  for (Seed& s : v) s.pdi = pdi;
+  return v;
+}
+
+std::string seed_name(const ::testing::TestParamInfo<Seed>& param) {
+  std::string n = param.param.file;
+  n = n.substr(0, n.find('.'));
+  for (char& ch : n)
+    if (ch == '-') ch = '_';
+  if (param.param.pdi == slave::PdiKind::Lan9252) n += "_over_lan9252";
+  if (param.param.pdi == slave::PdiKind::Et1100Spi) n += "_over_et1100_spi";
+  return n;
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, SeedDriveSequence, ::testing::ValuesIn(seeds_over(slave::PdiKind::Direct)), seed_name);
+// Issue 18: the same sequences with the firmware on SPI framing to an
+// emulated LAN9252 and an emulated ET1100 SPI slave.
+INSTANTIATE_TEST_SUITE_P(SeedsOverSpi, SeedDriveSequence,
+                         ::testing::ValuesIn([] {
+                           auto v = seeds_over(slave::PdiKind::Lan9252);
+                           auto e = seeds_over(slave::PdiKind::Et1100Spi);
+                           v.insert(v.end(), e.begin(), e.end());
+                           return v;
+                         }()),
+                         seed_name);
 
 }  // namespace
 }  // namespace ecat::test
