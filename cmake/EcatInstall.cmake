@@ -139,6 +139,13 @@ ecat_install_library(master master HEADERS
   master/master.hpp master/coe_client.hpp master/master_error.hpp master/sdo_abort.hpp
   master/sii.hpp master/slave_info.hpp master/mailbox.hpp master/datagram_link.hpp
   master/conformance/suite.hpp)
+ecat_install_library(pdi_spi pdi_spi HEADERS
+  # public
+  pdi_spi/spi_bus.hpp pdi_spi/spi_pdi.hpp pdi_spi/lan9252_pdi.hpp pdi_spi/et1100_spi_pdi.hpp
+  pdi_spi/spidev_bus.hpp pdi_spi/gpio_irq_line.hpp pdi_spi/pdi_spec.hpp
+  pdi_spi/emulated_chip.hpp pdi_spi/emulated_lan9252.hpp pdi_spi/emulated_et1100_spi.hpp
+  # internal
+  pdi_spi/lan9252_registers.hpp pdi_spi/et1100_spi_registers.hpp)
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/virtual_slave.hpp slave/slave_options.hpp
   slave/slave_stats.hpp slave/firmware.hpp)
