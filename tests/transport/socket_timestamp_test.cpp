@@ -25,6 +25,11 @@ TEST(SocketTimestamp, UdpFrameReadLateCarriesItsArrivalTime) {
   ASSERT_TRUE(slave.has_value());
   auto master = UdpTransport::connect({"127.0.0.1", slave->local_port()});
   ASSERT_TRUE(master.has_value());
+  // Linux turns receive stamping on for the whole stack through a deferred
+  // static key (net_enable_timestamp): a datagram sent right after the first
+  // socket asked for stamps may still be stamped only when it is read. Give
+  // the kernel a moment, as a long-running slave always has.
+  std::this_thread::sleep_for(100ms);
   const SteadyClock clock;
   const Nanoseconds before = clock.now();
   ASSERT_TRUE(master->send(test::brd_frame(1)).has_value());
