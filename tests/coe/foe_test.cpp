@@ -13,11 +13,10 @@ namespace {
 using test::Frame;
 using test::mbx;
 
-Frame foe_frame(std::uint8_t opcode, std::uint32_t value, Frame rest = {}) {
-  Frame f{opcode, 0, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
-          static_cast<std::uint8_t>(value >> 16), static_cast<std::uint8_t>(value >> 24)};
-  f.insert(f.end(), rest.begin(), rest.end());
-  return f;
+Frame foe_frame(std::uint8_t opcode, std::uint32_t value, const Frame& rest = {}) {
+  return test::concat({opcode, 0, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
+                       static_cast<std::uint8_t>(value >> 16), static_cast<std::uint8_t>(value >> 24)},
+                      rest);
 }
 Frame name(const std::string& s) { return Frame(s.begin(), s.end()); }
 

@@ -3,7 +3,8 @@
 # staging prefix, then, against that prefix only (not the source tree):
 #  - the layout: programs, libraries, headers, CMake package, pkg-config file,
 #    device files, man pages; `--version` of every program;
-#  - every installed header compiles alone on the installed include path;
+#  - a file including every installed header compiles on the installed
+#    include path alone (no installed header needs a non-installed one);
 #  - a pkg-config build links and runs;
 #  - each example in examples/ is configured out of tree with
 #    find_package(ecatslave), built and run: the DIO16 slave (in-process, then
@@ -70,12 +71,12 @@ done
 zcat "$prefix/share/man/man1/ecat-slave.1.gz" 2> /dev/null | grep -qF -- 'state\-dir' \
   || fail "ecat-slave.1 lacks the --state-dir option"
 
-# --- every installed header alone, with only the installed include path ------------
+# --- every installed header, with only the installed include path ------------------
 (cd "$prefix/include/ecatslave" && find . -name '*.hpp' | sort | sed 's|^\./\(.*\)|#include "\1"|') \
   > "$tmp/all_headers.cpp"
 echo 'int main() { return 0; }' >> "$tmp/all_headers.cpp"
 "$cxx" -std=c++20 -fsyntax-only -Wall -Wextra -I "$prefix/include/ecatslave" "$tmp/all_headers.cpp" \
-  > "$tmp/headers.log" 2>&1 || fail "installed headers do not compile alone: $(head -5 "$tmp/headers.log")"
+  > "$tmp/headers.log" 2>&1 || fail "installed headers do not compile on the installed include path: $(head -5 "$tmp/headers.log")"
 n_headers=$(grep -c '#include' "$tmp/all_headers.cpp")
 
 # --- pkg-config ------------------------------------------------------------------------
@@ -154,5 +155,5 @@ if configure_build firmware-tables; then
     || fail "firmware_tables printed: $out"
 fi
 
-[ "$status" -eq 0 ] && echo "ok: installed layout, $n_headers headers alone, pkg-config, 3 examples built and run"
+[ "$status" -eq 0 ] && echo "ok: installed layout, $n_headers headers on the installed include path, pkg-config, 3 examples built and run"
 exit $status
