@@ -252,6 +252,14 @@ class DictionaryReader {
         e.default_value.push_back(static_cast<std::uint8_t>(c));
         if (e.type == od::DataType::UnicodeString) e.default_value.push_back(0);
       }
+      // STRING(0) with a default "1.0" (generated files): the device answers the
+      // default, so the entry is as long as its default.
+      const std::size_t have = e.bit_length / kBitsPerByte;
+      if (e.default_value.size() > have) {
+        ctx_.warn(s, fmt::format("default '{}' is longer than the declared {} bytes; the entry is made {} bytes",
+                                 text, have, e.default_value.size()));
+        e.bit_length = static_cast<std::uint16_t>(e.default_value.size() * kBitsPerByte);
+      }
     } else if (auto v = value_of(e, info, "DefaultData", "DefaultValue")) {
       e.default_value = std::move(*v);
     }

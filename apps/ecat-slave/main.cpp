@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   cli.add_option("--product-code", product_code, "Device of the ESI to emulate (#x hex or decimal)");
   cli.add_option("--revision", revision, "Revision of the ESI device to emulate (#x hex or decimal)");
+  cli.add_flag("--strict", o.strict, "With --esi: every import warning (repair, element not modelled) is an error");
   cli.add_option("--chain", chain, "Comma-separated device files, in line order (port 0 -> port 1)");
   cli.add_option("--count", o.count, "Number of slaves: the listed devices, then copies of the last")
       ->check(CLI::Range(1u, 4096u));

@@ -14,6 +14,7 @@ struct SlaveProgramOptions {
   std::vector<std::string> esi_files;     // --esi
   std::optional<std::uint32_t> product_code;
   std::optional<std::uint32_t> revision;
+  bool strict = false;  // --strict: ESI import warnings are errors
   unsigned count = 1;                     // --count: copies of the (last) device
 
   // Exactly one medium.
