@@ -229,8 +229,13 @@ class DictionaryReader {
         return std::nullopt;
       }
       if (!od::is_string(e.type) && bytes->size() != size) {
-        ctx_.warn(n, fmt::format("{} bytes for a {}-bit entry; resized", bytes->size(), e.bit_length));
-        bytes->resize(size, 0);
+        // The number in fewer bytes: zero-extended, or sign-extended for a
+        // signed type ("80" for an INT is -128, as the vendor tool meant).
+        const bool negative = od::is_signed(e.type) && !bytes->empty() && bytes->size() < size &&
+                              (bytes->back() & 0x80) != 0;
+        ctx_.warn(n, fmt::format("{} bytes for a {}-bit entry; {}", bytes->size(), e.bit_length,
+                                 negative ? "sign-extended" : "resized"));
+        bytes->resize(size, negative ? 0xFF : 0);
       }
       return bytes;
     }
@@ -265,6 +270,13 @@ class DictionaryReader {
     }
     if (auto v = value_of(e, info, "MinData", "MinValue")) e.min_value = std::move(*v);
     if (auto v = value_of(e, info, "MaxData", "MaxValue")) e.max_value = std::move(*v);
+    if (e.has_min() && e.has_max() && compare_values(e.type, e.min_value, e.max_value) > 0) {
+      // A range no value fits (e.g. MinData 80, MaxData 00 of a 16-bit entry):
+      // the device cannot mean it; the twin takes no limits.
+      ctx_.warn(info, "MinData above MaxData; the entry gets no limits");
+      e.min_value.clear();
+      e.max_value.clear();
+    }
     if (e.default_value.empty()) e.default_value = zero_value(e.type, e.bit_length);
   }
 

@@ -22,7 +22,7 @@ constexpr std::uint16_t kSmCommType = 0x1C00;
 constexpr std::uint16_t kSmAssignFirst = 0x1C10;
 constexpr std::uint16_t kRxMappingFirst = 0x1600, kRxMappingLast = 0x17FF;
 constexpr std::uint16_t kTxMappingFirst = 0x1A00, kTxMappingLast = 0x1BFF;
-constexpr std::uint16_t kCommunicationLast = 0x1FFF;  // CiA 301 communication area ends here
+constexpr std::uint16_t kCommunicationFirst = 0x1000, kCommunicationLast = 0x1FFF;  // CiA 301 communication area
 constexpr unsigned kMappingIndexShift = 16, kMappingSubShift = 8;
 constexpr std::uint8_t kBitsPerByte = 8;
 
@@ -72,6 +72,7 @@ class Repairer {
       : ctx_(ctx), d_(d), device_line_(ctx.line(device)) {}
 
   void run() {
+    renumber_out_of_range_pdos();
     adopt_dictionary_assignment();
     create_missing_pdo_objects();
     repair_identity();
@@ -150,6 +151,41 @@ class Repairer {
     return out;
   }
 
+  // A PDO numbered outside its direction's mapping range (a TxPdo 1700h): the
+  // CoE mapping objects of a direction live in 1600h-17FFh / 1A00h-1BFFh
+  // (ETG.1000.6 §5.6.7.4.7), so the twin numbers it with the first free index
+  // of its range; the process-data layout is unchanged.
+  void renumber_out_of_range_pdos() {
+    for (bool rx : {true, false}) {
+      auto& pdos = rx ? d_.rx_pdos : d_.tx_pdos;
+      const std::uint16_t first = rx ? kRxMappingFirst : kTxMappingFirst;
+      const std::uint16_t last = rx ? kRxMappingLast : kTxMappingLast;
+      auto used = [&](std::uint16_t i) {
+        for (const auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
+          for (const auto& p : *list) {
+            if (p.index == i) return true;
+          }
+        }
+        return d_.dictionary.find(i) != nullptr;
+      };
+      for (auto& p : pdos) {
+        if (p.index >= first && p.index <= last) continue;
+        std::uint16_t next = first;
+        while (next <= last && used(next)) ++next;
+        if (next > last) continue;
+        ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
+                     fmt::format("{} index {:04X}h is outside {:04X}h..{:04X}h; the twin numbers it {:04X}h", rx ? "RxPdo" : "TxPdo",
+                                 p.index, first, last, next));
+        for (const auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
+          for (auto& q : const_cast<std::vector<od::Pdo>&>(*list)) {
+            std::replace(q.excludes.begin(), q.excludes.end(), p.index, next);
+          }
+        }
+        p.index = next;
+      }
+    }
+  }
+
   // No PDO of a direction carries Sm, but the dictionary assigns PDOs of the
   // file: the dictionary's assignment is the only one the file gives, so the
   // SII takes it (masters that read the SII and those that read 1C12h/1C13h
@@ -184,78 +220,106 @@ class Repairer {
   // A PDO entry whose object the dictionary lacks (devices without CoE, or
   // files that list only part of it): the twin gets a process-data object of
   // the entry's size so the data has a home; over SDO it reads as the entry.
+  // Entries of one index across all PDOs make one object (a VAR for a lone
+  // subindex 0, else a RECORD).
+  struct Missing {
+    const od::Pdo* pdo;
+    const od::PdoEntry* entry;
+    bool rx;
+  };
+
   void create_missing_pdo_objects() {
+    std::map<std::uint16_t, std::vector<Missing>> missing;
     for (bool rx : {true, false}) {
       for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
         for (const auto& pe : p.entries) {
           if (pe.index == 0) continue;
-          if (pe.index <= kCommunicationLast) continue;  // never invent communication objects
+          // Never invent communication objects (CiA 301 1000h-1FFFh area).
+          if (pe.index >= kCommunicationFirst && pe.index <= kCommunicationLast) continue;
           od::Object* o = d_.dictionary.find(pe.index);
-          const od::Entry* e = o ? o->find(pe.subindex) : nullptr;
+          od::Entry* e = o ? o->find(pe.subindex) : nullptr;
           const std::uint16_t map_bit = rx ? od::Access::kRxPdoMappable : od::Access::kTxPdoMappable;
           if (e) {
             if (!(e->access.bits & map_bit) && e->bit_length == pe.bit_length) {
-              o->find(pe.subindex)->access.bits |= map_bit;
+              e->access.bits |= map_bit;
               warn(*o, fmt::format("{:04X}h:{:02X} is mapped by PDO {:04X}h but not marked {}-mappable; marked",
                                    pe.index, pe.subindex, p.index, rx ? "RxPDO" : "TxPDO"));
             }
             continue;
           }
-          auto type = type_for_bits(pe.type, pe.bit_length);
-          if (!type) {
-            ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
-                         fmt::format("entry {:04X}:{:02X} of {} bits has no object and no type of that size; "
-                                     "not repaired",
-                                     pe.index, pe.subindex, pe.bit_length));
-            continue;
-          }
-          od::Entry ne;
-          ne.subindex = pe.subindex;
-          ne.name = pe.name.empty() ? fmt::format("SubIndex {:03}", pe.subindex) : pe.name;
-          ne.type = *type;
-          ne.bit_length = pe.bit_length;
-          ne.access.bits = static_cast<std::uint16_t>((rx ? od::Access::kRw : od::Access::kRo) | map_bit);
-          ne.default_value = le_of(0, (pe.bit_length + kBitsPerByte - 1) / kBitsPerByte);
-          ne.source_line = p.source_line;
-          od::Object obj = o ? *o : od::Object{};
-          if (!o) {
-            obj.index = pe.index;
-            obj.name = pe.subindex == 0 ? ne.name : fmt::format("Process data {:04X}h", pe.index);
-            obj.source_line = p.source_line;
-            obj.code = pe.subindex == 0 ? od::ObjectCode::Var : od::ObjectCode::Record;
-            obj.type = pe.subindex == 0 ? *type : od::DataType::Record;
-            if (pe.subindex != 0) {
-              od::Entry si0;
-              si0.name = "SubIndex 000";
-              si0.access.bits = od::Access::kRo;
-              si0.default_value = le_of(0, 1);
-              obj.entries.push_back(std::move(si0));
-            }
-          } else if (o->code == od::ObjectCode::Var || pe.subindex == 0) {
-            warn(*o, fmt::format("PDO {:04X}h maps {:04X}h:{:02X}, which this object does not have; not repaired",
-                                 p.index, pe.index, pe.subindex));
-            continue;
-          }
-          auto at = std::lower_bound(obj.entries.begin(), obj.entries.end(), ne.subindex,
-                                     [](const od::Entry& x, std::uint8_t s) { return x.subindex < s; });
-          obj.entries.insert(at, std::move(ne));
-          if (obj.code != od::ObjectCode::Var) {
-            obj.code = od::ObjectCode::Record;
-            obj.entries.front().default_value = le_of(obj.max_subindex(), 1);
-          }
-          const bool created = o == nullptr;
-          if (auto ok = d_.dictionary.put(std::move(obj)); !ok) {
-            ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
-                         fmt::format("entry {:04X}:{:02X}: {}; not repaired", pe.index, pe.subindex, ok.error()));
-            continue;
-          }
-          ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
-                       fmt::format("PDO {:04X}h entry {:04X}:{:02X} has no dictionary {}; {} as process data ({} bits)",
-                                   p.index, pe.index, pe.subindex, created ? "object" : "entry",
-                                   created ? "object created" : "entry added", pe.bit_length));
+          missing[pe.index].push_back({&p, &pe, rx});
         }
       }
     }
+    for (auto& [index, list] : missing) create_object(index, list);
+  }
+
+  void create_object(std::uint16_t index, const std::vector<Missing>& list) {
+    const od::Object* existing = d_.dictionary.find(index);
+    const bool record = existing ? existing->code != od::ObjectCode::Var
+                                 : std::any_of(list.begin(), list.end(), [](const Missing& m) { return m.entry->subindex != 0; });
+    const Missing& first = list.front();
+    const char* element = first.rx ? "RxPdo" : "TxPdo";
+    if (existing && !record) {
+      warn(*existing, fmt::format("PDO {:04X}h maps {:04X}h:{:02X}, which this VAR object does not have; not repaired",
+                                  first.pdo->index, index, first.entry->subindex));
+      return;
+    }
+    od::Object obj = existing ? *existing : od::Object{};
+    if (!existing) {
+      obj.index = index;
+      obj.name = record ? fmt::format("Process data {:04X}h", index) : first.entry->name;
+      if (obj.name.empty()) obj.name = fmt::format("Process data {:04X}h", index);
+      obj.source_line = first.pdo->source_line;
+      obj.code = record ? od::ObjectCode::Record : od::ObjectCode::Var;
+      obj.type = od::DataType::Record;
+    }
+    std::string added;
+    for (const Missing& m : list) {
+      const od::PdoEntry& pe = *m.entry;
+      if (obj.find(pe.subindex)) continue;  // two PDOs map the same entry
+      auto type = type_for_bits(pe.type, pe.bit_length);
+      if (!type) {
+        ctx_.warn_at(element, m.pdo->source_line,
+                     fmt::format("entry {:04X}:{:02X} of {} bits has no object and no type of that size; not repaired",
+                                 pe.index, pe.subindex, pe.bit_length));
+        return;
+      }
+      od::Entry ne;
+      ne.subindex = pe.subindex;
+      ne.name = pe.name.empty() ? fmt::format("SubIndex {:03}", pe.subindex) : pe.name;
+      ne.type = *type;
+      ne.bit_length = pe.bit_length;
+      const std::uint16_t map_bit = m.rx ? od::Access::kRxPdoMappable : od::Access::kTxPdoMappable;
+      ne.access.bits = static_cast<std::uint16_t>((m.rx ? od::Access::kRw : od::Access::kRo) | map_bit);
+      ne.default_value = le_of(0, (pe.bit_length + kBitsPerByte - 1) / kBitsPerByte);
+      ne.source_line = m.pdo->source_line;
+      auto at = std::lower_bound(obj.entries.begin(), obj.entries.end(), ne.subindex,
+                                 [](const od::Entry& x, std::uint8_t sub) { return x.subindex < sub; });
+      obj.entries.insert(at, std::move(ne));
+      added += fmt::format("{}{:02X} ({} bits)", added.empty() ? "" : ", ", pe.subindex, pe.bit_length);
+    }
+    if (!obj.type_name.empty() && !existing) obj.type_name.clear();
+    if (record && obj.entries.front().subindex != 0) {
+      od::Entry si0;
+      si0.name = "SubIndex 000";
+      si0.access.bits = od::Access::kRo;
+      obj.entries.insert(obj.entries.begin(), std::move(si0));
+    }
+    if (record) {
+      od::Entry& si0 = obj.entries.front();
+      // SI0 of a record reads its highest subindex (CiA 301), unless it is process data itself.
+      if (!si0.access.rx_mappable() && !si0.access.tx_mappable()) si0.default_value = le_of(obj.max_subindex(), 1);
+    }
+    if (added.empty()) return;
+    if (auto ok = d_.dictionary.put(std::move(obj)); !ok) {
+      ctx_.warn_at(element, first.pdo->source_line,
+                   fmt::format("object {:04X}h for PDO entries: {}; not repaired", index, ok.error()));
+      return;
+    }
+    ctx_.warn_at(element, first.pdo->source_line,
+                 fmt::format("{:04X}h has no dictionary {}; {} as process data: subindex {}", index,
+                             existing ? "entry" : "object", existing ? "entries added" : "object created", added));
   }
 
   void repair_identity() {
