@@ -233,7 +233,7 @@ class Repairer {
     for (bool rx : {true, false}) {
       for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
         for (const auto& pe : p.entries) {
-          if (pe.index == 0) continue;
+          if (pe.index == 0 || pe.bit_length == 0) continue;  // a gap, or a length already warned about
           // Never invent communication objects (CiA 301 1000h-1FFFh area).
           if (pe.index >= kCommunicationFirst && pe.index <= kCommunicationLast) continue;
           od::Object* o = d_.dictionary.find(pe.index);
