@@ -95,7 +95,7 @@ for ((i = 1; i <= count; i++)); do
   fi
   repairs=$(grep -c ': warning: ' "$d/import.err")
   if [ -n "$report_dir" ] && [ "$repairs" -gt 0 ]; then
-    sed "s|^.*/||" "$d/import.err" | grep ': warning: ' >> "$report_dir/warnings-$file.txt"
+    grep ': warning: ' "$d/import.err" | sed 's|^[^:]*/\([^/:]*\):|\1:|' >> "$report_dir/warnings-$file.txt"
   fi
 
   # 2. the twin's device file loads
