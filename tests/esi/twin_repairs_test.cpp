@@ -39,6 +39,7 @@ const char* const kEsi = R"(<?xml version="1.0"?>
               <DataType><Name>UDINT</Name><BitSize>32</BitSize></DataType>
               <DataType><Name>REAL</Name><BitSize>32</BitSize></DataType>
               <DataType><Name>STRING(0)</Name><BitSize>0</BitSize></DataType>
+              <DataType><Name>STRING(4)</Name><BitSize>32</BitSize></DataType>
               <DataType><Name>DT1018</Name><BitSize>144</BitSize>
                 <SubItem><SubIdx>0</SubIdx><Name>Number of entries</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
                 <SubItem><SubIdx>1</SubIdx><Name>Vendor ID</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>16</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
@@ -66,6 +67,9 @@ const char* const kEsi = R"(<?xml version="1.0"?>
             </DataTypes>
             <Objects>
               <Object><Index>#x1000</Index><Name>Device type</Name><Type>UDINT</Type><BitSize>32</BitSize><Info><DefaultData>92010200</DefaultData></Info><Flags><Access>ro</Access></Flags></Object>
+              <Object><Index>#x1002</Index><Name>Manufacturer status</Name><Type>UDINT</Type><BitSize>32</BitSize><Info><DefaultData>00000000</DefaultData></Info><Flags><Access>ro</Access></Flags></Object>
+              <Object><Index>#x1004</Index><Name>Number of PDOs</Name><Type>UDINT</Type><BitSize>32</BitSize><Info><DefaultData>01000100</DefaultData></Info><Flags><Access>ro</Access></Flags></Object>
+              <Object><Index>#x1008</Index><Name>Device name</Name><Type>STRING(4)</Type><BitSize>32</BitSize><Info><DefaultString>TT-1</DefaultString></Info><Flags><Access>ro</Access></Flags></Object>
               <Object><Index>#x1009</Index><Name>Hardware version</Name><Type>STRING(0)</Type><BitSize>0</BitSize><Info><DefaultString>1.0</DefaultString></Info><Flags><Access>ro</Access></Flags></Object>
               <Object><Index>#x1018</Index><Name>Identity</Name><Type>DT1018</Type><BitSize>144</BitSize>
                 <Info><SubItem><Name>Number of entries</Name><Info><DefaultData>04</DefaultData></Info></SubItem></Info>
@@ -234,6 +238,11 @@ TEST_F(TwinRepairs, ValuesThatRoundTrip) {
   EXPECT_EQ(back->dictionary.find(0x2000, 0)->default_value, (od::Value{0x00, 0x00, 0xC0, 0x7F}));
   EXPECT_EQ(le(back->dictionary.find(0x1C12, 1)->default_value), 0x1600u);
   EXPECT_EQ(le(back->dictionary.find(0x1018, 1)->default_value), 0xABCu);
+  // CiA 301 objects with the types of older devices load as written.
+  EXPECT_EQ(back->dictionary.find(0x1004, 0)->type, od::DataType::Unsigned32);
+  EXPECT_EQ(le(back->dictionary.find(0x1004, 0)->default_value), 0x00010001u);
+  EXPECT_EQ(back->dictionary.find(0x1002, 0)->type, od::DataType::Unsigned32);
+  EXPECT_EQ(back->dictionary.find(0x1008, 0)->bit_length, 32);
 }
 
 class TwinImport : public ::testing::Test {
