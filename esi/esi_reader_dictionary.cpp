@@ -200,6 +200,14 @@ class DictionaryReader {
         next_sub = static_cast<int>(lbound + n);
         continue;
       }
+      if (stype.empty() && !si.child("Type")) {
+        // A SubItem without a Type: padding in the complete-access image (its
+        // BitSize), not an entry a master can address.
+        ctx_.warn(si, fmt::format("object {:04X}h: sub item '{}' has no Type; taken as {} bits of padding, not an entry",
+                                  o.index, si.child_value("Name"), sbits));
+        if (si.child("SubIdx")) next_sub = static_cast<int>(esi_number(si.child_value("SubIdx")).value_or(next_sub)) + 1;
+        continue;
+      }
       auto b = basic(stype, sbits, 0);
       const auto sub = si.child("SubIdx") ? esi_number(si.child_value("SubIdx")) : next_sub;
       if (!b || !sub || *sub < 0 || *sub > 255) {

@@ -64,6 +64,11 @@ const char* const kEsi = R"(<?xml version="1.0"?>
                 <SubItem><SubIdx>1</SubIdx><Name>SubIndex 001</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>16</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
                 <SubItem><SubIdx>2</SubIdx><Name>SubIndex 002</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>48</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
               </DataType>
+              <DataType><Name>DT2001</Name><BitSize>48</BitSize>
+                <SubItem><SubIdx>0</SubIdx><Name>SubIndex 000</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
+                <SubItem><Name>Reserved</Name><BitSize>8</BitSize><BitOffs>8</BitOffs></SubItem>
+                <SubItem><SubIdx>1</SubIdx><Name>Limit</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>16</BitOffs><Flags><Access>rw</Access></Flags></SubItem>
+              </DataType>
             </DataTypes>
             <Objects>
               <Object><Index>#x1000</Index><Name>Device type</Name><Type>UDINT</Type><BitSize>32</BitSize><Info><DefaultData>92010200</DefaultData></Info><Flags><Access>ro</Access></Flags></Object>
@@ -103,6 +108,10 @@ const char* const kEsi = R"(<?xml version="1.0"?>
                 <Flags><Access>rw</Access></Flags></Object>
               <Object><Index>#x6040</Index><Name>Controlword</Name><Type>UINT</Type><BitSize>16</BitSize><Info><DefaultData>0000</DefaultData></Info><Flags><Access>rw</Access><PdoMapping>R</PdoMapping></Flags></Object>
               <Object><Index>#x6041</Index><Name>Statusword</Name><Type>UINT</Type><BitSize>16</BitSize><Info><DefaultData>0000</DefaultData></Info><Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>
+              <Object><Index>#x2001</Index><Name>Limits</Name><Type>DT2001</Type><BitSize>48</BitSize>
+                <Info><SubItem><Name>SubIndex 000</Name><Info><DefaultData>01</DefaultData></Info></SubItem>
+                  <SubItem><Name>Limit</Name><Info><DefaultData>3412</DefaultData></Info></SubItem></Info>
+                <Flags><Access>rw</Access></Flags></Object>
               <Object><Index>#x2000</Index><Name>Gain</Name><Type>REAL</Type><BitSize>32</BitSize><Info><DefaultData>0000C07F</DefaultData></Info><Flags><Access>rw</Access></Flags></Object>
             </Objects>
           </Dictionary>
@@ -238,6 +247,11 @@ TEST_F(TwinRepairs, ValuesThatRoundTrip) {
   EXPECT_EQ(back->dictionary.find(0x2000, 0)->default_value, (od::Value{0x00, 0x00, 0xC0, 0x7F}));
   EXPECT_EQ(le(back->dictionary.find(0x1C12, 1)->default_value), 0x1600u);
   EXPECT_EQ(le(back->dictionary.find(0x1018, 1)->default_value), 0xABCu);
+  // A SubItem without a Type is padding: the record keeps its other entries.
+  ASSERT_NE(back->dictionary.find(0x2001, 1), nullptr);
+  EXPECT_EQ(le(back->dictionary.find(0x2001, 1)->default_value), 0x1234u);
+  EXPECT_TRUE(has_warning(warnings, line_of("<Name>Reserved</Name>"), "has no Type; taken as 8 bits of padding"))
+      << all(warnings);
   // CiA 301 objects with the types of older devices load as written.
   EXPECT_EQ(back->dictionary.find(0x1004, 0)->type, od::DataType::Unsigned32);
   EXPECT_EQ(le(back->dictionary.find(0x1004, 0)->default_value), 0x00010001u);
