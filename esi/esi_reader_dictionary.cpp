@@ -18,6 +18,8 @@ namespace {
 
 constexpr int kMaxTypeDepth = 8;  // BaseType chains longer than this are rejected
 constexpr std::uint16_t kBitsPerByte = 8;
+constexpr std::uint8_t kSignBit = 0x80;      // top bit of the last little-endian byte
+constexpr std::uint8_t kSignFill = 0xFF;     // bytes that sign-extend a negative number
 
 struct Basic {
   od::DataType type;
@@ -240,10 +242,10 @@ class DictionaryReader {
         // The number in fewer bytes: zero-extended, or sign-extended for a
         // signed type ("80" for an INT is -128, as the vendor tool meant).
         const bool negative = od::is_signed(e.type) && !bytes->empty() && bytes->size() < size &&
-                              (bytes->back() & 0x80) != 0;
+                              (bytes->back() & kSignBit) != 0;
         ctx_.warn(n, fmt::format("{} bytes for a {}-bit entry; {}", bytes->size(), e.bit_length,
                                  negative ? "sign-extended" : "resized"));
-        bytes->resize(size, negative ? 0xFF : 0);
+        bytes->resize(size, negative ? kSignFill : 0);
       }
       return bytes;
     }

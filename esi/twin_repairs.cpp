@@ -25,6 +25,10 @@ constexpr std::uint16_t kTxMappingFirst = 0x1A00, kTxMappingLast = 0x1BFF;
 constexpr std::uint16_t kCommunicationFirst = 0x1000, kCommunicationLast = 0x1FFF;  // CiA 301 communication area
 constexpr unsigned kMappingIndexShift = 16, kMappingSubShift = 8;
 constexpr std::uint8_t kBitsPerByte = 8;
+constexpr std::uint8_t kIdentityEntries = 4;        // 1018h:01-04 (CiA 301)
+constexpr std::size_t kAssignBytes = 2;             // 1C1xh entries: UNSIGNED16 PDO indices
+constexpr std::size_t kMappingBytes = 4;            // 16xxh/1Axxh entries: UNSIGNED32
+constexpr std::uint16_t kIdentityBits = 32;
 
 std::string hex_value(const od::Value& v) {
   std::string s;
@@ -328,13 +332,13 @@ class Repairer {
     const auto& id = d_.identity;
     const std::uint32_t want[] = {id.vendor_id, id.product_code, id.revision, id.serial};
     const char* what[] = {"vendor id", "product code", "revision", "serial number"};
-    for (std::uint8_t sub = 1; sub <= 4; ++sub) {
+    for (std::uint8_t sub = 1; sub <= kIdentityEntries; ++sub) {
       od::Entry* e = o->find(sub);
-      if (!e || e->bit_length != 32) continue;
-      if (value_of(e->default_value) == want[sub - 1] && e->default_value.size() == 4) continue;
+      if (!e || e->bit_length != kIdentityBits) continue;
+      if (value_of(e->default_value) == want[sub - 1] && e->default_value.size() == kIdentityBits / kBitsPerByte) continue;
       warn(*o, fmt::format("1018h:{:02X} default {} differs from the SII {} #x{:08X} (Vendor/Type); the SII's is used",
                            sub, hex_value(e->default_value), what[sub - 1], want[sub - 1]));
-      e->default_value = le_of(want[sub - 1], 4);
+      e->default_value = le_of(want[sub - 1], kIdentityBits / kBitsPerByte);
     }
   }
 
@@ -363,16 +367,16 @@ class Repairer {
         std::string was;
         const bool differs = [&] {
           od::Object copy = *o;
-          return rewrite_list(copy, want, 2, od::DataType::Unsigned16, was) || !was.empty();
+          return rewrite_list(copy, want, kAssignBytes, od::DataType::Unsigned16, was) || !was.empty();
         }();
         if (!differs) continue;
-        if (!rewrite_list(*o, want, 2, od::DataType::Unsigned16, was)) {
+        if (!rewrite_list(*o, want, kAssignBytes, od::DataType::Unsigned16, was)) {
           warn(*o, fmt::format("{:04X}h default ({}) differs from the PDOs with Sm=\"{}\" ({}); not repairable",
-                               o->index, was, sm, list_text(want, 2)));
+                               o->index, was, sm, list_text(want, kAssignBytes)));
           continue;
         }
         warn(*o, fmt::format("{:04X}h default ({}) differs from the PDOs with Sm=\"{}\" ({}); the SII's is used",
-                             o->index, was, sm, list_text(want, 2)));
+                             o->index, was, sm, list_text(want, kAssignBytes)));
       }
     }
   }
@@ -391,14 +395,14 @@ class Repairer {
         }
         std::string was;
         od::Object copy = *o;
-        if (!rewrite_list(copy, want, 4, od::DataType::Unsigned32, was) && was.empty()) continue;
-        if (!rewrite_list(*o, want, 4, od::DataType::Unsigned32, was)) {
+        if (!rewrite_list(copy, want, kMappingBytes, od::DataType::Unsigned32, was) && was.empty()) continue;
+        if (!rewrite_list(*o, want, kMappingBytes, od::DataType::Unsigned32, was)) {
           warn(*o, fmt::format("{:04X}h default ({}) differs from the {} entries ({}); not repairable", o->index, was,
-                               rx ? "RxPdo" : "TxPdo", list_text(want, 4)));
+                               rx ? "RxPdo" : "TxPdo", list_text(want, kMappingBytes)));
           continue;
         }
         warn(*o, fmt::format("{:04X}h default ({}) differs from the {} entries ({}); the SII's is used", o->index, was,
-                             rx ? "RxPdo" : "TxPdo", list_text(want, 4)));
+                             rx ? "RxPdo" : "TxPdo", list_text(want, kMappingBytes)));
       }
     }
   }
