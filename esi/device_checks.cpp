@@ -173,7 +173,10 @@ void check_sync_manager_memory(const DeviceSpec& spec, const od::DeviceDescripti
   for (std::size_t i = 0; i < dev.sync_managers.size(); ++i) {
     const auto& sm = dev.sync_managers[i];
     if (sm.type == od::SmType::Unused) continue;
-    std::uint32_t length = sm.max_size ? sm.max_size : sm.default_size;
+    // A mailbox SM is configured with its default size (SII words 18h-1Bh);
+    // vendor files give a MaxSize that would overlap the next mailbox SM.
+    const bool mailbox = sm.type == od::SmType::MailboxOut || sm.type == od::SmType::MailboxIn;
+    std::uint32_t length = (sm.max_size && !(mailbox && sm.default_size)) ? sm.max_size : sm.default_size;
     if (length == 0) length = assigned_bytes(dev, i);
     if ((sm.control & kSmModeMask) == kSmModeBuffered) length *= kBufferedCopies;
     const Range r{i, sm.start_address, sm.start_address + length};

@@ -86,6 +86,18 @@ Expected<od::Value, std::string> encode_integer(od::DataType type, std::uint16_t
 
 Expected<od::Value, std::string> encode_real(od::DataType type, std::string_view text) {
   const std::string_view t = trim(text);
+  // "#x" + the little-endian bytes' hex: the exact bit pattern, the form the
+  // device XML writer uses for values without a decimal spelling (NaN, +-inf;
+  // docs/device-format.md "Values").
+  if (t.starts_with("#x")) {
+    const std::size_t bytes = type == od::DataType::Real32 ? sizeof(float) : sizeof(double);
+    std::uint64_t raw = 0;
+    auto [e, err] = std::from_chars(t.data() + 2, t.data() + t.size(), raw, 16);
+    if (err != std::errc{} || e != t.data() + t.size() || t.size() - 2 > 2 * bytes) {
+      return fail(fmt::format("'{}' is not a {} bit pattern", text, od::canopen_name(type)));
+    }
+    return le_bytes(raw, bytes);
+  }
   double d = 0;
   auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), d);
   if (ec != std::errc{} || end != t.data() + t.size() || !std::isfinite(d)) {

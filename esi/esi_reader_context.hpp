@@ -28,6 +28,9 @@ class EsiContext {
   void warn(const pugi::xml_node& n, std::string message) const {
     if (warnings_) warnings_->push_back({n.name(), line(n), std::move(message)});
   }
+  void warn_at(std::string element, int line, std::string message) const {
+    if (warnings_) warnings_->push_back({std::move(element), line, std::move(message)});
+  }
   // Warns "element not modelled; ignored".
   void ignored(const pugi::xml_node& n) const { warn(n, "not modelled; ignored"); }
   LoadError error(const pugi::xml_node& n, std::string message) const {
@@ -55,6 +58,13 @@ T ranged(const EsiContext& ctx, const pugi::xml_node& where, std::string_view wh
          std::string_view text, T fallback) {
   if (text.empty()) return fallback;
   auto v = esi_number(text);
+  // "#x0x6041": both hex prefixes, as some ESI generators write them; the
+  // number is plain, the spelling is repaired with a warning.
+  if (!v && (text.starts_with("#x0x") || text.starts_with("#x0X"))) {
+    v = esi_number(std::string("#x").append(text.substr(4)));
+    if (v) ctx.warn(where, std::string(what) + " '" + std::string(text) + "' has two hex prefixes; read as #x" +
+                               std::string(text.substr(4)));
+  }
   if (!v || *v < static_cast<std::int64_t>(std::numeric_limits<T>::min()) ||
       *v > static_cast<std::int64_t>(std::numeric_limits<T>::max())) {
     ctx.warn(where, std::string(what) + " '" + std::string(text) + "' is not a number in range; " +
@@ -70,6 +80,12 @@ EsiDeviceEntry device_entry(const pugi::xml_node& device, const EsiContext& ctx)
 // Reads one Device element (and the file's Vendor/Groups from `info`).
 Expected<void, LoadError> read_esi_device(const pugi::xml_node& info, const pugi::xml_node& device,
                                           const EsiContext& ctx, od::DeviceDescription& out);
+
+// The twin import policy (docs/twins.md): the dictionary objects that repeat
+// what the SII says (1018h, 1C00h, 1C12h/1C13h, 16xxh/1Axxh) follow the SII
+// where they disagree, PDO entries without an object get one; each repair is
+// a warning with its line.
+void repair_for_twin(const pugi::xml_node& device, const EsiContext& ctx, od::DeviceDescription& d);
 
 // Reads Profile/Dictionary into the device (DataTypes resolved, Objects with
 // Info and Flags); objects the model cannot hold are skipped with a warning.

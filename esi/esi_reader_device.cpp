@@ -43,6 +43,46 @@ od::FmmuUsage fmmu_usage(std::string_view text, bool& known) {
   return od::FmmuUsage::Unused;
 }
 
+// SM control byte (ESC Section II 0x0804): bits 1:0 operation mode (10b
+// mailbox, 00b buffered), bits 3:2 direction (01b written by the master).
+constexpr std::uint8_t kSmModeMask = 0x03, kSmModeMailbox = 0x02, kSmModeBuffered = 0x00;
+constexpr std::uint8_t kSmDirectionMask = 0x0C, kSmDirectionWrite = 0x04;
+
+od::SmType sm_type_from_control(std::uint8_t control) {
+  const bool write = (control & kSmDirectionMask) == kSmDirectionWrite;
+  switch (control & kSmModeMask) {
+    case kSmModeMailbox: return write ? od::SmType::MailboxOut : od::SmType::MailboxIn;
+    case kSmModeBuffered: return write ? od::SmType::Outputs : od::SmType::Inputs;
+    default: return od::SmType::Unused;
+  }
+}
+
+const char* sm_type_word(od::SmType t) {
+  switch (t) {
+    case od::SmType::MailboxOut: return "MBoxOut";
+    case od::SmType::MailboxIn: return "MBoxIn";
+    case od::SmType::Outputs: return "Outputs";
+    case od::SmType::Inputs: return "Inputs";
+    case od::SmType::Unused: break;
+  }
+  return "unused";
+}
+
+od::FmmuUsage fmmu_by_position(std::size_t n) {
+  constexpr od::FmmuUsage kOrder[] = {od::FmmuUsage::Outputs, od::FmmuUsage::Inputs, od::FmmuUsage::MailboxState};
+  return n < std::size(kOrder) ? kOrder[n] : od::FmmuUsage::Unused;
+}
+
+const char* fmmu_word(od::FmmuUsage u) {
+  switch (u) {
+    case od::FmmuUsage::Outputs: return "Outputs";
+    case od::FmmuUsage::Inputs: return "Inputs";
+    case od::FmmuUsage::MailboxState: return "MBoxState";
+    case od::FmmuUsage::Unused: break;
+  }
+  return "unused";
+}
+
 class DeviceReader {
  public:
   DeviceReader(const EsiContext& ctx, od::DeviceDescription& d) : ctx_(ctx), d_(d) {}
@@ -59,7 +99,13 @@ class DeviceReader {
       } else if (n == "Fmmu") {
         bool known = false;
         d_.fmmus.push_back(fmmu_usage(child.child_value(), known));
-        if (!known) ctx_.warn(child, fmt::format("unknown FMMU use '{}'; taken as unused", child.child_value()));
+        if (!known) {
+          // By position, the order ETG.2000 files and the SII FMMU category use:
+          // outputs, inputs, mailbox state.
+          d_.fmmus.back() = fmmu_by_position(d_.fmmus.size() - 1);
+          ctx_.warn(child, fmt::format("unknown FMMU use '{}'; taken as {} by its position", child.child_value(),
+                                       fmmu_word(d_.fmmus.back())));
+        }
       } else if (n == "Sm") {
         read_sm(child);
       } else if (n == "RxPdo" || n == "TxPdo") {
@@ -75,6 +121,7 @@ class DeviceReader {
       }
     }
     finish();
+    repair_for_twin(dev, ctx_, d_);
     return {};
   }
 
@@ -119,7 +166,6 @@ class DeviceReader {
     od::SyncManagerConfig sm;
     bool known = false;
     sm.type = sm_type(s.child_value(), known);
-    if (!known) ctx_.warn(s, fmt::format("unknown SM use '{}'; taken as unused", s.child_value()));
     auto u16 = [&](const char* a) {
       return ranged<std::uint16_t>(ctx_, s, a, s.attribute(a).value(), 0);
     };
@@ -129,6 +175,14 @@ class DeviceReader {
     sm.max_size = u16("MaxSize");
     sm.control = ranged<std::uint8_t>(ctx_, s, "ControlByte", s.attribute("ControlByte").value(), 0);
     sm.enable = (ranged<std::uint8_t>(ctx_, s, "Enable", s.attribute("Enable").value(), 1) & 1) != 0;
+    if (!known) {
+      // The SII SYNCM type a master reads follows the control byte (ESC Section II
+      // 0x0804: bits 1:0 mode, bits 3:2 direction) when the text is not one of
+      // the four ETG.2000 words (e.g. "OrbitaIn").
+      sm.type = sm_type_from_control(sm.control);
+      ctx_.warn(s, fmt::format("unknown SM use '{}'; taken as {} from ControlByte #x{:02X}", s.child_value(),
+                               sm_type_word(sm.type), sm.control));
+    }
     d_.sync_managers.push_back(sm);
   }
 

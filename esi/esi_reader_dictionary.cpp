@@ -18,6 +18,8 @@ namespace {
 
 constexpr int kMaxTypeDepth = 8;  // BaseType chains longer than this are rejected
 constexpr std::uint16_t kBitsPerByte = 8;
+constexpr std::uint8_t kSignBit = 0x80;      // top bit of the last little-endian byte
+constexpr std::uint8_t kSignFill = 0xFF;     // bytes that sign-extend a negative number
 
 struct Basic {
   od::DataType type;
@@ -200,6 +202,14 @@ class DictionaryReader {
         next_sub = static_cast<int>(lbound + n);
         continue;
       }
+      if (stype.empty() && !si.child("Type")) {
+        // A SubItem without a Type: padding in the complete-access image (its
+        // BitSize), not an entry a master can address.
+        ctx_.warn(si, fmt::format("object {:04X}h: sub item '{}' has no Type; taken as {} bits of padding, not an entry",
+                                  o.index, si.child_value("Name"), sbits));
+        if (si.child("SubIdx")) next_sub = static_cast<int>(esi_number(si.child_value("SubIdx")).value_or(next_sub)) + 1;
+        continue;
+      }
       auto b = basic(stype, sbits, 0);
       const auto sub = si.child("SubIdx") ? esi_number(si.child_value("SubIdx")) : next_sub;
       if (!b || !sub || *sub < 0 || *sub > 255) {
@@ -229,8 +239,13 @@ class DictionaryReader {
         return std::nullopt;
       }
       if (!od::is_string(e.type) && bytes->size() != size) {
-        ctx_.warn(n, fmt::format("{} bytes for a {}-bit entry; resized", bytes->size(), e.bit_length));
-        bytes->resize(size, 0);
+        // The number in fewer bytes: zero-extended, or sign-extended for a
+        // signed type ("80" for an INT is -128, as the vendor tool meant).
+        const bool negative = od::is_signed(e.type) && !bytes->empty() && bytes->size() < size &&
+                              (bytes->back() & kSignBit) != 0;
+        ctx_.warn(n, fmt::format("{} bytes for a {}-bit entry; {}", bytes->size(), e.bit_length,
+                                 negative ? "sign-extended" : "resized"));
+        bytes->resize(size, negative ? kSignFill : 0);
       }
       return bytes;
     }
@@ -252,11 +267,26 @@ class DictionaryReader {
         e.default_value.push_back(static_cast<std::uint8_t>(c));
         if (e.type == od::DataType::UnicodeString) e.default_value.push_back(0);
       }
+      // STRING(0) with a default "1.0" (generated files): the device answers the
+      // default, so the entry is as long as its default.
+      const std::size_t have = e.bit_length / kBitsPerByte;
+      if (e.default_value.size() > have) {
+        ctx_.warn(s, fmt::format("default '{}' is longer than the declared {} bytes; the entry is made {} bytes",
+                                 text, have, e.default_value.size()));
+        e.bit_length = static_cast<std::uint16_t>(e.default_value.size() * kBitsPerByte);
+      }
     } else if (auto v = value_of(e, info, "DefaultData", "DefaultValue")) {
       e.default_value = std::move(*v);
     }
     if (auto v = value_of(e, info, "MinData", "MinValue")) e.min_value = std::move(*v);
     if (auto v = value_of(e, info, "MaxData", "MaxValue")) e.max_value = std::move(*v);
+    if (e.has_min() && e.has_max() && compare_values(e.type, e.min_value, e.max_value) > 0) {
+      // A range no value fits (e.g. MinData 80, MaxData 00 of a 16-bit entry):
+      // the device cannot mean it; the twin takes no limits.
+      ctx_.warn(info, "MinData above MaxData; the entry gets no limits");
+      e.min_value.clear();
+      e.max_value.clear();
+    }
     if (e.default_value.empty()) e.default_value = zero_value(e.type, e.bit_length);
   }
 

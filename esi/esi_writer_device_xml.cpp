@@ -2,6 +2,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <sstream>
 #include <utility>
@@ -80,10 +81,15 @@ std::string value_text(od::DataType t, const od::Value& v) {
   switch (t) {
     case od::DataType::Boolean: return le_value(v) ? "1" : "0";
     case od::DataType::Real32: {
-      std::uint32_t bits = static_cast<std::uint32_t>(le_value(v));
-      return fmt::format("{}", std::bit_cast<float>(bits));
+      const auto bits = static_cast<std::uint32_t>(le_value(v));
+      const float f = std::bit_cast<float>(bits);
+      // NaN and infinities have no decimal form the loader takes: their bit pattern.
+      return std::isfinite(f) ? fmt::format("{}", f) : hex(bits, 8);
     }
-    case od::DataType::Real64: return fmt::format("{}", std::bit_cast<double>(le_value(v)));
+    case od::DataType::Real64: {
+      const double d = std::bit_cast<double>(le_value(v));
+      return std::isfinite(d) ? fmt::format("{}", d) : hex(le_value(v), 16);
+    }
     case od::DataType::VisibleString: return std::string(v.begin(), v.end());
     case od::DataType::UnicodeString: {
       std::string s;
@@ -151,9 +157,12 @@ void append_object(pugi::xml_node objects, const od::Object& o) {
     return;
   }
   attr(n, "name", o.name);
-  attr(n, "code", o.code == od::ObjectCode::Array ? "ARRAY" : "RECORD");
-  attr(n, "type", o.code == od::ObjectCode::Array ? std::string(od::canopen_name(o.type))
-                                                   : std::string(struct_name(o.type)));
+  // An ARRAY without elements (only subindex 0, as vendor files declare empty
+  // 1C10h/1C11h) has no element type to name: written as a RECORD.
+  const bool array = o.code == od::ObjectCode::Array && !od::canopen_name(o.type).empty();
+  attr(n, "code", array ? "ARRAY" : "RECORD");
+  attr(n, "type", array ? std::string(od::canopen_name(o.type))
+                        : std::string(struct_name(o.code == od::ObjectCode::Array ? od::DataType::Record : o.type)));
   attr_if(n, "typeName", o.type_name);
   attr_if(n, "description", o.description);
   for (const auto& e : o.entries) {

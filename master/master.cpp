@@ -114,6 +114,7 @@ Expected<void, MasterError> Master::clear_write_protection() {
 Expected<std::size_t, MasterError> Master::scan() {
   slaves_.clear();
   image_.clear();
+  pd_configured_ = false;
   expected_wkc_ = 0;
   reference_clock_.reset();
   dc_cyclic_ = false;

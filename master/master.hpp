@@ -197,6 +197,8 @@ class Master {
   std::uint32_t output_bytes_ = 0;
   std::uint32_t input_bytes_ = 0;
   std::uint16_t expected_wkc_ = 0;
+  bool pd_configured_ = false;                // configure_process_data() ran
+  std::array<std::uint8_t, 2> al_status_{};  // cyclic BRD 0x0130 of a segment without process data
   CyclicStats cyclic_stats_{};
   std::optional<std::size_t> reference_clock_;
   bool dc_cyclic_ = false;

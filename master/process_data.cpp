@@ -128,6 +128,7 @@ Expected<void, MasterError> Master::configure_process_data() {
     if (s.pd.input_bytes > 0 || s.pd.mailbox_status_offset) expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 1);
     s.pd.configured = true;
   }
+  pd_configured_ = true;
   return {};
 }
 
@@ -150,7 +151,11 @@ ConstBytes Master::inputs(std::size_t slave) const {
 }
 
 Expected<CyclicResult, MasterError> Master::exchange_process_data() {
-  if (image_.empty()) return fail(MasterError::NotConfigured);
+  if (!pd_configured_) return fail(MasterError::NotConfigured);
+  // A segment without process data (couplers, mailbox-only devices) still
+  // gets a cyclic frame: a BRD of the AL status, answered by every slave
+  // (WKC = slave count), as TwinCAT's cyclic frame checks the states.
+  const bool state_only = image_.empty();
   // The LRW carries the outputs and gets the inputs back; keep the outputs
   // region of the image intact (the reply data of output bytes equals them).
   std::array<Datagram, 3> dgs{};
@@ -161,7 +166,9 @@ Expected<CyclicResult, MasterError> Master::exchange_process_data() {
                         Bytes(dc_time_), 0};
   }
   const std::size_t first = n;
-  if (use_lrw_) {
+  if (state_only) {
+    dgs[n++] = Datagram{Command::Brd, device_address(0, reg::kAlStatus), Bytes(al_status_), 0};
+  } else if (use_lrw_) {
     dgs[n++] = Datagram{Command::Lrw, 0, Bytes(image_), 0};
   } else {
     if (output_bytes_ > 0) dgs[n++] = Datagram{Command::Lwr, 0, Bytes(image_.data(), output_bytes_), 0};
@@ -180,7 +187,7 @@ Expected<CyclicResult, MasterError> Master::exchange_process_data() {
   for (std::size_t i = first; i < n; ++i) {
     res.wkc = static_cast<std::uint16_t>(res.wkc + (dgs[i].command == Command::Lwr ? 2 * dgs[i].wkc : dgs[i].wkc));
   }
-  res.expected_wkc = expected_wkc_;
+  res.expected_wkc = state_only ? static_cast<std::uint16_t>(slaves_.size()) : expected_wkc_;
   res.round_trip = clock_.now() - start;
   if (!res.ok()) ++cyclic_stats_.wkc_errors;
   if (cyclic_stats_.cycles == 1 || res.round_trip < cyclic_stats_.min_round_trip) {

@@ -41,6 +41,7 @@ inline constexpr std::uint16_t kFmmuBlockSize = 256;  // 16 FMMUs
 inline constexpr std::uint16_t kSyncManagerBase = 0x0800;
 inline constexpr std::uint16_t kSyncManagerSize = 8;
 inline constexpr std::uint16_t kSyncManagerBlockSize = 256;  // 32 SMs
+inline constexpr std::uint16_t kSmControlOffset = 4;
 inline constexpr std::uint16_t kSmStatusOffset = 5;
 inline constexpr std::uint16_t kSmActivateOffset = 6;
 inline constexpr std::uint16_t kSmPdiControlOffset = 7;
@@ -72,6 +73,7 @@ inline constexpr std::uint16_t kEepromErrorBits = kEepromAckError | kEepromWrite
 
 // SM status / activate / PDI control bits.
 inline constexpr std::uint8_t kSmStatusMailboxFull = 0x08;  // status bit 3
+inline constexpr std::uint8_t kSmControlWatchdogTrigger = 0x40;  // control bit 6 (ESC Section II 0x0804)
 inline constexpr std::uint8_t kSmActivateEnable = 0x01;
 inline constexpr std::uint8_t kSmActivateRepeat = 0x02;     // repeat request
 inline constexpr std::uint8_t kSmPdiRepeatAck = 0x02;       // repeat acknowledge

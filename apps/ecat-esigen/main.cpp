@@ -30,6 +30,7 @@
 #include "esi/esi_writer.hpp"
 #include "esi/esi_writer_device_xml.hpp"
 #include "esi/sii_writer.hpp"
+#include "esi/twin_import.hpp"
 
 namespace {
 
@@ -48,6 +49,7 @@ struct Options {
   std::string cpp_out;
   std::string cpp_namespace = "ecat_device";
   std::string device_xml_out;
+  bool strict = false;
 };
 
 // A C++ namespace name: identifiers joined by "::".
@@ -96,6 +98,9 @@ int run(const Options& o) {
     device = ecat::esi::read_esi(o.from_esi, ecat::esi::EsiSelection{pc, rev, type}, &warnings);
     for (const auto& w : warnings) std::fprintf(stderr, "%s\n", w.to_string(o.from_esi).c_str());
     source = o.from_esi;
+    if (device && o.strict) {
+      if (auto f = ecat::esi::strict_failure(warnings, o.from_esi)) return error(f->to_string());
+    }
   } else if (!o.device.empty()) {
     device = ecat::esi::load_device_file(o.device);
     source = o.device;
@@ -162,6 +167,7 @@ int main(int argc, char** argv) {
   app.add_option("--cpp", o.cpp_out, "write constexpr C++ tables here");
   app.add_option("--cpp-namespace", o.cpp_namespace, "namespace of the C++ tables");
   app.add_option("--device-xml", o.device_xml_out, "write the model as a device file in our format");
+  app.add_flag("--strict", o.strict, "with --from-esi: every import warning (a repair, an element not modelled) is an error");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -171,8 +177,9 @@ int main(int argc, char** argv) {
   if (!o.device.empty() && !o.from_esi.empty()) {
     return usage_error("give either a DEVICE file or --from-esi, not both");
   }
-  if (o.from_esi.empty() && (!o.product_code.empty() || !o.revision.empty() || !o.type_name.empty() || o.list)) {
-    return usage_error("--product-code, --revision, --type and --list need --from-esi");
+  if (o.from_esi.empty() &&
+      (!o.product_code.empty() || !o.revision.empty() || !o.type_name.empty() || o.list || o.strict)) {
+    return usage_error("--product-code, --revision, --type, --list and --strict need --from-esi");
   }
   if (o.list) {
     if (!o.esi_out.empty() || !o.sii_out.empty() || !o.cpp_out.empty() || !o.device_xml_out.empty() ||

@@ -6,6 +6,7 @@
 #include "esi/eni_devices.hpp"
 #include "esi/eni_reader.hpp"
 #include "esi/esi_reader.hpp"
+#include "esi/twin_import.hpp"
 
 namespace ecat::app {
 
@@ -54,12 +55,15 @@ Expected<std::vector<od::DeviceDescription>, std::string> load_devices(const Sla
   }
   for (const auto& file : options.esi_files) {
     std::vector<esi::EsiWarning> warnings;
-    auto d = esi::read_esi(file, esi::EsiSelection{options.product_code, options.revision, options.type_name},
-                           &warnings);
-    if (!d) return fail(d.error().to_string());
+    // The twin as ecat-esigen --from-esi --device-xml writes it and the loader
+    // reads it back (docs/twins.md); --strict turns import warnings into errors.
+    auto d = esi::import_twin(
+        file, {esi::EsiSelection{options.product_code, options.revision, options.type_name}, options.strict},
+        &warnings);
     for (const auto& w : warnings) {
       fmt::print(stderr, "ecat-slave: warning: {}\n", w.to_string(file));
     }
+    if (!d) return fail(d.error().to_string());
     devices.push_back(std::move(*d));
   }
   if (devices.empty()) {

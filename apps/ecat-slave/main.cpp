@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
                   ->check(CLI::ExistingFile);
   auto* esi_dir = cli.add_option("--esi-dir", o.esi_dir, "With --eni: directory of ESI files for the slaves' dictionaries")
                       ->check(CLI::ExistingDirectory);
+  cli.add_flag("--strict", o.strict, "With --esi: every import warning (repair, element not modelled) is an error");
   cli.add_option("--chain", chain, "Comma-separated device files, in line order (port 0 -> port 1)");
   cli.add_option("--count", o.count, "Number of slaves: the listed devices, then copies of the last")
       ->check(CLI::Range(1u, 4096u));

@@ -22,6 +22,7 @@ struct SlaveProgramOptions {
   std::optional<std::string> type_name;   // --type: ESI device by its Type text
   std::string eni_file;                   // --eni: the chain of an ETG.2100 ENI
   std::string esi_dir;                    // --esi-dir: ESI files for the ENI's slaves
+  bool strict = false;  // --strict: ESI import warnings are errors
   unsigned count = 1;                     // --count: copies of the (last) device
 
   // Exactly one medium.

@@ -1,5 +1,7 @@
 // Invalid SyncManager configurations and the watchdog (ETG.1000.6 §6.4.1,
 // Table 11 codes 0x0016, 0x001D, 0x001E, 0x001B; esm-al-codes.md §3).
+#include <fmt/format.h>
+
 #include "master/conformance/suite.hpp"
 #include "master/registers.hpp"
 
@@ -102,6 +104,15 @@ std::vector<Case> config_cases() {
                      if (auto r = ctx.go_to(AlState::Op); !r) return CaseResult::failed("reach Op", r.error());
                      if (ctx.info().pd.output_bytes == 0) return CaseResult::skip("no outputs (no SM2 watchdog)");
                      const std::uint16_t station = ctx.info().station_address;
+                     // ESC Section II 0x0804 bit 6: only an SM with the watchdog trigger
+                     // enabled rewinds the process-data watchdog; without it (e.g. control
+                     // byte 0x24) the firmware does not supervise SM2 (SSC, SOES).
+                     auto control = ctx.master().fprd_u8(
+                         station, static_cast<std::uint16_t>(reg::sync_manager(kOutputSm) + reg::kSmControlOffset));
+                     if (!control) return CaseResult::failed("SM2 control register", "read failed");
+                     if ((*control & reg::kSmControlWatchdogTrigger) == 0) {
+                       return CaseResult::skip(fmt::format("SM2 watchdog trigger not enabled (control byte 0x{:02X})", *control));
+                     }
                      auto divider = ctx.master().fprd_u16(station, reg::kWatchdogDivider);
                      auto time = ctx.master().fprd_u16(station, reg::kWatchdogTimeProcessData);
                      if (!divider || !time) return CaseResult::failed("watchdog registers", "read failed");

@@ -38,6 +38,19 @@ std::optional<CaseResult> need_coe(Context& ctx) {
   return std::nullopt;
 }
 
+// Enters PreOp, checks CoE and SDO Information (SII GENERAL CoE details bit 1,
+// ESI Mailbox/CoE@SdoInfo): the cases that search the dictionary for an entry
+// to write need it; a device without it (SdoInfo="false") answers SDO
+// Information requests with a mailbox error, as it should.
+std::optional<CaseResult> need_sdo_info(Context& ctx) {
+  if (auto c = need_coe(ctx)) return c;
+  const auto& g = ctx.info().sii.general;
+  if (!g || (g->coe_details & sii::kCoeSdoInfo) == 0) {
+    return CaseResult::skip("no SDO information (SII CoE details): no dictionary list to find an entry in");
+  }
+  return std::nullopt;
+}
+
 // A writable integer entry of at least `min_bytes`, found through SDO info.
 Expected<std::optional<WalkedEntry>, SdoError> writable_integer(Context& ctx, std::size_t min_bytes,
                                                                 std::uint8_t value_info = kValueInfoBasic,
@@ -86,7 +99,7 @@ std::vector<Case> sdo_cases() {
                    }});
   cases.push_back({"sdo.abort_length_too_high", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06070012 (or 0x06070010): data longer than the entry (coe-mailbox.md §5.2)",
                    [](Context& ctx) {
-                     if (auto c = need_coe(ctx)) return *c;
+                     if (auto c = need_sdo_info(ctx)) return *c;
                      auto w = writable_integer(ctx, 1);
                      if (!w) return CaseResult::failed("SDO information", describe_sdo(w.error()));
                      if (!*w) return CaseResult::skip("no writable integer entry found");
@@ -98,7 +111,7 @@ std::vector<Case> sdo_cases() {
                    }});
   cases.push_back({"sdo.abort_length_too_low", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06070013 (or 0x06070010): data shorter than the entry (coe-mailbox.md §5.2)",
                    [](Context& ctx) {
-                     if (auto c = need_coe(ctx)) return *c;
+                     if (auto c = need_sdo_info(ctx)) return *c;
                      auto w = writable_integer(ctx, 2);
                      if (!w) return CaseResult::failed("SDO information", describe_sdo(w.error()));
                      if (!*w) return CaseResult::skip("no writable entry of 2+ bytes found");
@@ -110,7 +123,7 @@ std::vector<Case> sdo_cases() {
                    }});
   cases.push_back({"sdo.abort_value_range", "ETG.1000.6 §5.6.2 / CiA 301 SDO abort 0x06090031 (or 0x06090030): value above the entry's maximum (coe-mailbox.md §6)",
                    [](Context& ctx) {
-                     if (auto c = need_coe(ctx)) return *c;
+                     if (auto c = need_sdo_info(ctx)) return *c;
                      auto w = writable_integer(ctx, 1, kValueInfoBasic | kValueInfoRange, true);
                      if (!w) return CaseResult::failed("SDO information", describe_sdo(w.error()));
                      if (!*w) return CaseResult::skip("no writable entry with a maximum value found");
@@ -127,7 +140,7 @@ std::vector<Case> sdo_cases() {
                    }});
   cases.push_back({"sdo.write_read_back", "ETG.1000.6 §5.6.2 SDO download then upload returns the value written (coe-mailbox.md §5)",
                    [](Context& ctx) {
-                     if (auto c = need_coe(ctx)) return *c;
+                     if (auto c = need_sdo_info(ctx)) return *c;
                      auto w = writable_integer(ctx, 1);
                      if (!w) return CaseResult::failed("SDO information", describe_sdo(w.error()));
                      if (!*w) return CaseResult::skip("no writable integer entry found");

@@ -186,6 +186,11 @@ TEST_F(VendorEsi, WarningsNameElementAndLine) {
       {"BootStrap", 723,
        "a Bootstrap mailbox layout other than the standard mailbox's is not modelled; the "
        "standard layout is used"},
+      // The twin policy (docs/twins.md): the RxPdo's gap entry is in the SII, so
+      // 1600h's default follows it.
+      {"Object", 407,
+       "1600h default (SI0 3 0x60400010 0x607a0020 0x60600008) differs from the RxPdo entries (SI0 4 "
+       "0x60400010 0x607a0020 0x60600008 0x00000008); the SII's is used"},
   };
   EXPECT_EQ(got, expected);
   EXPECT_EQ(warnings[0].to_string("f.xml"), "f.xml:40: warning: Info: not modelled; ignored");

@@ -3,6 +3,10 @@
 // SDO traffic, process data up to Op.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
+#include "esi/esi_writer_device_xml.hpp"
+#include "esi/twin_import.hpp"
 #include "in_process_bus.hpp"
 #include "master/coe_client.hpp"
 
@@ -186,6 +190,50 @@ TEST(InProcessDc, DelaysGrowAlongTheLine) {
   ASSERT_TRUE(master.dc_static_drift_compensation(100).has_value());
   ASSERT_TRUE(master.dc_static_drift_compensation(100, Command::Armw).has_value());
   EXPECT_EQ(master.dc_static_drift_compensation(1, Command::Lrw).error(), MasterError::InvalidArgument);
+}
+
+}  // namespace
+}  // namespace ecat::master::test
+
+
+namespace ecat::master::test {
+namespace {
+
+// A segment without process data (the rt-labs ATO sample device of the vendor
+// corpus: mailbox only, no PDOs) still cycles: one BRD of the AL status per
+// cycle, every slave answers it, expected WKC = slave count (issue 14).
+TEST(InProcessNoProcessData, CyclesOnTheAlStatusWithWkcSlaveCount) {
+  std::vector<esi::EsiWarning> warnings;
+  auto twin = esi::import_twin(std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-vendor/rtlabs-ato.xml", {}, &warnings);
+  ASSERT_TRUE(twin) << twin.error().to_string();
+  ASSERT_TRUE(twin->rx_pdos.empty() && twin->tx_pdos.empty());
+  const std::string file = ::testing::TempDir() + "rtlabs-ato.device.xml";
+  std::ofstream(file) << esi::write_device_xml(*twin);
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(file, 2));
+  Master master(bus.transport, bus.clock);
+  ASSERT_EQ(master.scan().value_or(0), 2u);
+  EXPECT_EQ(master.exchange_process_data().error(), MasterError::NotConfigured);
+  for (std::size_t i = 0; i < 2; ++i) {
+    ASSERT_TRUE(master.configure_mailbox(i));
+    ASSERT_TRUE(master.request_state(i, AlState::PreOp).value().is(AlState::PreOp));
+  }
+  ASSERT_TRUE(master.configure_process_data());
+  EXPECT_TRUE(master.process_image().empty());
+  for (AlState s : {AlState::SafeOp, AlState::Op}) {
+    for (std::size_t i = 0; i < 2; ++i) {
+      auto st = master.request_state(i, s);
+      ASSERT_TRUE(st && st->is(s) && !st->error());
+    }
+  }
+  for (int c = 0; c < 10; ++c) {
+    auto r = master.exchange_process_data();
+    ASSERT_TRUE(r) << describe(r.error());
+    EXPECT_EQ(r->expected_wkc, 2);
+    EXPECT_EQ(r->wkc, 2);
+    EXPECT_TRUE(r->ok());
+  }
+  EXPECT_EQ(master.cyclic_stats().wkc_errors, 0u);
 }
 
 }  // namespace

@@ -66,6 +66,14 @@ expect_rc 0 "device xml -> esi" "$gen" "$out/v.device.xml" --esi "$out/v2.xml"
 expect_rc 0 "esi -> esi" "$gen" --from-esi "$out/v2.xml" --device-xml "$out/v2.device.xml" --esi "$out/v3.xml"
 cmp -s "$out/v2.xml" "$out/v3.xml" || fail "ESI -> model -> device XML -> ESI not stable"
 
+# 4b. --strict: the import's warnings (repairs, elements not modelled) are errors.
+expect_rc 1 "--strict with warnings" "$gen" --from-esi "$vendor" --product-code '#x1001' --revision 0x20000 \
+  --strict --device-xml "$out/strict.xml"
+grep -qE 'vendor-drives.xml:[0-9]+: .*\(--strict: import warnings are errors\)$' "$out/stderr" \
+  || fail "--strict error is not 'file:line: ... (--strict ...)': $(tail -1 "$out/stderr")"
+[ -e "$out/strict.xml" ] && fail "a --strict failure wrote its output"
+expect_rc 2 "--strict without --from-esi" "$gen" --strict --esi "$out/x.xml"
+
 # 5. Errors and bad options.
 expect_rc 2 "unknown option" "$gen" --bogus
 expect_rc 2 "no output" "$gen"

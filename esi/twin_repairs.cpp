@@ -1,0 +1,421 @@
+// Import policy for digital twins (docs/twins.md "Import policy"): where a
+// vendor ESI contradicts itself, the twin behaves towards a master as the real
+// device does. What the master reads from the SII (the Sm elements, the
+// RxPdo/TxPdo lists with their Sm attributes, the identity) decides the
+// dictionary objects that describe the same thing: 1018h (ETG.1000.6 §5.4:
+// SII words 8h-Fh equal 1018h:01-04), 1C00h (ETG.1000.6 §5.6.7.4.1, the SM
+// communication types), 1C12h/1C13h (default PDO assignment, ETG.2010 TXPDO/
+// RXPDO categories) and 16xxh/1Axxh (PDO mapping). Each repair is one warning
+// naming the object and its line; nothing is changed silently.
+#include <algorithm>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "esi/esi_reader_context.hpp"
+
+namespace ecat::esi {
+namespace {
+
+constexpr std::uint16_t kIdentityObject = 0x1018;
+constexpr std::uint16_t kSmCommType = 0x1C00;
+constexpr std::uint16_t kSmAssignFirst = 0x1C10;
+constexpr std::uint16_t kRxMappingFirst = 0x1600, kRxMappingLast = 0x17FF;
+constexpr std::uint16_t kTxMappingFirst = 0x1A00, kTxMappingLast = 0x1BFF;
+constexpr std::uint16_t kCommunicationFirst = 0x1000, kCommunicationLast = 0x1FFF;  // CiA 301 communication area
+constexpr unsigned kMappingIndexShift = 16, kMappingSubShift = 8;
+constexpr std::uint8_t kBitsPerByte = 8;
+constexpr std::uint8_t kIdentityEntries = 4;        // 1018h:01-04 (CiA 301)
+constexpr std::size_t kAssignBytes = 2;             // 1C1xh entries: UNSIGNED16 PDO indices
+constexpr std::size_t kMappingBytes = 4;            // 16xxh/1Axxh entries: UNSIGNED32
+constexpr std::uint16_t kIdentityBits = 32;
+
+std::string hex_value(const od::Value& v) {
+  std::string s;
+  for (auto it = v.rbegin(); it != v.rend(); ++it) s += fmt::format("{:02X}", *it);
+  return s.empty() ? "(none)" : "#x" + s;
+}
+
+od::Value le_of(std::uint64_t v, std::size_t bytes) {
+  od::Value out(bytes);
+  for (std::size_t i = 0; i < bytes; ++i) out[i] = static_cast<std::uint8_t>(v >> (kBitsPerByte * i));
+  return out;
+}
+
+std::uint64_t value_of(const od::Value& v) {
+  std::uint64_t out = 0;
+  for (std::size_t i = 0; i < v.size() && i < sizeof(out); ++i) out |= std::uint64_t{v[i]} << (kBitsPerByte * i);
+  return out;
+}
+
+// The type a PDO entry without a dictionary object gets, by its bit length.
+std::optional<od::DataType> type_for_bits(od::DataType named, unsigned bits) {
+  if (od::fixed_bit_size(named) == bits) return named;
+  switch (bits) {
+    case 1: return od::DataType::Boolean;
+    case 2: return od::DataType::Bit2;
+    case 3: return od::DataType::Bit3;
+    case 4: return od::DataType::Bit4;
+    case 5: return od::DataType::Bit5;
+    case 6: return od::DataType::Bit6;
+    case 7: return od::DataType::Bit7;
+    case 8: return od::DataType::Unsigned8;
+    case 16: return od::DataType::Unsigned16;
+    case 24: return od::DataType::Unsigned24;
+    case 32: return od::DataType::Unsigned32;
+    case 64: return od::DataType::Unsigned64;
+    default: return std::nullopt;
+  }
+}
+
+std::uint8_t sm_type_code(od::SmType t) { return static_cast<std::uint8_t>(t); }
+
+class Repairer {
+ public:
+  Repairer(const pugi::xml_node& device, const EsiContext& ctx, od::DeviceDescription& d)
+      : ctx_(ctx), d_(d), device_line_(ctx.line(device)) {}
+
+  void run() {
+    renumber_out_of_range_pdos();
+    adopt_dictionary_assignment();
+    create_missing_pdo_objects();
+    repair_identity();
+    repair_sm_types();
+    repair_assignments();
+    repair_mappings();
+  }
+
+ private:
+  int line_of(const od::Object& o) const { return o.source_line ? o.source_line : device_line_; }
+  void warn(const od::Object& o, std::string message) const { ctx_.warn_at("Object", line_of(o), std::move(message)); }
+
+  // Sets entry `sub` of `o` to `value` (written as `bytes` bytes), growing a
+  // too-short object with entries shaped like its last one. False if the
+  // object cannot hold the entry.
+  static bool set_sub(od::Object& o, std::uint8_t sub, std::uint64_t value, std::size_t bytes, od::DataType type) {
+    if (od::Entry* e = o.find(sub)) {
+      e->default_value = le_of(value, (e->bit_length + kBitsPerByte - 1) / kBitsPerByte);
+      return true;
+    }
+    if (o.code == od::ObjectCode::Var || o.entries.empty()) return false;
+    od::Entry e = o.entries.back().subindex == 0 && o.entries.size() == 1 ? od::Entry{} : o.entries.back();
+    if (o.entries.size() == 1) {
+      e.type = type;
+      e.bit_length = static_cast<std::uint16_t>(bytes * kBitsPerByte);
+      e.access = o.entries.front().access;
+    }
+    e.subindex = sub;
+    e.name = fmt::format("SubIndex {:03}", sub);
+    e.default_value = le_of(value, (e.bit_length + kBitsPerByte - 1) / kBitsPerByte);
+    e.min_value.clear();
+    e.max_value.clear();
+    auto at = std::lower_bound(o.entries.begin(), o.entries.end(), sub,
+                               [](const od::Entry& x, std::uint8_t s) { return x.subindex < s; });
+    o.entries.insert(at, std::move(e));
+    return true;
+  }
+
+  // Writes a list object (SI0 = count, subs 1..n = values, the rest 0) when
+  // it differs; returns the old and new contents for the warning.
+  bool rewrite_list(od::Object& o, const std::vector<std::uint64_t>& values, std::size_t bytes, od::DataType type,
+                    std::string& was) {
+    std::vector<std::uint64_t> have;
+    const od::Entry* si0 = o.find(0);
+    const std::uint64_t count = si0 ? value_of(si0->default_value) : 0;
+    for (std::uint64_t k = 1; k <= count; ++k) {
+      const od::Entry* e = o.find(static_cast<std::uint8_t>(k));
+      have.push_back(e ? value_of(e->default_value) : 0);
+    }
+    if (have == values) return false;
+    was = fmt::format("SI0 {}", count);
+    for (auto v : have) was += fmt::format(" {:#0{}x}", v, 2 + 2 * bytes);
+    if (!si0 || o.code == od::ObjectCode::Var) return false;
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      if (!set_sub(o, static_cast<std::uint8_t>(k + 1), values[k], bytes, type)) return false;
+    }
+    for (auto& e : o.entries) {
+      if (e.subindex > values.size()) e.default_value = le_of(0, (e.bit_length + kBitsPerByte - 1) / kBitsPerByte);
+    }
+    o.find(0)->default_value = le_of(values.size(), (o.find(0)->bit_length + kBitsPerByte - 1) / kBitsPerByte);
+    return true;
+  }
+
+  static std::string list_text(const std::vector<std::uint64_t>& values, std::size_t bytes) {
+    std::string s = fmt::format("SI0 {}", values.size());
+    for (auto v : values) s += fmt::format(" {:#0{}x}", v, 2 + 2 * bytes);
+    return s;
+  }
+
+  // Objects a process-data SM may be described by: 1C1xh for SM x.
+  std::vector<std::size_t> process_sms(od::SmType type) const {
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      if (d_.sync_managers[i].type == type) out.push_back(i);
+    }
+    return out;
+  }
+
+  // A PDO numbered outside its direction's mapping range (a TxPdo 1700h): the
+  // CoE mapping objects of a direction live in 1600h-17FFh / 1A00h-1BFFh
+  // (ETG.1000.6 §5.6.7.4.7), so the twin numbers it with the first free index
+  // of its range; the process-data layout is unchanged.
+  void renumber_out_of_range_pdos() {
+    for (bool rx : {true, false}) {
+      auto& pdos = rx ? d_.rx_pdos : d_.tx_pdos;
+      const std::uint16_t first = rx ? kRxMappingFirst : kTxMappingFirst;
+      const std::uint16_t last = rx ? kRxMappingLast : kTxMappingLast;
+      auto used = [&](std::uint16_t i) {
+        for (const auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
+          for (const auto& p : *list) {
+            if (p.index == i) return true;
+          }
+        }
+        return d_.dictionary.find(i) != nullptr;
+      };
+      for (auto& p : pdos) {
+        if (p.index >= first && p.index <= last) continue;
+        std::uint16_t next = first;
+        while (next <= last && used(next)) ++next;
+        if (next > last) continue;
+        ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
+                     fmt::format("{} index {:04X}h is outside {:04X}h..{:04X}h; the twin numbers it {:04X}h", rx ? "RxPdo" : "TxPdo",
+                                 p.index, first, last, next));
+        for (const auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
+          for (auto& q : const_cast<std::vector<od::Pdo>&>(*list)) {
+            std::replace(q.excludes.begin(), q.excludes.end(), p.index, next);
+          }
+        }
+        p.index = next;
+      }
+    }
+  }
+
+  // No PDO of a direction carries Sm, but the dictionary assigns PDOs of the
+  // file: the dictionary's assignment is the only one the file gives, so the
+  // SII takes it (masters that read the SII and those that read 1C12h/1C13h
+  // then see the same).
+  void adopt_dictionary_assignment() {
+    for (bool rx : {true, false}) {
+      auto& pdos = rx ? d_.rx_pdos : d_.tx_pdos;
+      if (pdos.empty() || std::any_of(pdos.begin(), pdos.end(), [](const od::Pdo& p) { return p.sm.has_value(); })) {
+        continue;
+      }
+      for (std::size_t sm : process_sms(rx ? od::SmType::Outputs : od::SmType::Inputs)) {
+        const od::Object* o = d_.dictionary.find(static_cast<std::uint16_t>(kSmAssignFirst + sm));
+        if (!o || !o->find(0)) continue;
+        const auto count = value_of(o->find(0)->default_value);
+        for (std::uint64_t k = 1; k <= count; ++k) {
+          const od::Entry* e = o->find(static_cast<std::uint8_t>(k));
+          if (!e) continue;
+          const auto index = static_cast<std::uint16_t>(value_of(e->default_value));
+          for (auto& p : pdos) {
+            if (p.index == index && !p.sm) {
+              p.sm = static_cast<std::uint8_t>(sm);
+              ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
+                           fmt::format("PDO {:04X}h has no Sm; assigned to SM{} as {:04X}h:{:02X} assigns it", p.index,
+                                       sm, o->index, k));
+            }
+          }
+        }
+      }
+    }
+  }
+
+  // A PDO entry whose object the dictionary lacks (devices without CoE, or
+  // files that list only part of it): the twin gets a process-data object of
+  // the entry's size so the data has a home; over SDO it reads as the entry.
+  // Entries of one index across all PDOs make one object (a VAR for a lone
+  // subindex 0, else a RECORD).
+  struct Missing {
+    const od::Pdo* pdo;
+    const od::PdoEntry* entry;
+    bool rx;
+  };
+
+  void create_missing_pdo_objects() {
+    std::map<std::uint16_t, std::vector<Missing>> missing;
+    for (bool rx : {true, false}) {
+      for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
+        for (const auto& pe : p.entries) {
+          if (pe.index == 0 || pe.bit_length == 0) continue;  // a gap, or a length already warned about
+          // Never invent communication objects (CiA 301 1000h-1FFFh area).
+          if (pe.index >= kCommunicationFirst && pe.index <= kCommunicationLast) continue;
+          od::Object* o = d_.dictionary.find(pe.index);
+          od::Entry* e = o ? o->find(pe.subindex) : nullptr;
+          const std::uint16_t map_bit = rx ? od::Access::kRxPdoMappable : od::Access::kTxPdoMappable;
+          if (e) {
+            if (!(e->access.bits & map_bit) && e->bit_length == pe.bit_length) {
+              e->access.bits |= map_bit;
+              warn(*o, fmt::format("{:04X}h:{:02X} is mapped by PDO {:04X}h but not marked {}-mappable; marked",
+                                   pe.index, pe.subindex, p.index, rx ? "RxPDO" : "TxPDO"));
+            }
+            continue;
+          }
+          missing[pe.index].push_back({&p, &pe, rx});
+        }
+      }
+    }
+    for (auto& [index, list] : missing) create_object(index, list);
+  }
+
+  void create_object(std::uint16_t index, const std::vector<Missing>& list) {
+    const od::Object* existing = d_.dictionary.find(index);
+    const bool record = existing ? existing->code != od::ObjectCode::Var
+                                 : std::any_of(list.begin(), list.end(), [](const Missing& m) { return m.entry->subindex != 0; });
+    const Missing& first = list.front();
+    const char* element = first.rx ? "RxPdo" : "TxPdo";
+    if (existing && !record) {
+      warn(*existing, fmt::format("PDO {:04X}h maps {:04X}h:{:02X}, which this VAR object does not have; not repaired",
+                                  first.pdo->index, index, first.entry->subindex));
+      return;
+    }
+    od::Object obj = existing ? *existing : od::Object{};
+    if (!existing) {
+      obj.index = index;
+      obj.name = record ? fmt::format("Process data {:04X}h", index) : first.entry->name;
+      if (obj.name.empty()) obj.name = fmt::format("Process data {:04X}h", index);
+      obj.source_line = first.pdo->source_line;
+      obj.code = record ? od::ObjectCode::Record : od::ObjectCode::Var;
+      obj.type = od::DataType::Record;
+    }
+    std::string added;
+    for (const Missing& m : list) {
+      const od::PdoEntry& pe = *m.entry;
+      if (obj.find(pe.subindex)) continue;  // two PDOs map the same entry
+      auto type = type_for_bits(pe.type, pe.bit_length);
+      if (!type) {
+        ctx_.warn_at(element, m.pdo->source_line,
+                     fmt::format("entry {:04X}:{:02X} of {} bits has no object and no type of that size; not repaired",
+                                 pe.index, pe.subindex, pe.bit_length));
+        return;
+      }
+      od::Entry ne;
+      ne.subindex = pe.subindex;
+      ne.name = pe.name.empty() ? fmt::format("SubIndex {:03}", pe.subindex) : pe.name;
+      ne.type = *type;
+      ne.bit_length = pe.bit_length;
+      const std::uint16_t map_bit = m.rx ? od::Access::kRxPdoMappable : od::Access::kTxPdoMappable;
+      ne.access.bits = static_cast<std::uint16_t>((m.rx ? od::Access::kRw : od::Access::kRo) | map_bit);
+      ne.default_value = le_of(0, (pe.bit_length + kBitsPerByte - 1) / kBitsPerByte);
+      ne.source_line = m.pdo->source_line;
+      auto at = std::lower_bound(obj.entries.begin(), obj.entries.end(), ne.subindex,
+                                 [](const od::Entry& x, std::uint8_t sub) { return x.subindex < sub; });
+      obj.entries.insert(at, std::move(ne));
+      added += fmt::format("{}{:02X} ({} bits)", added.empty() ? "" : ", ", pe.subindex, pe.bit_length);
+    }
+    if (!obj.type_name.empty() && !existing) obj.type_name.clear();
+    if (record && obj.entries.front().subindex != 0) {
+      od::Entry si0;
+      si0.name = "SubIndex 000";
+      si0.access.bits = od::Access::kRo;
+      obj.entries.insert(obj.entries.begin(), std::move(si0));
+    }
+    if (record) {
+      od::Entry& si0 = obj.entries.front();
+      // SI0 of a record reads its highest subindex (CiA 301), unless it is process data itself.
+      if (!si0.access.rx_mappable() && !si0.access.tx_mappable()) si0.default_value = le_of(obj.max_subindex(), 1);
+    }
+    if (added.empty()) return;
+    if (auto ok = d_.dictionary.put(std::move(obj)); !ok) {
+      ctx_.warn_at(element, first.pdo->source_line,
+                   fmt::format("object {:04X}h for PDO entries: {}; not repaired", index, ok.error()));
+      return;
+    }
+    ctx_.warn_at(element, first.pdo->source_line,
+                 fmt::format("{:04X}h has no dictionary {}; {} as process data: subindex {}", index,
+                             existing ? "entry" : "object", existing ? "entries added" : "object created", added));
+  }
+
+  void repair_identity() {
+    od::Object* o = d_.dictionary.find(kIdentityObject);
+    if (!o) return;  // absent: the device-file loader derives it from the identity
+    const auto& id = d_.identity;
+    const std::uint32_t want[] = {id.vendor_id, id.product_code, id.revision, id.serial};
+    const char* what[] = {"vendor id", "product code", "revision", "serial number"};
+    for (std::uint8_t sub = 1; sub <= kIdentityEntries; ++sub) {
+      od::Entry* e = o->find(sub);
+      if (!e || e->bit_length != kIdentityBits) continue;
+      if (value_of(e->default_value) == want[sub - 1] && e->default_value.size() == kIdentityBits / kBitsPerByte) continue;
+      warn(*o, fmt::format("1018h:{:02X} default {} differs from the SII {} #x{:08X} (Vendor/Type); the SII's is used",
+                           sub, hex_value(e->default_value), what[sub - 1], want[sub - 1]));
+      e->default_value = le_of(want[sub - 1], kIdentityBits / kBitsPerByte);
+    }
+  }
+
+  void repair_sm_types() {
+    od::Object* o = d_.dictionary.find(kSmCommType);
+    if (!o) return;  // absent: derived by the loader from the Sm elements
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      od::Entry* e = o->find(static_cast<std::uint8_t>(i + 1));
+      const std::uint8_t want = sm_type_code(d_.sync_managers[i].type);
+      if (!e || value_of(e->default_value) == want) continue;
+      warn(*o, fmt::format("1C00h:{:02X} default {} differs from the type of Sm {} ({}); the Sm's is used", i + 1,
+                           hex_value(e->default_value), i, want));
+      e->default_value = le_of(want, (e->bit_length + kBitsPerByte - 1) / kBitsPerByte);
+    }
+  }
+
+  void repair_assignments() {
+    for (bool rx : {true, false}) {
+      for (std::size_t sm : process_sms(rx ? od::SmType::Outputs : od::SmType::Inputs)) {
+        od::Object* o = d_.dictionary.find(static_cast<std::uint16_t>(kSmAssignFirst + sm));
+        if (!o) continue;  // absent: derived by the loader
+        std::vector<std::uint64_t> want;
+        for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
+          if (p.sm && *p.sm == sm) want.push_back(p.index);
+        }
+        std::string was;
+        const bool differs = [&] {
+          od::Object copy = *o;
+          return rewrite_list(copy, want, kAssignBytes, od::DataType::Unsigned16, was) || !was.empty();
+        }();
+        if (!differs) continue;
+        if (!rewrite_list(*o, want, kAssignBytes, od::DataType::Unsigned16, was)) {
+          warn(*o, fmt::format("{:04X}h default ({}) differs from the PDOs with Sm=\"{}\" ({}); not repairable",
+                               o->index, was, sm, list_text(want, kAssignBytes)));
+          continue;
+        }
+        warn(*o, fmt::format("{:04X}h default ({}) differs from the PDOs with Sm=\"{}\" ({}); the SII's is used",
+                             o->index, was, sm, list_text(want, kAssignBytes)));
+      }
+    }
+  }
+
+  void repair_mappings() {
+    for (bool rx : {true, false}) {
+      for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
+        const bool in_range = rx ? (p.index >= kRxMappingFirst && p.index <= kRxMappingLast)
+                                 : (p.index >= kTxMappingFirst && p.index <= kTxMappingLast);
+        od::Object* o = in_range ? d_.dictionary.find(p.index) : nullptr;
+        if (!o) continue;  // absent: derived by the loader from the PDO
+        std::vector<std::uint64_t> want;
+        for (const auto& pe : p.entries) {
+          want.push_back(std::uint64_t{pe.index} << kMappingIndexShift | std::uint64_t{pe.subindex} << kMappingSubShift |
+                         pe.bit_length);
+        }
+        std::string was;
+        od::Object copy = *o;
+        if (!rewrite_list(copy, want, kMappingBytes, od::DataType::Unsigned32, was) && was.empty()) continue;
+        if (!rewrite_list(*o, want, kMappingBytes, od::DataType::Unsigned32, was)) {
+          warn(*o, fmt::format("{:04X}h default ({}) differs from the {} entries ({}); not repairable", o->index, was,
+                               rx ? "RxPdo" : "TxPdo", list_text(want, kMappingBytes)));
+          continue;
+        }
+        warn(*o, fmt::format("{:04X}h default ({}) differs from the {} entries ({}); the SII's is used", o->index, was,
+                             rx ? "RxPdo" : "TxPdo", list_text(want, kMappingBytes)));
+      }
+    }
+  }
+
+  const EsiContext& ctx_;
+  od::DeviceDescription& d_;
+  int device_line_;
+};
+
+}  // namespace
+
+void repair_for_twin(const pugi::xml_node& device, const EsiContext& ctx, od::DeviceDescription& d) {
+  Repairer(device, ctx, d).run();
+}
+
+}  // namespace ecat::esi

@@ -1,0 +1,178 @@
+#!/usr/bin/env bash
+# The digital-twin chain for every device of one vendor ESI file (issue 14 item 3):
+#   import      ecat-esigen --from-esi FILE (device chosen by --product-code/--revision)
+#               -> ESI, SII and our device XML; the repairs are the import warnings
+#   load        the device XML loads again (ecat-esigen DEVICE.xml)
+#   agree       ecat-conform in-process, the sii.* / od.* / esi.* cases: no FAIL
+#   schema      the re-emitted ESI is valid against ETG.2000 1.14 and 1.17
+#               (skipped, as in esigen_cli.sh, where shared/esi-schema is absent)
+#   stable      device XML -> ESI -> model -> device XML -> ESI gives the same ESI
+#   op          ecat-master --in-process: Init -> PreOp -> SafeOp -> Op, then cycles
+#               with the expected WKC on every one (exit 1 otherwise)
+#   conform     ecat-conform in-process, every case: no FAIL; a SKIP carries its reason
+# One line per device on stdout: "twin|file|device|product|revision|import|load|agree|
+# schema|stable|op|conform|repairs|note" (docs/twins.md's table is made from these
+# lines by tests/twins/twins_table.sh). With TWIN_REPORT_DIR set, the lines and the
+# repair warnings are also written there.
+# Usage: twin_chain.sh SRCDIR BUILDDIR ESI-FILE   (exit 77 = skipped: tools missing)
+set -uo pipefail
+src=${1:?srcdir}
+build=${2:?builddir}
+esi=${3:?esi file}
+gen="$build/bin/ecat-esigen"
+conform="$build/bin/ecat-conform"
+master="$build/bin/ecat-master"
+for b in "$gen" "$conform" "$master"; do
+  [ -x "$b" ] || { echo "skip: $b not built"; exit 77; }
+done
+command -v xmllint > /dev/null || { echo "skip: xmllint not installed"; exit 77; }
+shared=${ECAT_SHARED_DIR:-$src/../shared}
+schema114="$shared/esi-schema/EtherCATInfo.xsd"
+schema117="$shared/esi-schema/v1.17/EtherCATInfo.xsd"
+have_schema=0
+[ -f "$schema114" ] && [ -f "$schema117" ] && have_schema=1
+cycles=${TWIN_CYCLES:-200}
+
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+file=$(basename "$esi")
+status=0
+report_dir=${TWIN_REPORT_DIR:-}
+
+# The devices of the file, in file order: product code and revision as written
+# (--recover: vendor files exist with a bare '&' in a name, which the importer reads).
+xp() { xmllint --recover --xpath "$1" "$esi" 2> /dev/null; }
+dev_path="/*[local-name()='EtherCATInfo']/*[local-name()='Descriptions']/*[local-name()='Devices']/*[local-name()='Device']"
+count=$(xp "count($dev_path)")
+[ "${count:-0}" -gt 0 ] 2> /dev/null || { echo "FAIL: $file: no Device found"; exit 1; }
+
+# JUnit results of ecat-conform: failed names and skipped "name: reason".
+junit_failed() { xmllint --xpath "//testcase[failure]/@name" "$1" 2> /dev/null | sed 's/ name="\([^"]*\)"/\1\n/g' | sed '/^$/d'; }
+junit_skipped() {
+  local n i name msg
+  n=$(xmllint --xpath "count(//testcase[skipped])" "$1" 2> /dev/null)
+  for ((i = 1; i <= ${n:-0}; i++)); do
+    name=$(xmllint --xpath "string((//testcase[skipped])[$i]/@name)" "$1" 2> /dev/null)
+    msg=$(xmllint --xpath "string((//testcase[skipped])[$i]/skipped/@message)" "$1" 2> /dev/null)
+    echo "$name: $msg"
+  done
+}
+
+declare -A seen
+for ((i = 1; i <= count; i++)); do
+  pc=$(xp "string($dev_path[$i]/*[local-name()='Type']/@ProductCode)")
+  rev=$(xp "string($dev_path[$i]/*[local-name()='Type']/@RevisionNo)")
+  type=$(xp "string($dev_path[$i]/*[local-name()='Type'])" | tr -d '\r\n|' | sed 's/^ *//;s/ *$//')
+  d="$out/dev$i"
+  mkdir -p "$d"
+  r_import=- r_load=- r_agree=- r_schema=- r_stable=- r_op=- r_conform=- repairs=0 note=""
+  line() {
+    local l="twin|$file|$type|$pc|${rev:-}|$r_import|$r_load|$r_agree|$r_schema|$r_stable|$r_op|$r_conform|$repairs|$note"
+    echo "$l"
+    [ -n "$report_dir" ] && echo "$l" >> "$report_dir/lines.txt"
+  }
+  fail() { note="${note:+$note; }$*"; status=1; echo "FAIL: $file device $i ($type): $*"; }
+
+  sel=(--product-code "${pc:-0}")
+  [ -n "$rev" ] && sel+=(--revision "$rev")
+  key="${pc}/${rev}"
+  if [ -n "${seen[$key]:-}" ]; then
+    note="same product code and revision as device ${seen[$key]}: not selectable by number (selection by name: issue 14 item 5)"
+    line
+    continue
+  fi
+  seen[$key]=$i
+
+  # 1. import
+  if "$gen" --from-esi "$esi" "${sel[@]}" --esi "$d/esi1.xml" --sii "$d/sii.bin" \
+       --device-xml "$d/device.xml" > /dev/null 2> "$d/import.err"; then
+    r_import=ok
+  else
+    r_import=FAIL
+    fail "import: $(grep -v ': warning: ' "$d/import.err" | head -2 | tr '\n' ' ')"
+    line
+    continue
+  fi
+  repairs=$(grep -c ': warning: ' "$d/import.err")
+  if [ -n "$report_dir" ] && [ "$repairs" -gt 0 ]; then
+    grep ': warning: ' "$d/import.err" | sed 's|^[^:]*/\([^/:]*\):|\1:|' >> "$report_dir/warnings-$file.txt"
+  fi
+
+  # 2. the twin's device file loads
+  if "$gen" "$d/device.xml" --esi "$d/esi2.xml" > /dev/null 2> "$d/load.err"; then
+    r_load=ok
+  else
+    r_load=FAIL
+    fail "device XML does not load: $(head -2 "$d/load.err" | tr '\n' ' ')"
+    line
+    continue
+  fi
+
+  # 3. ecat-conform, whole suite in-process (JUnit); the sii/od/esi cases give "agree"
+  "$conform" --device "$d/device.xml" --junit "$d/conform.xml" > "$d/conform.out" 2>&1
+  crc=$?
+  if [ ! -s "$d/conform.xml" ]; then
+    r_agree=FAIL r_conform=FAIL
+    fail "ecat-conform exit $crc without results: $(tail -2 "$d/conform.out" | tr '\n' ' ')"
+  else
+    failed=$(junit_failed "$d/conform.xml")
+    agree_failed=$(echo "$failed" | grep -E '^(sii|od|esi)\.' || true)
+    if [ -z "$agree_failed" ]; then r_agree=ok; else r_agree=FAIL; fail "agree: $(echo $agree_failed)"; fi
+    skipped=$(junit_skipped "$d/conform.xml")
+    nskip=$(echo -n "$skipped" | grep -c . || true)
+    unexplained=$(echo "$skipped" | grep -E ': *$' || true)
+    if [ -z "$failed" ] && [ -z "$unexplained" ]; then
+      r_conform="ok"
+      [ "$nskip" -gt 0 ] && r_conform="ok, $nskip skip"
+    else
+      r_conform=FAIL
+      [ -n "$failed" ] && fail "conform: $(echo $failed)"
+      [ -n "$unexplained" ] && fail "skip without reason: $(echo $unexplained)"
+    fi
+    [ -n "$report_dir" ] && [ -n "$skipped" ] && echo "$skipped" | sed "s|^|$file $type: |" >> "$report_dir/skips.txt"
+  fi
+
+  # 4. schema
+  if [ $have_schema -eq 1 ]; then
+    if xmllint --noout --schema "$schema114" "$d/esi1.xml" 2> "$d/lint" &&
+       xmllint --noout --schema "$schema117" "$d/esi1.xml" 2>> "$d/lint"; then
+      r_schema=ok
+    else
+      r_schema=FAIL
+      fail "ESI invalid: $(grep -v validates "$d/lint" | head -2 | tr '\n' ' ')"
+    fi
+  else
+    r_schema=skip
+  fi
+
+  # 5. stable: device XML -> ESI -> model -> device XML -> ESI
+  if "$gen" --from-esi "$d/esi2.xml" --device-xml "$d/device2.xml" --esi "$d/esi3.xml" > /dev/null 2> "$d/st.err" &&
+     "$gen" "$d/device2.xml" --esi "$d/esi4.xml" > /dev/null 2>> "$d/st.err" &&
+     cmp -s "$d/esi2.xml" "$d/esi3.xml" && cmp -s "$d/esi3.xml" "$d/esi4.xml"; then
+    r_stable=ok
+  else
+    r_stable=FAIL
+    fail "ESI not stable: $(grep -v ': warning: ' "$d/st.err" | head -2 | tr '\n' ' ')$(diff "$d/esi2.xml" "$d/esi3.xml" 2> /dev/null | head -4 | tr '\n' ' ')"
+  fi
+
+  # 6. the project's master to Op, expected WKC on every cycle
+  if "$master" --in-process --device "$d/device.xml" --cycles "$cycles" --expect-slaves 1 -q \
+       > "$d/master.out" 2>&1; then
+    r_op=ok
+  else
+    r_op=FAIL
+    fail "master: $(tail -2 "$d/master.out" | tr '\n' ' ')"
+  fi
+  line
+done
+known=$(grep -v '^#' "$src/tests/twins/known-limits.txt" 2> /dev/null | grep -F "$file|" | cut -d'|' -f2-)
+if [ -n "$known" ]; then
+  if [ $status -ne 0 ]; then
+    echo "skip: $file: known limit: $known"
+    exit 77
+  fi
+  echo "FAIL: $file passes but is listed in tests/twins/known-limits.txt: remove it there"
+  exit 1
+fi
+[ $status -eq 0 ] && echo "twin_chain $file: ok ($count device(s))"
+exit $status
