@@ -57,11 +57,14 @@ class DriveBinding {
   // The next read_cycle() copies every entry (the caller changed `in`).
   void invalidate() noexcept { seen_ = kNotRead; }
   // Outputs -> store, after Drive::step, then the emergency requests.
-  // `other_axes` is the OR of the other axes' error registers (multi-axis
-  // devices): 1001h and each EMCY's error register byte are the device's,
-  // this axis' bits together with theirs (CiA 301 §7.5.2.2: one 1001h).
-  void write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now = Nanoseconds{0},
-             std::uint8_t other_axes = 0) noexcept;
+  void write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now = Nanoseconds{0}) noexcept;
+  // The same for one axis of a multi-axis device, without the read_cycle
+  // bookkeeping (see inputs_current()). `other_axes` is the OR of the other
+  // axes' error registers: 1001h and each EMCY's error register byte are the
+  // device's, this axis' bits together with theirs (CiA 301 §7.5.2.2: one
+  // 1001h); EMCY byte 3 is the axis number.
+  void write_axis(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now,
+                  std::uint8_t other_axes) noexcept;
   // Whether the inputs read_cycle() last saw are still those in the store;
   // mark_current() records the store as seen. A multi-axis application asks
   // every axis before the writes of the cycle and marks those that were
@@ -92,8 +95,7 @@ class DriveBinding {
   template <std::size_t N>
   void read_input(DriveInputs& in) const noexcept;
   [[gnu::noinline]] void read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept;
-  void write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now,
-                     std::uint8_t other_axes) noexcept;
+  void write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept;
   static constexpr std::uint64_t kNotRead = ~std::uint64_t{0};
   std::uint64_t seen_ = kNotRead;
   std::span<const coe::PdoItem> rx_pdo_;

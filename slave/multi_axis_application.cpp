@@ -83,7 +83,7 @@ class MultiAxisApplication final : public Application {
       for (std::size_t j = 0; j < axes_.size(); ++j) {
         if (j != k) others = static_cast<std::uint8_t>(others | axes_[j]->out.error_register);
       }
-      axes_[k]->binding.write(axes_[k]->out, axes_[k]->drive.emergencies(), elapsed_, others);
+      axes_[k]->binding.write_axis(axes_[k]->out, axes_[k]->drive.emergencies(), elapsed_, others);
     }
     // One axis' outputs are no input of another: those that had read the
     // store as it was keep it as seen (no full re-read next cycle).

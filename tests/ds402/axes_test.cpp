@@ -99,7 +99,7 @@ TEST(DriveAxes, EachBindingUsesItsAxisObjects) {
   out.statusword = 0x0237;
   out.error_register = 0x21;
   EmcyQueue none;
-  two.write(out, none, Nanoseconds{0}, 0x80);
+  two.write_axis(out, none, Nanoseconds{0}, 0x80);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x6841, 0), 0x0237);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x6041, 0), 0);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x1001, 0), 0xA1);  // this axis' bits and the others'
@@ -142,7 +142,7 @@ TEST(DriveAxes, TwoAxesTogetherGiveExactlyWhatEachGivesAlone) {
     command(alone2.store, 0, c, target[1]);
     b1.read(i1), b2.read(i2), s1.read(j1), s2.read(j2);
     d1.step(i1, o1, kCycle), d2.step(i2, o2, kCycle), e1.step(j1, p1, kCycle), e2.step(j2, p2, kCycle);
-    b1.write(o1, q, Nanoseconds{0}, o2.error_register), b2.write(o2, q, Nanoseconds{0}, o1.error_register);
+    b1.write_axis(o1, q, Nanoseconds{0}, o2.error_register), b2.write_axis(o2, q, Nanoseconds{0}, o1.error_register);
     s1.write(p1, q), s2.write(p2, q);
     ASSERT_EQ(both.store.get<std::uint16_t>(0x6041, 0), alone1.store.get<std::uint16_t>(0x6041, 0)) << c;
     ASSERT_EQ(both.store.get<std::uint16_t>(0x6841, 0), alone2.store.get<std::uint16_t>(0x6041, 0)) << c;
@@ -170,7 +170,7 @@ TEST(DriveAxes, EmcyNamesItsAxisAndCarriesTheDeviceErrorRegister) {
   drive.step(in, out, std::chrono::milliseconds(1));
   drive.raise_fault(FaultKind::OverTorque);  // 8311h, 1001h bit 1
   drive.step(in, out, std::chrono::milliseconds(1));
-  b2.write(out, drive.emergencies(), Nanoseconds{0}, 0x21);  // axis 1 has a following error
+  b2.write_axis(out, drive.emergencies(), Nanoseconds{0}, 0x21);  // axis 1 has a following error
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x683F, 0), 0x8311);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x603F, 0), 0);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x1001, 0), 0x23);
