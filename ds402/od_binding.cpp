@@ -99,33 +99,44 @@ void copy_value(std::uint8_t* field, const std::uint8_t* bytes, std::uint8_t siz
 
 constexpr std::uint16_t kErrorRegister = 0x1001;
 constexpr std::uint16_t kSupportedHomingMethods = 0x60E3;
+constexpr std::uint16_t kSupportedDriveModes = 0x6502;
+// EMCY byte 3 (the first manufacturer-specific byte) of a multi-axis device:
+// the axis number (docs/ds402.md "Several axes").
+constexpr std::size_t kEmcyAxisByte = 0;
 
 }  // namespace
 
 DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency) noexcept
-    : store_(store), emergency_(emergency) {
+    : DriveBinding(store, emergency, od::AxisLayout{}, 1) {}
+
+DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency, const od::AxisLayout& layout,
+                           unsigned axis) noexcept
+    : store_(store), emergency_(emergency), layout_(layout), axis_(axis), multi_axis_(layout.axes > 1) {
   each(kInputs, [&](const auto& fld, std::size_t i) {
     using T = std::remove_cvref_t<decltype(std::declval<I&>().*fld.member)>;
-    in_[i] = store_.slot(fld.index, fld.subindex);
+    in_[i] = store_.slot(layout_.object_index(axis_, fld.index), fld.subindex);
     in_bytes_[i] = same_width<T>(store_, in_[i]);
   });
   each(kOutputs, [&](const auto& fld, std::size_t i) {
     using T = std::remove_cvref_t<decltype(std::declval<O&>().*fld.member)>;
-    out_[i] = store_.slot(fld.index, fld.subindex);
+    out_[i] = store_.slot(layout_.object_index(axis_, fld.index), fld.subindex);
     out_bytes_[i] = same_width<T>(store_, out_[i]);
   });
   error_register_ = store_.slot(kErrorRegister, 0);
 }
 
 void DriveBinding::publish(const DriveConfig& config) {
-  hooks_.install(store_, config);
-  if (auto* s = store_.slot(0x6502, 0)) store_.set(*s, config.supported_modes);
-  const coe::ObjectStore::Slot* count = store_.slot(kSupportedHomingMethods, 0);
+  hooks_.install(store_, config, layout_, axis_);
+  if (auto* s = store_.slot(layout_.object_index(axis_, kSupportedDriveModes), 0)) {
+    store_.set(*s, config.supported_modes);
+  }
+  const std::uint16_t homing_methods = layout_.object_index(axis_, kSupportedHomingMethods);
+  const coe::ObjectStore::Slot* count = store_.slot(homing_methods, 0);
   if (!count) return;
   std::uint8_t sub = 0;
   for (int m = -128; m < 128; ++m) {
     if (!config.supports_homing(static_cast<std::int8_t>(m))) continue;
-    coe::ObjectStore::Slot* s = store_.slot(kSupportedHomingMethods, static_cast<std::uint8_t>(sub + 1));
+    coe::ObjectStore::Slot* s = store_.slot(homing_methods, static_cast<std::uint8_t>(sub + 1));
     if (!s) break;
     store_.set(*s, static_cast<std::int16_t>(m));
     ++sub;
@@ -212,6 +223,29 @@ void DriveBinding::write(const DriveOutputs& out, EmcyQueue& emergencies, Nanose
   const bool inputs_current = store_.generation() == seen_;
   write_objects(out, emergencies, now);
   if (inputs_current) seen_ = store_.generation();
+}
+
+void DriveBinding::write_axis(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now,
+                              std::uint8_t other_axes) noexcept {
+  // Its own copy of write_objects' loop: sharing it costs the single-axis
+  // cycle a call (the loop is no longer inlined there).
+  each(kOutputs, [&](const auto& fld, std::size_t i) {
+    if (std::uint8_t* p = out_bytes_[i]) {
+      store_field(p, out.*fld.member);
+    } else if (auto* s = out_[i]) {
+      store_.set(*s, out.*fld.member);
+    }
+  });
+  if (!emergency_) {
+    if (error_register_) store_.set(*error_register_, static_cast<std::uint8_t>(out.error_register | other_axes));
+    while (emergencies.pop()) ++emergencies_lost_;  // nobody to send them to
+    return;
+  }
+  while (auto r = emergencies.pop()) {
+    if (multi_axis_) r->manufacturer[kEmcyAxisByte] = static_cast<std::uint8_t>(axis_);
+    const auto reg = static_cast<std::uint8_t>(r->error_register | other_axes);
+    if (!emergency_->raise(r->error_code, reg, r->manufacturer, now)) ++emergencies_lost_;
+  }
 }
 
 void DriveBinding::write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept {

@@ -18,6 +18,7 @@
 #include "ds402/faults.hpp"
 #include "ds402/objects.hpp"
 #include "ds402/od_hooks.hpp"
+#include "od/axis_layout.hpp"
 
 namespace ecat::ds402 {
 
@@ -28,6 +29,12 @@ class DriveBinding {
 
   // `emergency` may be null (then 1001h is written from DriveOutputs instead).
   DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency = nullptr) noexcept;
+  // Axis `axis` (1-based) of a multi-axis device: its objects where `layout`
+  // puts them (CiA 402-1 §6, +800h per axis), 1001h shared with the other
+  // axes (see write()), and EMCY byte 3 = the axis number (docs/ds402.md
+  // "Several axes"). Set-up allocates nothing here either.
+  DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency, const od::AxisLayout& layout,
+               unsigned axis) noexcept;
   // The store keeps a pointer to the hooks inside: the binding stays put.
   DriveBinding(const DriveBinding&) = delete;
   DriveBinding& operator=(const DriveBinding&) = delete;
@@ -51,6 +58,21 @@ class DriveBinding {
   void invalidate() noexcept { seen_ = kNotRead; }
   // Outputs -> store, after Drive::step, then the emergency requests.
   void write(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now = Nanoseconds{0}) noexcept;
+  // The same for one axis of a multi-axis device, without the read_cycle
+  // bookkeeping (see inputs_current()). `other_axes` is the OR of the other
+  // axes' error registers: 1001h and each EMCY's error register byte are the
+  // device's, this axis' bits together with theirs (CiA 301 §7.5.2.2: one
+  // 1001h); EMCY byte 3 is the axis number.
+  void write_axis(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now,
+                  std::uint8_t other_axes) noexcept;
+  // Whether the inputs read_cycle() last saw are still those in the store;
+  // mark_current() records the store as seen. A multi-axis application asks
+  // every axis before the writes of the cycle and marks those that were
+  // current after them, so one axis' outputs do not make the others re-read
+  // every entry.
+  bool inputs_current() const noexcept { return store_.generation() == seen_; }
+  void mark_current() noexcept { seen_ = store_.generation(); }
+  unsigned axis() const noexcept { return axis_; }
 
   std::size_t bound_inputs() const noexcept;
   std::size_t bound_outputs() const noexcept;
@@ -92,6 +114,9 @@ class DriveBinding {
   std::array<Mapped, kInputCount> mapped_{};
   std::size_t mapped_count_ = 0;
   DriveObjectHooks hooks_;
+  od::AxisLayout layout_;  // set-up only (publish)
+  unsigned axis_ = 1;
+  bool multi_axis_ = false;
   std::uint32_t emergencies_lost_ = 0;
 };
 

@@ -14,15 +14,19 @@ constexpr std::uint16_t kShutdownOption = 0x605B;
 constexpr std::uint16_t kDisableOperationOption = 0x605C;
 constexpr std::uint16_t kHaltOption = 0x605D;
 constexpr std::uint16_t kFaultReactionOption = 0x605E;
-constexpr std::array<std::uint16_t, 7> kGuarded{kModesOfOperation,       kHomingMethod, kQuickStopOption,
+constexpr std::array<std::uint16_t, DriveObjectHooks::kGuardedCount> kGuarded{kModesOfOperation,       kHomingMethod, kQuickStopOption,
                                                 kShutdownOption,         kDisableOperationOption,
                                                 kHaltOption,             kFaultReactionOption};
 }  // namespace
 
-std::size_t DriveObjectHooks::install(coe::ObjectStore& store, const DriveConfig& config) {
+std::size_t DriveObjectHooks::install(coe::ObjectStore& store, const DriveConfig& config,
+                                      const od::AxisLayout& layout, unsigned axis) {
   config_ = config;
   std::size_t n = 0;
-  for (std::uint16_t index : kGuarded) n += store.set_hooks(index, this) ? 1 : 0;
+  for (std::size_t k = 0; k < kGuarded.size(); ++k) {
+    at_[k] = layout.object_index(axis, kGuarded[k]);
+    n += store.set_hooks(at_[k], this) ? 1 : 0;
+  }
   return n;
 }
 
@@ -33,7 +37,11 @@ Expected<void, coe::SdoAbort> DriveObjectHooks::on_write(coe::ObjectStore& store
   const auto bits = static_cast<unsigned>(request.data.size() * 8);
   const auto value = static_cast<std::int64_t>(coe::load_bits(request.data, bits, true));
   bool ok = true;
-  switch (request.index) {
+  std::uint16_t index = 0;  // the profile's index of the object written (axis 1)
+  for (std::size_t k = 0; k < kGuarded.size(); ++k) {
+    if (at_[k] == request.index) index = kGuarded[k];
+  }
+  switch (index) {
     case kModesOfOperation: ok = value == 0 || (value >= INT8_MIN && value <= INT8_MAX &&
                                                 config_.supports_mode(static_cast<std::int8_t>(value)));
       break;

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "ds402/statusword.hpp"
+#include "ds402/svg_plot_axes.hpp"
 
 namespace ecat::ds402 {
 
@@ -29,6 +30,9 @@ struct Series {
   double value(const TraceRow& r) const { return member32 ? r.*member32 : r.*member16; }
 };
 
+}  // namespace
+
+namespace svg_detail {
 std::string_view state_name(std::uint16_t sw) {
   if ((sw & sw::kStateMaskNoQs) == sw::kFaultState) return "Fault";
   if ((sw & sw::kStateMaskNoQs) == sw::kFaultReactionActiveState) return "Fault reaction";
@@ -60,6 +64,12 @@ std::string_view colour_for(std::string_view state) {
   if (state == "Fault" || state == "Fault reaction") return "#f8c9c9";
   return "#e6e6e6";
 }
+}  // namespace svg_detail
+
+namespace {
+using svg_detail::colour_for;
+using svg_detail::mode_name;
+using svg_detail::state_name;
 
 void panel(std::ostringstream& o, std::span<const TraceRow> rows, double y0, std::string_view label,
            const Series& demand, const Series& actual, double t0, double t1) {

@@ -14,6 +14,8 @@ od::DeviceDescription build_device(DeviceSpec spec);
 
 // Steps of build_device, each in its own file.
 void derive_objects(DeviceSpec& spec);                        // device_derive.cpp
+void derive_axes(DeviceSpec& spec);                           // device_axes.cpp
+od::AxisLayout axis_layout(const DeviceSpec& spec);           // device_axes.cpp
 od::Object build_object(std::uint16_t index, const ObjectSpec& spec);  // device_objects.cpp
 void build_layout(const DeviceSpec& spec, od::DeviceDescription& dev);  // device_layout.cpp
 void build_pdos(const DeviceSpec& spec, od::DeviceDescription& dev);    // device_checks.cpp

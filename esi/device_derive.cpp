@@ -270,10 +270,11 @@ void derive_drive(DeviceSpec& spec) {
 
 void derive_objects(DeviceSpec& spec) {
   derive_identity(spec);
+  derive_drive(spec);  // before the axes: axis n copies 6502h and 60E3h as derived
+  derive_axes(spec);   // before the PDO objects: they follow every axis' PDOs
   derive_sm_objects(spec);
   derive_pdo_mappings(spec);
   derive_sync_parameters(spec);
-  derive_drive(spec);
 }
 
 }  // namespace ecat::esi

@@ -173,6 +173,7 @@ void build_drive(const DeviceSpec& spec, od::DeviceDescription& dev) {
     }
     drive.plant.emplace_back(name, v);
   }
+  drive.axes = axis_layout(spec);
   dev.drive = std::move(drive);
 }
 

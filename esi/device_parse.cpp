@@ -160,6 +160,10 @@ class FileReader {
       if (!spec_.plant.contains(pname)) spec_.plant_order.push_back(pname);
       spec_.plant[pname] = Attr{p.attribute("value").value(), where(p)};
     }
+    std::vector<ElementSpec> ranges;
+    for (const auto& r : node.children("AxisObjects")) ranges.push_back(element(r));
+    if (!ranges.empty()) spec_.axis_objects = std::move(ranges);
+    for (const auto& x : node.children("AxisIndex")) spec_.axis_indices.push_back(element(x));
   }
 
   LineIndex lines_;

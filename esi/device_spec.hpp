@@ -68,6 +68,10 @@ struct DeviceSpec {
   std::map<std::uint16_t, PdoSpec> pdos;  // Rx and Tx share one index space
   std::map<std::string, Attr> plant;       // by name
   std::vector<std::string> plant_order;    // names in first-definition order
+  // <Drive><AxisObjects>: a later Drive with any replaces the list.
+  std::optional<std::vector<ElementSpec>> axis_objects;
+  // <Drive><AxisIndex>, by (axis text, index text) as written; later ones replace.
+  std::vector<ElementSpec> axis_indices;
 };
 
 }  // namespace ecat::esi

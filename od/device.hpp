@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "od/axis_layout.hpp"
 #include "od/dictionary.hpp"
 
 namespace ecat::od {
@@ -144,6 +145,9 @@ struct DriveProfile {
   // Free-form parameters of the simulated motor/plant from the device file
   // (name -> value), read by ds402/.
   std::vector<std::pair<std::string, double>> plant;
+  // The CiA 402 axes (logical devices) and where each keeps its objects;
+  // one axis unless the device file declares more (<Drive axes>).
+  AxisLayout axes;
 };
 
 struct DeviceDescription {

@@ -10,6 +10,7 @@
 #include "ds402/od_binding.hpp"
 #include "ds402/plant.hpp"
 #include "ds402/svg_plot.hpp"
+#include "slave/multi_axis_application.hpp"
 
 namespace ecat::slave {
 namespace {
@@ -94,6 +95,9 @@ std::unique_ptr<Application> make_drive_application(const od::DeviceDescription&
   if (!device.drive) return nullptr;
   auto plant = ds402::plant_parameters_from(device.drive->plant);
   if (!plant) return nullptr;  // refused earlier by check_drive
+  if (device.drive->axes.axes > 1) {
+    return make_multi_axis_application(personality_for(device), *plant, device.drive->axes, coe, motion_trace);
+  }
   return std::make_unique<DriveApplication>(personality_for(device), *plant, coe, motion_trace);
 }
 
