@@ -65,11 +65,12 @@ class MultiAxisApplication final : public Application {
     }
   }
 
-  bool write_plot(const std::string& path) const override {
-    if (!tracing_) return false;
+  bool has_motion_trace() const noexcept override { return tracing_; }
+  Expected<void, std::string> write_plot(const std::string& path) const override {
+    if (!tracing_) return fail(path + ": this slave records no motion trace");
     std::vector<ds402::AxisTrace> traces;
     for (const auto& x : axes_) traces.push_back({"axis " + std::to_string(x->binding.axis()), x->trace.rows()});
-    return static_cast<bool>(ds402::write_svg_plot_axes(traces, path));
+    return ds402::write_svg_plot_axes(traces, path);
   }
 
  private:
