@@ -95,7 +95,7 @@ ecat_install_library(ecat_common common HEADERS
   common/clock.hpp common/command.hpp common/expected.hpp common/frame.hpp
   common/frame_builder.hpp common/frame_parser.hpp common/le.hpp)
 ecat_install_library(od od HEADERS
-  od/access.hpp od/data_type.hpp od/device.hpp od/dictionary.hpp od/object.hpp)
+  od/access.hpp od/axis_layout.hpp od/data_type.hpp od/device.hpp od/dictionary.hpp od/object.hpp)
 ecat_install_library(esc esc HEADERS
   # public
   esc/esc.hpp esc/segment.hpp esc/pdi.hpp esc/esc_config.hpp esc/registers.hpp
@@ -111,7 +111,7 @@ ecat_install_library(coe coe HEADERS
   coe/coe_protocol.hpp coe/mailbox_server.hpp coe/mailbox_service.hpp coe/emergency.hpp
   coe/foe_server.hpp coe/process_data.hpp coe/pdo_config.hpp coe/parameter_store.hpp
   coe/sdo_abort.hpp coe/object_hooks.hpp coe/value.hpp coe/sync_controller.hpp
-  coe/mailbox_header.hpp
+  coe/mailbox_header.hpp coe/storage_quota.hpp
   # internal
   coe/mailbox_queue.hpp coe/pdo_mapping.hpp coe/process_data_image.hpp coe/sm_bits.hpp
   coe/sync_checks.hpp coe/sync_mode.hpp)
@@ -127,12 +127,12 @@ ecat_install_library(esi esi HEADERS
   # public
   esi/device_loader.hpp esi/esi_reader.hpp esi/esi_writer.hpp esi/sii_writer.hpp
   esi/sii_parser.hpp esi/sii_image.hpp esi/cpp_writer.hpp esi/device_error.hpp
-  esi/xml_embedded.hpp
+  esi/xml_embedded.hpp esi/twin_import.hpp esi/esi_device_list.hpp esi/eni_reader.hpp esi/eni_devices.hpp
   # internal
   esi/sii_layout.hpp)
 ecat_install_library(transport transport HEADERS
   transport/transport.hpp transport/in_memory_transport.hpp transport/pcap_file.hpp
-  transport/raw_socket_transport.hpp transport/udp_transport.hpp
+  transport/raw_socket_transport.hpp transport/udp_transport.hpp transport/ip_allow_list.hpp
   # internal
   transport/unique_fd.hpp)
 ecat_install_library(master master HEADERS

@@ -16,7 +16,7 @@ Expected<od::DeviceDescription, LoadError> import_twin(const std::filesystem::pa
                                                        std::vector<EsiWarning>* warnings) {
   std::vector<EsiWarning> local;
   std::vector<EsiWarning>& w = warnings ? *warnings : local;
-  auto imported = read_esi(path, options.selection.product_code, options.selection.revision, &w);
+  auto imported = read_esi(path, options.selection, &w);
   if (!imported) return fail(imported.error());
   if (options.strict) {
     if (auto f = strict_failure(w, path.string())) return fail(*f);
