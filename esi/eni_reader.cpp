@@ -280,14 +280,9 @@ Expected<EniNetwork, LoadError> read_eni_string(std::string_view xml, std::strin
                                                 std::vector<EsiWarning>* warnings) {
   EsiContext ctx(std::string(name), xml, warnings);
   pugi::xml_document doc;
-  auto parsed = doc.load_buffer(xml.data(), xml.size());
-  if (!parsed) {
-    LineIndex lines(xml);
-    return ecat::fail(LoadError{std::string(name), lines.line_of(parsed.offset),
-                                fmt::format("XML parse error: {}", parsed.description())});
-  }
-  auto root = doc.child("EtherCATConfig");
-  if (!root) return ecat::fail(LoadError{std::string(name), 0, "not an ENI file: no EtherCATConfig root element"});
+  auto parsed_root = parse_root(doc, xml, name, "EtherCATConfig", "ENI");
+  if (!parsed_root) return ecat::fail(parsed_root.error());
+  auto root = *parsed_root;
   try {
     return EniReader(ctx).read(root);
   } catch (const LoadFailure& f) {

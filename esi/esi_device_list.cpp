@@ -65,14 +65,9 @@ Expected<std::vector<EsiDeviceEntry>, LoadError> list_esi_devices(std::string_vi
                                                                   std::string_view name) {
   EsiContext ctx(std::string(name), xml, nullptr);
   pugi::xml_document doc;
-  auto parsed = doc.load_buffer(xml.data(), xml.size());
-  if (!parsed) {
-    LineIndex lines(xml);
-    return ecat::fail(LoadError{std::string(name), lines.line_of(parsed.offset),
-                                fmt::format("XML parse error: {}", parsed.description())});
-  }
-  auto info = doc.child("EtherCATInfo");
-  if (!info) return ecat::fail(LoadError{std::string(name), 0, "not an ESI file: no EtherCATInfo root element"});
+  auto parsed_root = parse_root(doc, xml, name, "EtherCATInfo", "ESI");
+  if (!parsed_root) return ecat::fail(parsed_root.error());
+  auto info = *parsed_root;
   auto devices = info.child("Descriptions").child("Devices");
   std::vector<EsiDeviceEntry> out;
   for (auto dev : devices.children("Device")) out.push_back(device_entry(dev, ctx));

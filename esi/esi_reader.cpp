@@ -56,14 +56,9 @@ Expected<od::DeviceDescription, LoadError> read_esi_string(std::string_view xml,
                                                            std::vector<EsiWarning>* warnings) {
   EsiContext ctx(std::string(name), xml, warnings);
   pugi::xml_document doc;
-  auto parsed = doc.load_buffer(xml.data(), xml.size());
-  if (!parsed) {
-    LineIndex lines(xml);
-    return ecat::fail(LoadError{std::string(name), lines.line_of(parsed.offset),
-                                fmt::format("XML parse error: {}", parsed.description())});
-  }
-  auto info = doc.child("EtherCATInfo");
-  if (!info) return ecat::fail(LoadError{std::string(name), 0, "not an ESI file: no EtherCATInfo root element"});
+  auto parsed_root = parse_root(doc, xml, name, "EtherCATInfo", "ESI");
+  if (!parsed_root) return ecat::fail(parsed_root.error());
+  auto info = *parsed_root;
   auto devices = info.child("Descriptions").child("Devices");
   std::vector<pugi::xml_node> nodes;
   std::vector<EsiDeviceEntry> entries;

@@ -9,8 +9,10 @@
 #include <string_view>
 #include <vector>
 
+#include <fmt/format.h>
 #include <pugixml.hpp>
 
+#include "common/expected.hpp"
 #include "esi/device_error.hpp"
 #include "esi/esi_device_list.hpp"
 #include "esi/esi_reader.hpp"
@@ -91,5 +93,24 @@ void repair_for_twin(const pugi::xml_node& device, const EsiContext& ctx, od::De
 // Info and Flags); objects the model cannot hold are skipped with a warning.
 void read_esi_dictionary(const pugi::xml_node& dictionary, const EsiContext& ctx,
                          od::Dictionary& out);
+
+// Parses `xml` into `doc` and returns its root element `root`; a parse error
+// or another root is a LoadError naming `name` (and the line, for a parse
+// error). `what` names the kind of file in the message ("ESI", "ENI").
+inline Expected<pugi::xml_node, LoadError> parse_root(pugi::xml_document& doc, std::string_view xml,
+                                                      std::string_view name, const char* root,
+                                                      std::string_view what) {
+  auto parsed = doc.load_buffer(xml.data(), xml.size());
+  if (!parsed) {
+    LineIndex lines(xml);
+    return ecat::fail(LoadError{std::string(name), lines.line_of(parsed.offset),
+                                fmt::format("XML parse error: {}", parsed.description())});
+  }
+  auto node = doc.child(root);
+  if (!node) {
+    return ecat::fail(LoadError{std::string(name), 0, fmt::format("not an {} file: no {} root element", what, root)});
+  }
+  return node;
+}
 
 }  // namespace ecat::esi
