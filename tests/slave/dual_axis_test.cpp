@@ -33,7 +33,7 @@ constexpr std::uint16_t kActualPosition = 0x6064, kFollowingWindow = 0x6065, kFo
 constexpr std::uint16_t kPositionWindow = 0x6067, kActualVelocity = 0x606C, kTargetPosition = 0x607A;
 constexpr std::uint16_t kHomeOffset = 0x607C, kMaxProfileVelocity = 0x607F, kProfileVelocity = 0x6081;
 constexpr std::uint16_t kProfileAcceleration = 0x6083, kProfileDeceleration = 0x6084, kQuickStopDecel = 0x6085;
-constexpr std::uint16_t kHomingMethod = 0x6098, kHomingSpeeds = 0x6099, kHomingAcceleration = 0x609A;
+constexpr std::uint16_t kHomingMethod = 0x6098;
 constexpr std::uint16_t kRxAssign = 0x1C12, kTxAssign = 0x1C13;
 
 constexpr std::uint16_t kShutdown = 0x0006, kSwitchOn = 0x0007, kEnableOperation = 0x000F;

@@ -21,11 +21,8 @@ using std::chrono::milliseconds;
 constexpr Nanoseconds kCycle = milliseconds(1);
 constexpr std::uint32_t kCycleNs = 1'000'000;
 constexpr std::uint16_t kSyncModeDcSync0 = 2;
-constexpr std::uint16_t kDcSystemTime = 0x0910;
 constexpr std::uint16_t kDcStartTimeCyclic = 0x0990;  // next SYNC0 while active
 constexpr std::uint16_t kDcReceiveTimePort0 = 0x0900;
-constexpr std::uint16_t kSmOutputParameter = 0x1C32;
-constexpr std::uint8_t kSmEventMissed = 0x0B;
 
 // One slave in DC Sync0 at 1 ms, in Op, with the master's cyclic frame kept
 // so it can be replayed at chosen arrival times.
