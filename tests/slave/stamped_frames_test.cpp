@@ -65,6 +65,20 @@ struct DcRig {
     return e.dc().when_system(load_le<std::uint64_t>(b.data()));
   }
   std::uint32_t missed() { return p.chain[0].status().sync_errors; }
+
+  // Five cycles on time, each frame landing 100 us before the next SYNC0;
+  // leaves the clock just after the last pulse and returns the next one.
+  Nanoseconds settle_on_time() {
+    Nanoseconds pulse = next_sync0() + kCycle;
+    for (int c = 0; c < 5; ++c) {
+      p.clock.set(pulse - microseconds(100));
+      deliver(cyclic, p.clock.now(), p.clock.now());
+      pulse += kCycle;
+    }
+    p.clock.set(pulse - kCycle + microseconds(10));
+    (void)p.chain.poll(p.clock.now());
+    return pulse;
+  }
   // The frame reaches the chain at `now`, stamped `arrival` by the kernel.
   void deliver(std::vector<std::uint8_t> frame, std::optional<Nanoseconds> arrival, Nanoseconds now) {
     const Nanoseconds at = p.chain.catch_up(arrival, now);
@@ -86,14 +100,7 @@ TEST(StampedFrames, QueuedFramesAreProcessedWhenTheyArrivedNotWhenTheProcessWoke
   if (up == "no DC") GTEST_SKIP() << "default device without DC";
   ASSERT_EQ(up, "");
   // Settle on time: every cycle's frame lands 100 us before the next SYNC0.
-  Nanoseconds pulse = rig.next_sync0() + kCycle;
-  for (int c = 0; c < 5; ++c) {
-    rig.p.clock.set(pulse - microseconds(100));
-    rig.deliver(rig.cyclic, rig.p.clock.now(), rig.p.clock.now());
-    pulse += kCycle;
-  }
-  rig.p.clock.set(pulse - kCycle + microseconds(10));
-  (void)rig.p.chain.poll(rig.p.clock.now());
+  Nanoseconds pulse = rig.settle_on_time();
   const std::uint32_t missed_before = rig.missed();
   ASSERT_EQ(rig.p.chain[0].status().state, esc::AlState::Op);
 
@@ -129,14 +136,7 @@ TEST(StampedFrames, WithoutTheStampsTheSameQueueCountsAMissedEvent) {
   const std::string up = rig.bring_up();
   if (up == "no DC") GTEST_SKIP() << "default device without DC";
   ASSERT_EQ(up, "");
-  Nanoseconds pulse = rig.next_sync0() + kCycle;
-  for (int c = 0; c < 5; ++c) {
-    rig.p.clock.set(pulse - microseconds(100));
-    rig.deliver(rig.cyclic, rig.p.clock.now(), rig.p.clock.now());
-    pulse += kCycle;
-  }
-  rig.p.clock.set(pulse - kCycle + microseconds(10));
-  (void)rig.p.chain.poll(rig.p.clock.now());
+  Nanoseconds pulse = rig.settle_on_time();
   const std::uint32_t missed_before = rig.missed();
   const Nanoseconds woke = pulse + milliseconds(2) + microseconds(300);
   rig.p.clock.set(woke);
