@@ -189,6 +189,14 @@ class DeviceReader {
   Expected<void, LoadError> read_pdo(const pugi::xml_node& n, bool rx) {
     od::Pdo p;
     auto index = u32_of(n.child_value("Index"));
+    if (!n.child("Index") && n.attribute("Ref")) {
+      // ESI files of the 1.0-1.2 era (Beckhoff "EtherCAT Terminals.xml")
+      // name PDO templates that TwinCAT holds, not the file: the PDO's index
+      // and entries are not in the file.
+      return ecat::fail(ctx_.error(n, fmt::format("{} Ref=\"{}\": a PDO template this file does not contain "
+                                                  "(pre-ETG.2000 reference); its index and entries are unknown",
+                                                  rx ? "RxPdo" : "TxPdo", n.attribute("Ref").value())));
+    }
     if (!index || *index > 0xFFFF) {
       return ecat::fail(ctx_.error(n, fmt::format("PDO index '{}' is not a 16-bit number",
                                                   n.child_value("Index"))));

@@ -288,6 +288,17 @@ class DictionaryReader {
       e.max_value.clear();
     }
     if (e.default_value.empty()) e.default_value = zero_value(e.type, e.bit_length);
+    // A default outside its own limits (Inovance IS620N 2002h: default 20,
+    // MaxData 2): the device powers up with the default and answers it to an
+    // upload, so the twin keeps the default and drops the limit it breaks.
+    if (e.has_min() && compare_values(e.type, e.default_value, e.min_value) < 0) {
+      ctx_.warn(info, "DefaultData below MinData; the device starts with its default, the entry gets no minimum");
+      e.min_value.clear();
+    }
+    if (e.has_max() && compare_values(e.type, e.default_value, e.max_value) > 0) {
+      ctx_.warn(info, "DefaultData above MaxData; the device starts with its default, the entry gets no maximum");
+      e.max_value.clear();
+    }
   }
 
   const EsiContext& ctx_;

@@ -13,6 +13,8 @@
 #include <fmt/format.h>
 
 #include "esi/esi_reader_context.hpp"
+#include "esi/sii_layout.hpp"
+#include "esi/sii_writer.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -73,16 +75,18 @@ std::uint8_t sm_type_code(od::SmType t) { return static_cast<std::uint8_t>(t); }
 class Repairer {
  public:
   Repairer(const pugi::xml_node& device, const EsiContext& ctx, od::DeviceDescription& d)
-      : ctx_(ctx), d_(d), device_line_(ctx.line(device)) {}
+      : ctx_(ctx), d_(d), device_(device), device_line_(ctx.line(device)) {}
 
   void run() {
     renumber_out_of_range_pdos();
+    repair_process_sm_sizes();
     adopt_dictionary_assignment();
     create_missing_pdo_objects();
     repair_identity();
     repair_sm_types();
     repair_assignments();
     repair_mappings();
+    repair_eeprom_size();
   }
 
  private:
@@ -188,6 +192,58 @@ class Repairer {
         p.index = next;
       }
     }
+  }
+
+  // Sizes of a process-data SM that no master could use as written:
+  // - DefaultSize (no MaxSize) shorter than a PDO of its direction (Inovance
+  //   SV660N: SM2 DefaultSize 12, a 19-byte RxPDO): masters size SM2/SM3 from
+  //   the PDOs they assign (ETG.1000.6 §5.6.7.4), so the twin's SM takes its
+  //   size from the PDOs;
+  // - MaxSize whose three buffers (3-buffer mode, ESC Section I §8.2) reach
+  //   into the next SM (Elmo: SM2 at 1100h MaxSize 80h, SM3 at 1180h): the
+  //   ESC can only hold what fits before the next SM, so that is the maximum.
+  void repair_process_sm_sizes() {
+    constexpr std::uint8_t kModeMask = 0x03, kModeBuffered = 0x00;
+    constexpr std::uint32_t kCopies = 3;
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      auto& sm = d_.sync_managers[i];
+      const bool rx = sm.type == od::SmType::Outputs;
+      if (!rx && sm.type != od::SmType::Inputs) continue;
+      const int line = sm_line(i);
+      if (sm.max_size == 0 && sm.default_size > 0) {
+        for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
+          const std::uint32_t bytes = (p.bit_length() + kBitsPerByte - 1) / kBitsPerByte;
+          if (bytes <= sm.default_size) continue;
+          ctx_.warn_at("Sm", line, fmt::format("SM{} DefaultSize {} is shorter than PDO {:04X}h ({} bytes); "
+                                               "masters size the SM from the PDOs, so does the twin", i, sm.default_size,
+                                               p.index, bytes));
+          sm.default_size = 0;
+          break;
+        }
+      }
+      if (sm.max_size == 0 || (sm.control & kModeMask) != kModeBuffered) continue;
+      std::uint32_t next = 0;
+      for (const auto& o : d_.sync_managers) {
+        if (o.type != od::SmType::Unused && o.start_address > sm.start_address && (next == 0 || o.start_address < next)) {
+          next = o.start_address;
+        }
+      }
+      if (next == 0 || sm.start_address + kCopies * sm.max_size <= next) continue;
+      const auto fits = static_cast<std::uint16_t>((next - sm.start_address) / kCopies);
+      ctx_.warn_at("Sm", line, fmt::format("SM{} MaxSize {} needs {} bytes in 3-buffer mode from {:04X}h, but the next SM "
+                                           "starts at {:04X}h; the twin's MaxSize is {}", i, sm.max_size,
+                                           kCopies * sm.max_size, sm.start_address, next, fits));
+      sm.max_size = fits;
+      if (sm.default_size > fits) sm.default_size = fits;
+    }
+  }
+
+  int sm_line(std::size_t n) const {
+    std::size_t k = 0;
+    for (auto s : device_.children("Sm")) {
+      if (k++ == n) return ctx_.line(s);
+    }
+    return device_line_;
   }
 
   // No PDO of a direction carries Sm, but the dictionary assigns PDOs of the
@@ -381,6 +437,29 @@ class Repairer {
     }
   }
 
+  // ESI files of the 1.0-1.2 era give Eeprom/ByteSize 128 (1 Kbit): the
+  // 64-word fixed area alone, no room for a category (ETG.2010 §2). A master
+  // reads the General, SyncM and PDO categories, so the twin's EEPROM is the
+  // smallest power of two from 256 bytes that holds them all. Run last: the
+  // SII follows every other repair.
+  void repair_eeprom_size() {
+    constexpr std::size_t kSmallest = sii::kFixedAreaBytes + sii::kBytesPerSizeUnit;
+    constexpr std::size_t kLargest = 0x8000;  // 32 KiB: the uint16 ByteSize the model keeps
+    const std::size_t was = d_.esc.eeprom_bytes;
+    if (was >= kSmallest) return;
+    std::size_t size = kSmallest;
+    for (; size < kLargest; size *= 2) {
+      d_.esc.eeprom_bytes = static_cast<std::uint16_t>(size);
+      auto sii = write_sii_detailed(d_);
+      if (sii && sii->detail == SiiDetail::Full) break;
+    }
+    d_.esc.eeprom_bytes = static_cast<std::uint16_t>(size);
+    const pugi::xml_node n = device_.child("Eeprom").child("ByteSize");
+    ctx_.warn_at("ByteSize", n ? ctx_.line(n) : device_line_,
+                 fmt::format("{} bytes hold the SII's fixed area only, no category; the twin's EEPROM is {} bytes",
+                             was, size));
+  }
+
   void repair_mappings() {
     for (bool rx : {true, false}) {
       for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
@@ -409,6 +488,7 @@ class Repairer {
 
   const EsiContext& ctx_;
   od::DeviceDescription& d_;
+  pugi::xml_node device_;
   int device_line_;
 };
 

@@ -50,9 +50,13 @@ Nanoseconds percentile(std::vector<Nanoseconds>& v, double p) {
 Expected<void, std::string> Session::configure_slave(std::size_t i) {
   auto& s = master_.slave(i);
   has_coe_[i] = s.sii.has_coe();
-  if (!s.sii.has_mailbox()) return {};
-  if (auto ok = master_.configure_mailbox(i); !ok) {
-    return fail(fmt::format("slave {}: mailbox set-up: {}", i + 1, error_text(ok.error())));
+  // Every slave goes through PreOp (ETG.1000.6 §6.4.1: Init->SafeOp is not a
+  // transition, 0x0011); only a slave with a mailbox has its SM0/SM1 set up
+  // first. Couplers (EK1100) and plain I/O have none.
+  if (s.sii.has_mailbox()) {
+    if (auto ok = master_.configure_mailbox(i); !ok) {
+      return fail(fmt::format("slave {}: mailbox set-up: {}", i + 1, error_text(ok.error())));
+    }
   }
   auto st = master_.request_state(i, master::AlState::PreOp);
   if (!st) return fail(fmt::format("slave {}: PreOp: {}", i + 1, error_text(st.error())));

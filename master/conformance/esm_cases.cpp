@@ -12,6 +12,7 @@ constexpr std::uint16_t kInvalidStateChange = 0x0011;
 constexpr std::uint16_t kUnknownState = 0x0012;
 constexpr std::uint16_t kBootstrapNotSupported = 0x0013;
 constexpr std::uint16_t kUnknownStateCode = 0x0005;  // not 1/2/3/4/8
+constexpr std::uint16_t kPdiControlDeviceEmulation = 0x0100;  // SII word 0 high byte bit 0 = 0x0141 bit 0
 
 std::string name_of(AlState s) {
   switch (s) {
@@ -132,6 +133,12 @@ std::vector<Case> esm_cases() {
   cases.push_back({"esm.request_ignored_while_error",
                    "ETG.1000.6 §6.4.1: while ErrInd is set a request without acknowledge is not carried out (esm-al-codes.md §5.2)",
                    [](Context& ctx) {
+                     // Device emulation (SII word 0 bit 8 -> 0x0141 bit 0): a slave without a
+                     // µC (EK1100, EL1xxx) has the ESC copy AL control to AL status itself, so
+                     // nothing holds a request back while ErrInd is set (ESC Section II 0x0140).
+                     if ((ctx.info().sii.pdi_control & kPdiControlDeviceEmulation) != 0) {
+                       return CaseResult::skip("device emulation: the ESC copies AL control to AL status");
+                     }
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::Op);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal");
                      if (ctx.info().sii.has_mailbox()) (void)ctx.master().configure_mailbox(ctx.slave());
