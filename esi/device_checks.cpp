@@ -23,6 +23,7 @@ constexpr std::uint32_t kProcessRamStart = 0x1000;
 constexpr std::uint8_t kSmModeMask = 0x03;     // control bits 1:0
 constexpr std::uint8_t kSmModeBuffered = 0x00;  // three buffers
 constexpr std::uint32_t kBufferedCopies = 3;
+constexpr std::uint32_t kDigitalOutputFirst = 0x0F00, kDigitalOutputEnd = 0x0F04;  // ESC digital output data register
 constexpr std::uint32_t kBitsPerByte = 8;
 
 std::uint32_t bytes_of(std::uint32_t bits) { return (bits + kBitsPerByte - 1) / kBitsPerByte; }
@@ -178,10 +179,16 @@ void check_sync_manager_memory(const DeviceSpec& spec, const od::DeviceDescripti
     const bool mailbox = sm.type == od::SmType::MailboxOut || sm.type == od::SmType::MailboxIn;
     std::uint32_t length = (sm.max_size && !(mailbox && sm.default_size)) ? sm.max_size : sm.default_size;
     if (length == 0) length = assigned_bytes(dev, i);
-    if ((sm.control & kSmModeMask) == kSmModeBuffered) length *= kBufferedCopies;
+    // Devices without a µC (Beckhoff EL2xxx, EK18xx, EP2xxx) put their
+    // outputs SM on the ESC's digital output register 0x0F00-0x0F03, which the
+    // FMMU writes bit by bit (ESC Section II 0x0F00; SII of an EL2004: SM
+    // 0x0F00, control 0x44): one register, no buffer copies in process RAM.
+    const bool digital_output = sm.start_address >= kDigitalOutputFirst &&
+                                sm.start_address + std::max<std::uint32_t>(length, 1) <= kDigitalOutputEnd;
+    if ((sm.control & kSmModeMask) == kSmModeBuffered && !digital_output) length *= kBufferedCopies;
     const Range r{i, sm.start_address, sm.start_address + length};
     const Where w = sm_where(spec, i);
-    if (r.first < kProcessRamStart || r.end > ram_end) {
+    if (!digital_output && (r.first < kProcessRamStart || r.end > ram_end)) {
       fail_at(w, fmt::format("SyncManager {} ({:#06x}..{:#06x}) is outside the process RAM {:#06x}..{:#06x}",
                              i, r.first, r.end - 1, kProcessRamStart, ram_end - 1));
     }

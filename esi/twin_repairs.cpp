@@ -24,7 +24,6 @@ constexpr std::uint16_t kSmCommType = 0x1C00;
 constexpr std::uint16_t kSmAssignFirst = 0x1C10;
 constexpr std::uint16_t kRxMappingFirst = 0x1600, kRxMappingLast = 0x17FF;
 constexpr std::uint16_t kTxMappingFirst = 0x1A00, kTxMappingLast = 0x1BFF;
-constexpr std::uint16_t kCommunicationFirst = 0x1000, kCommunicationLast = 0x1FFF;  // CiA 301 communication area
 constexpr unsigned kMappingIndexShift = 16, kMappingSubShift = 8;
 constexpr std::uint8_t kBitsPerByte = 8;
 constexpr std::uint8_t kIdentityEntries = 4;        // 1018h:01-04 (CiA 301)
@@ -288,17 +287,28 @@ class Repairer {
     bool rx;
   };
 
+  static bool derived_object(std::uint16_t index) {
+    constexpr std::uint16_t kSmAssignLast = 0x1C2F, kSyncOutputs = 0x1C32, kSyncInputs = 0x1C33;
+    return index == kIdentityObject || index == kSmCommType || (index >= kSmAssignFirst && index <= kSmAssignLast) ||
+           (index >= kRxMappingFirst && index <= kRxMappingLast) || (index >= kTxMappingFirst && index <= kTxMappingLast) ||
+           index == kSyncOutputs || index == kSyncInputs;
+  }
+
   void create_missing_pdo_objects() {
     std::map<std::uint16_t, std::vector<Missing>> missing;
     for (bool rx : {true, false}) {
       for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
         for (const auto& pe : p.entries) {
           if (pe.index == 0 || pe.bit_length == 0) continue;  // a gap, or a length already warned about
-          // Never invent communication objects (CiA 301 1000h-1FFFh area).
-          if (pe.index >= kCommunicationFirst && pe.index <= kCommunicationLast) continue;
           od::Object* o = d_.dictionary.find(pe.index);
           od::Entry* e = o ? o->find(pe.subindex) : nullptr;
           const std::uint16_t map_bit = rx ? od::Access::kRxPdoMappable : od::Access::kTxPdoMappable;
+          // Beckhoff terminals map status entries of the communication area
+          // (1C32h:20 sync error, 1800h:07/09 TxPDO state and toggle, 1D09h:xx):
+          // an existing entry is marked mappable like any other; a missing one
+          // is created unless the device-file loader derives that object from
+          // the SII (1018h, 1C00h, 1C1xh, 16xxh/1Axxh, 1C32h/1C33h).
+          if (!e && derived_object(pe.index)) continue;
           if (e) {
             if (!(e->access.bits & map_bit) && e->bit_length == pe.bit_length) {
               e->access.bits |= map_bit;

@@ -104,15 +104,21 @@ std::vector<Case> consistency_cases() {
                      if (auto c = need_coe(ctx)) return *c;
                      CoeClient coe = ctx.coe();
                      const auto& s = ctx.info().sii;
-                     std::string seen;
-                     for (std::uint8_t sub = 1; sub <= 4; ++sub) {
+                     // CiA 301 §7.5.2.31: 1018h:01 is mandatory, :02-:04 optional; a device
+                     // with 1018h:00 = 3 (Inovance IS620N) has no serial number entry, so
+                     // the entries it has are compared with the SII.
+                     constexpr std::uint64_t kIdentityEntries = 4;
+                     auto count = coe.upload_value(kIdentity, 0);
+                     const std::uint64_t n = count ? std::clamp<std::uint64_t>(*count, 1, kIdentityEntries) : kIdentityEntries;
+                     const std::uint32_t sii_values[] = {s.vendor_id, s.product_code, s.revision, s.serial};
+                     std::string seen, expected;
+                     for (std::uint8_t sub = 1; sub <= n; ++sub) {
                        auto v = coe.upload_value(kIdentity, sub);
-                       if (sub > 1) seen += ' ';
+                       if (sub > 1) seen += ' ', expected += ' ';
                        seen += v ? hex(*v, 8) : describe_sdo(v.error());
+                       expected += hex(sii_values[sub - 1], 8);
                      }
-                     return CaseResult::compare(hex(s.vendor_id, 8) + " " + hex(s.product_code, 8) + " " +
-                                                    hex(s.revision, 8) + " " + hex(s.serial, 8),
-                                                seen);
+                     return CaseResult::compare(expected, seen);
                    }});
   cases.push_back({"od.mandatory_objects", "CiA 301 (0x1000, 0x1018) and ETG.1000.6 (0x1C00, needed by SOEM: masters.md §6 #24) in the OD list",
                    [](Context& ctx) {
