@@ -5,8 +5,8 @@
 # and Synapticon servo drives, a Microchip evaluation slave, a MetalMusings
 # stepper/IO card. ecat-master on the other end brings all five to Op and runs
 # >= 2000 cycles at 1 ms with no lost frame and the expected WKC on every cycle
-# (ecat-master exits 1 otherwise). SOEM is run against the same chain by
-# e2e_soem.sh's mechanism where its binaries are present (not here).
+# (ecat-master exits 1 otherwise). Under SOEM (simple_ng, found through
+# ECAT_SOEM_BIN as in e2e_soem.sh) the same chain is run again when present.
 # Usage: e2e_twins.sh SRCDIR BUILDDIR   (exit 77 = skipped: not root / no netns)
 set -uo pipefail
 src=${1:?srcdir}
@@ -36,6 +36,58 @@ if e2e_start_slave twins "${E2E_SLAVE_RT[@]}" "${args[@]}"; then
   e2e_check_no_watchdog_during_run twins
 else
   e2e_fail "twin chain did not start"
+fi
+
+# The same chain under SOEM where its binaries are found (ECAT_SOEM_BIN=dir,
+# as e2e_soem.sh): SOEM 2.x simple_ng (1.x simple_test) brings the five twins
+# to Op from their SII alone and exchanges 10000 cycles with LRW; every
+# iteration must show the WKC SOEM expects (2 per slave with outputs + 1 per
+# slave with inputs), except frames that took SOEM's whole 2 ms timeout on
+# this loaded VM (at most E2E_SOEM_LATE_MAX, default 1 %), and the slave must
+# have returned every frame it got. What SOEM printed goes to the log.
+soem_bin() { [ -n "${ECAT_SOEM_BIN:-}" ] && [ -x "$ECAT_SOEM_BIN/$1" ] && echo "$ECAT_SOEM_BIN/$1"; }
+simple_ng=$(soem_bin simple_ng) || simple_ng=""
+slaveinfo=$(soem_bin slaveinfo) || slaveinfo=""
+if [ -z "$simple_ng" ]; then
+  echo "SOEM: simple_ng not found (set ECAT_SOEM_BIN=dir); the chain ran under ecat-master only"
+else
+  late_max=${E2E_SOEM_LATE_MAX:-100}
+  master_rt=()
+  [ ${#E2E_SLAVE_RT[@]} -gt 0 ] && master_rt=(chrt -f 30)
+  soem_run() {
+    local name=$1 limit=$2 prog=$3; shift 3
+    timeout -s KILL "$limit" ip netns exec "$E2E_NS_M" "${master_rt[@]}" "$prog" m0 "$@" 2>&1 | tr '\r' '\n' > "$E2E_TMP/$name.log"
+    return "${PIPESTATUS[0]}"
+  }
+  if e2e_start_slave twins_soem "${E2E_SLAVE_RT[@]}" "${args[@]}"; then
+    if [ -n "$slaveinfo" ]; then
+      soem_run soem_info 60 "$slaveinfo" || e2e_fail "SOEM slaveinfo: exit $?"
+      grep -qE "^${#twins[@]} slaves found and configured\.$" "$E2E_TMP/soem_info.log" \
+        || e2e_fail "SOEM slaveinfo: not ${#twins[@]} slaves configured"
+      echo "SOEM slaveinfo: $(grep -m1 'slaves found' "$E2E_TMP/soem_info.log")"
+      grep -E '^ Name:|^ Output size|^ Input size' "$E2E_TMP/soem_info.log" | paste - - - | sed 's/^/  /'
+    fi
+    soem_run soem_ng 150 "$simple_ng" || e2e_fail "SOEM simple_ng: exit $?"
+    grep -q 'all slaves are now operational$' "$E2E_TMP/soem_ng.log" || e2e_fail "SOEM simple_ng: Op not reached"
+    # SOEM's expected WKC: from a short iteration's "(expected E)", else the
+    # value every iteration shows (simple_ng prints "wrong" next to a short one).
+    want=$(grep -m1 -oE 'expected [0-9]+' "$E2E_TMP/soem_ng.log" | awk '{print $2}')
+    [ -z "$want" ] && want=$(grep -m1 -oE '^Iteration +[0-9]+: +[0-9]+ usec  WKC [0-9]+  O:' "$E2E_TMP/soem_ng.log" | awk '{print $6}')
+    iters=$(grep -cE '^Iteration +[0-9]+:' "$E2E_TMP/soem_ng.log")
+    exact=$(grep -cE "^Iteration +[0-9]+: +[0-9]+ usec  WKC $want  O:" "$E2E_TMP/soem_ng.log")
+    late=$(grep -E "^Iteration +[0-9]+: +[0-9]+ usec  WKC -?[0-9]+ wrong \(expected $want\)$" "$E2E_TMP/soem_ng.log" \
+      | awk '$3 >= 2000' | wc -l)
+    if [ "$iters" -ne 10000 ] || [ $((exact + late)) -ne 10000 ] || [ "$late" -gt "$late_max" ]; then
+      e2e_fail "SOEM simple_ng: $iters iterations, $exact with WKC ${want:-?}, $late late (at most $late_max)"
+    fi
+    echo "SOEM simple_ng: $(grep -m1 'slaves found' "$E2E_TMP/soem_ng.log" | tr -s ' '), $exact/10000 iterations with WKC $want, $late late;" \
+      "last: $(grep -E '^Iteration' "$E2E_TMP/soem_ng.log" | tail -1)"
+    e2e_stop "$E2E_SLAVE_PID"
+    grep -qE '^frames [0-9]+ returned [0-9]+ malformed 0 lost 0 ' "$E2E_TMP/twins_soem.log" \
+      || e2e_fail "SOEM run: the slave did not return every frame: $(grep -m1 '^frames ' "$E2E_TMP/twins_soem.log")"
+  else
+    e2e_fail "twin chain for SOEM did not start"
+  fi
 fi
 
 [ "$e2e_status" -eq 0 ] && echo "e2e_twins: OK"

@@ -1,0 +1,241 @@
+// Twin repairs met in the big-brand corpus files (docs/twins.md "Import
+// policy"), each in a small ESI written for this test in the shape the vendor
+// file has: an Elmo process-data SM whose three buffers reach into the next SM,
+// an Inovance SV660N SM2 DefaultSize shorter than its PDO, an IS620N default
+// above its MaxData, Beckhoff status entries of the communication area mapped
+// into PDOs, an EL2004-style outputs SM on the digital output register 0F00h,
+// an ESI 1.2 EEPROM of 128 bytes, and a PDO given by reference to a TwinCAT
+// template. Each: what the twin holds, the warning and its line, and that the
+// twin loads as our device file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "esi/device_loader.hpp"
+#include "esi/esi_reader.hpp"
+#include "esi/esi_writer_device_xml.hpp"
+
+namespace ecat::esi {
+namespace {
+
+// One device; `body` goes after GroupType (Profile, Sm, PDOs, Eeprom).
+std::string esi(const std::string& body) {
+  return R"(<?xml version="1.0"?>
+<EtherCATInfo Version="1.2">
+  <Vendor><Id>#x0000009A</Id><Name>Shapes</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x00000001" RevisionNo="#x00000001">S-1</Type>
+        <Name>S-1</Name>
+        <GroupType>G</GroupType>
+)" + body + R"(
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>
+)";
+}
+
+int line_of(const std::string& text, const std::string& needle) {
+  const auto at = text.find(needle);
+  if (at == std::string::npos) return -1;
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+std::string all(const std::vector<EsiWarning>& w) {
+  std::string s;
+  for (const auto& x : w) s += x.to_string("t.xml") + "\n";
+  return s;
+}
+
+bool has_warning(const std::vector<EsiWarning>& w, int line, const std::string& part) {
+  return std::any_of(w.begin(), w.end(), [&](const EsiWarning& x) {
+    return x.line == line && x.message.find(part) != std::string::npos;
+  });
+}
+
+const char* const kMailboxSms = R"(
+        <Sm MinSize="140" MaxSize="140" DefaultSize="140" StartAddress="#x1800" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+        <Sm MinSize="140" MaxSize="140" DefaultSize="140" StartAddress="#x1900" ControlByte="#x22" Enable="1">MBoxIn</Sm>)";
+
+const char* const kRxPdo = R"(
+        <RxPdo Fixed="1" Sm="2"><Index>#x1600</Index><Name>Out</Name>
+          <Entry><Index>#x7000</Index><SubIndex>1</SubIndex><BitLen>32</BitLen><Name>a</Name><DataType>UDINT</DataType></Entry>
+          <Entry><Index>#x7000</Index><SubIndex>2</SubIndex><BitLen>32</BitLen><Name>b</Name><DataType>UDINT</DataType></Entry>
+          <Entry><Index>#x7000</Index><SubIndex>3</SubIndex><BitLen>32</BitLen><Name>c</Name><DataType>UDINT</DataType></Entry>
+          <Entry><Index>#x7000</Index><SubIndex>4</SubIndex><BitLen>16</BitLen><Name>d</Name><DataType>UINT</DataType></Entry>
+        </RxPdo>
+        <TxPdo Fixed="1" Sm="3"><Index>#x1A00</Index><Name>In</Name>
+          <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>s</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>)";
+
+struct Read {
+  std::vector<EsiWarning> warnings;
+  od::DeviceDescription d;
+};
+
+Read read(const std::string& text) {
+  Read r;
+  auto d = read_esi_string(text, "t.xml", {}, &r.warnings);
+  EXPECT_TRUE(d) << d.error().to_string();
+  if (d) r.d = *d;
+  return r;
+}
+
+void expect_loads(const od::DeviceDescription& d) {
+  auto back = load_device_string(write_device_xml(d), "twin.xml");
+  EXPECT_TRUE(back) << back.error().to_string();
+}
+
+TEST(TwinVendorShapes, ThreeBuffersThatReachTheNextSmAreCut) {
+  // Elmo Gold: SM2 at 1100h MaxSize 80h (3 x 80h = 180h), SM3 at 1180h.
+  const std::string text = esi(std::string(kMailboxSms) + R"(
+        <Sm MinSize="0" MaxSize="#x80" DefaultSize="#x80" StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm MinSize="0" MaxSize="#x80" DefaultSize="#x80" StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>)" +
+                               kRxPdo);
+  Read r = read(text);
+  ASSERT_EQ(r.d.sync_managers.size(), 4u);
+  EXPECT_EQ(r.d.sync_managers[2].max_size, 42);  // (1180h - 1100h) / 3
+  EXPECT_EQ(r.d.sync_managers[2].default_size, 42);
+  EXPECT_EQ(r.d.sync_managers[3].max_size, 128);  // nothing above it before 1800h
+  EXPECT_TRUE(has_warning(r.warnings, line_of(text, "StartAddress=\"#x1100\""),
+                          "SM2 MaxSize 128 needs 384 bytes in 3-buffer mode from 1100h, but the next SM starts at "
+                          "1180h; the twin's MaxSize is 42"))
+      << all(r.warnings);
+  expect_loads(r.d);
+}
+
+TEST(TwinVendorShapes, DefaultSizeShorterThanAPdoIsTakenFromThePdos) {
+  // Inovance SV660N: SM2 DefaultSize 12 (no MaxSize), a 14-byte RxPDO.
+  const std::string text = esi(std::string(kMailboxSms) + R"(
+        <Sm DefaultSize="12" StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm DefaultSize="28" StartAddress="#x1400" ControlByte="#x20" Enable="1">Inputs</Sm>)" +
+                               kRxPdo);
+  Read r = read(text);
+  EXPECT_EQ(r.d.sync_managers[2].default_size, 0);  // from the PDOs
+  EXPECT_EQ(r.d.sync_managers[3].default_size, 28);
+  EXPECT_TRUE(has_warning(r.warnings, line_of(text, "DefaultSize=\"12\""),
+                          "SM2 DefaultSize 12 is shorter than PDO 1600h (14 bytes)"))
+      << all(r.warnings);
+  expect_loads(r.d);
+}
+
+TEST(TwinVendorShapes, ADefaultOutsideItsLimitsKeepsTheDefault) {
+  // Inovance IS620N: DefaultData 20 with MaxData 2.
+  const std::string text = esi(R"(
+        <Profile><Dictionary>
+          <DataTypes><DataType><Name>UINT</Name><BitSize>16</BitSize></DataType></DataTypes>
+          <Objects>
+            <Object><Index>#x2002</Index><Name>Mode</Name><Type>UINT</Type><BitSize>16</BitSize>
+              <Info><DefaultData>1400</DefaultData><MinData>0000</MinData><MaxData>0200</MaxData></Info>
+              <Flags><Access>rw</Access></Flags></Object>
+          </Objects>
+        </Dictionary></Profile>)" + std::string(kMailboxSms));
+  Read r = read(text);
+  const od::Entry* e = r.d.dictionary.find(0x2002, 0);
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->default_value, (od::Value{0x14, 0x00}));
+  EXPECT_TRUE(e->has_min());
+  EXPECT_FALSE(e->has_max());
+  EXPECT_TRUE(has_warning(r.warnings, line_of(text, "<Info><DefaultData>1400"), "DefaultData above MaxData"))
+      << all(r.warnings);
+  expect_loads(r.d);
+}
+
+TEST(TwinVendorShapes, CommunicationAreaEntriesInPdos) {
+  // Beckhoff EL15xx: 1C32h:20 (sync error) exists but is not marked mappable;
+  // 1800h:09 (TxPDO toggle) has no object in the file.
+  const std::string text = esi(R"(
+        <Profile><Dictionary>
+          <DataTypes>
+            <DataType><Name>USINT</Name><BitSize>8</BitSize></DataType>
+            <DataType><Name>BOOL</Name><BitSize>1</BitSize></DataType>
+            <DataType><Name>DT1C32</Name><BitSize>48</BitSize>
+              <SubItem><SubIdx>0</SubIdx><Name>SubIndex 000</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
+              <SubItem><SubIdx>32</SubIdx><Name>Sync error</Name><Type>BOOL</Type><BitSize>1</BitSize><BitOffs>16</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
+            </DataType>
+          </DataTypes>
+          <Objects>
+            <Object><Index>#x1C32</Index><Name>SM output parameter</Name><Type>DT1C32</Type><BitSize>48</BitSize>
+              <Info><SubItem><Name>SubIndex 000</Name><Info><DefaultData>20</DefaultData></Info></SubItem></Info></Object>
+          </Objects>
+        </Dictionary></Profile>)" + std::string(kMailboxSms) + R"(
+        <Sm StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>
+        <TxPdo Fixed="1" Sm="3"><Index>#x1A00</Index><Name>Status</Name>
+          <Entry><Index>#x1C32</Index><SubIndex>32</SubIndex><BitLen>1</BitLen><Name>Sync error</Name><DataType>BOOL</DataType></Entry>
+          <Entry><Index>#x1800</Index><SubIndex>9</SubIndex><BitLen>1</BitLen><Name>TxPDO toggle</Name><DataType>BOOL</DataType></Entry>
+          <Entry><BitLen>6</BitLen></Entry>
+        </TxPdo>)");
+  Read r = read(text);
+  const od::Entry* sync_error = r.d.dictionary.find(0x1C32, 32);
+  ASSERT_NE(sync_error, nullptr);
+  EXPECT_TRUE(sync_error->access.tx_mappable());
+  EXPECT_TRUE(has_warning(r.warnings, line_of(text, "<Index>#x1C32</Index><Name>SM output"),
+                          "1C32h:20 is mapped by PDO 1A00h but not marked TxPDO-mappable; marked"))
+      << all(r.warnings);
+  const od::Entry* toggle = r.d.dictionary.find(0x1800, 9);
+  ASSERT_NE(toggle, nullptr);
+  EXPECT_EQ(toggle->bit_length, 1);
+  EXPECT_TRUE(toggle->access.tx_mappable());
+  EXPECT_TRUE(has_warning(r.warnings, line_of(text, "<TxPdo"), "1800h has no dictionary object; object created"))
+      << all(r.warnings);
+}
+
+TEST(TwinVendorShapes, OutputsOnTheDigitalOutputRegister) {
+  // EL2004: no mailbox, no dictionary, outputs SM at 0F00h (control 44h).
+  const std::string text = esi(R"(
+        <Fmmu>Outputs</Fmmu>
+        <Sm DefaultSize="1" StartAddress="#x0f00" ControlByte="#x44" Enable="1">Outputs</Sm>
+        <RxPdo Fixed="1" Mandatory="1" Sm="0"><Index>#x1600</Index><Name>Channel 1</Name>
+          <Entry><Index>#x7000</Index><SubIndex>1</SubIndex><BitLen>1</BitLen><Name>Output</Name><DataType>BOOL</DataType></Entry>
+        </RxPdo>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>0401000000000000</ConfigData></Eeprom>)");
+  Read r = read(text);
+  ASSERT_EQ(r.d.sync_managers.size(), 1u);
+  EXPECT_EQ(r.d.sync_managers[0].start_address, 0x0F00);
+  expect_loads(r.d);
+  // Past the register (0F04h) it is an error again.
+  std::string past = text;
+  past.replace(past.find("#x0f00"), 6, "#x0f04");
+  Read p = read(past);
+  auto back = load_device_string(write_device_xml(p.d), "twin.xml");
+  ASSERT_FALSE(back);
+  EXPECT_NE(back.error().message.find("is outside the process RAM"), std::string::npos) << back.error().to_string();
+}
+
+TEST(TwinVendorShapes, A128ByteEepromGrowsToHoldTheSii) {
+  const std::string text = esi(std::string(kMailboxSms) + R"(
+        <Sm StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>)" +
+                               kRxPdo + R"(
+        <Eeprom><ByteSize>128</ByteSize><ConfigData>08000200</ConfigData></Eeprom>)");
+  Read r = read(text);
+  EXPECT_GE(r.d.esc.eeprom_bytes, 256);
+  EXPECT_EQ(r.d.esc.eeprom_bytes & (r.d.esc.eeprom_bytes - 1), 0);  // a power of two
+  EXPECT_TRUE(has_warning(r.warnings, line_of(text, "<ByteSize>128"),
+                          "128 bytes hold the SII's fixed area only, no category; the twin's EEPROM is "))
+      << all(r.warnings);
+  expect_loads(r.d);
+}
+
+TEST(TwinVendorShapes, APdoTemplateByReferenceIsNamed) {
+  // Beckhoff "EtherCAT Terminals.xml" (ESI 1.2): PDOs by Ref to TwinCAT templates.
+  const std::string text = esi(R"(
+        <Sm StartAddress="#x0f00" ControlByte="#x44" Enable="1">Outputs</Sm>
+        <RxPdo Ref="DigOutputBit" Chn="0" Fixed="1" Mandatory="1" Sm="0"/>)");
+  std::vector<EsiWarning> w;
+  auto d = read_esi_string(text, "t.xml", {}, &w);
+  ASSERT_FALSE(d);
+  EXPECT_EQ(d.error().line, line_of(text, "<RxPdo Ref"));
+  EXPECT_EQ(d.error().message,
+            "RxPdo Ref=\"DigOutputBit\": a PDO template this file does not contain (pre-ETG.2000 reference); its index "
+            "and entries are unknown");
+}
+
+}  // namespace
+}  // namespace ecat::esi
