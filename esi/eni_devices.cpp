@@ -106,6 +106,33 @@ void apply_eni_layout(const EniSlave& s, od::DeviceDescription& d, std::vector<E
   }
 }
 
+// Revision matching (decision, docs/twins.md "Networks from an ENI"): the ESI
+// with the ENI's revision when the directory has one; otherwise one of the same
+// product code whose high revision word (the major, incompatible part in the
+// Beckhoff scheme ETG.2000 RevisionNo files follow: 0x0011_0000 = -0017 of the
+// description) equals the ENI's - the highest low word not above the ENI's,
+// else the lowest above it. Another major revision is never taken.
+constexpr unsigned kRevisionWordBits = 16;
+
+std::vector<const EsiCandidate*> esi_candidates_for(const std::vector<EsiCandidate>& esis, const EniSlave& s) {
+  std::vector<const EsiCandidate*> exact, below, above;
+  for (const auto& c : esis) {
+    if (c.entry.product_code != s.product_code) continue;
+    if (c.entry.revision == s.revision) {
+      exact.push_back(&c);
+    } else if (c.entry.revision && (*c.entry.revision >> kRevisionWordBits) == (s.revision >> kRevisionWordBits)) {
+      (*c.entry.revision < s.revision ? below : above).push_back(&c);
+    }
+  }
+  std::stable_sort(below.begin(), below.end(),
+                   [](const EsiCandidate* a, const EsiCandidate* b) { return *a->entry.revision > *b->entry.revision; });
+  std::stable_sort(above.begin(), above.end(),
+                   [](const EsiCandidate* a, const EsiCandidate* b) { return *a->entry.revision < *b->entry.revision; });
+  exact.insert(exact.end(), below.begin(), below.end());
+  exact.insert(exact.end(), above.begin(), above.end());
+  return exact;
+}
+
 }  // namespace
 
 Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, const fs::path& esi_dir,
@@ -117,11 +144,33 @@ Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, c
     const EniSlave& s = net.slaves[i];
     EniDevice dev;
     bool found = false;
-    for (const auto& c : esis) {
-      if (c.entry.product_code != s.product_code || c.entry.revision != s.revision) continue;
+    for (const EsiCandidate* cp : esi_candidates_for(esis, s)) {
+      const EsiCandidate& c = *cp;
       std::vector<EsiWarning> esi_warnings;
-      auto d = read_esi(c.file, EsiSelection{s.product_code, s.revision, c.entry.type}, &esi_warnings);
+      auto d = read_esi(c.file, EsiSelection{s.product_code, c.entry.revision, c.entry.type}, &esi_warnings);
       if (!d || d->identity.vendor_id != s.vendor_id) continue;
+      if (c.entry.revision != s.revision) {
+        // The twin is the ENI's device: its SII and 1018h:03 say the ENI's revision.
+        constexpr std::uint16_t kIdentity = 0x1018;
+        constexpr std::uint8_t kRevisionSub = 3;
+        d->identity.revision = s.revision;
+        if (od::Object* id = d->dictionary.find(kIdentity)) {
+          if (od::Entry* e = id->find(kRevisionSub)) {
+            e->default_value.assign(sizeof(s.revision), 0);
+            for (std::size_t k = 0; k < sizeof(s.revision); ++k) {
+              e->default_value[k] = static_cast<std::uint8_t>(s.revision >> (8 * k));
+            }
+          }
+        }
+      }
+      if (c.entry.revision != s.revision && warnings) {
+        warnings->push_back({"RevisionNo", s.info_line ? s.info_line : s.line,
+                             fmt::format("no ESI in the directory has revision #x{:08X}; the dictionary comes from {} "
+                                         "revision #x{:08X} (same product code and major revision word {:04X}h: "
+                                         "compatible), the SII carries the ENI's revision",
+                                         s.revision, c.file.filename().string(), c.entry.revision.value_or(0),
+                                         s.revision >> kRevisionWordBits)});
+      }
       if (warnings) {
         // The ESI's own import warnings, shown at the ENI slave they serve.
         for (auto& w : esi_warnings) {
