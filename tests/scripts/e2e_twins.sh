@@ -68,6 +68,8 @@ else
       grep -E '^ Name:|^ Output size|^ Input size' "$E2E_TMP/soem_info.log" | paste - - - | sed 's/^/  /'
     fi
     soem_run soem_ng 150 "$simple_ng" || e2e_fail "SOEM simple_ng: exit $?"
+    # What SOEM printed up to its cycles (and its last lines).
+    grep -v -E '^Iteration +[0-9]+:' "$E2E_TMP/soem_ng.log" | head -40 | sed 's/^/  [simple_ng] /'
     grep -q 'all slaves are now operational$' "$E2E_TMP/soem_ng.log" || e2e_fail "SOEM simple_ng: Op not reached"
     # SOEM's expected WKC: from a short iteration's "(expected E)", else the
     # value every iteration shows (simple_ng prints "wrong" next to a short one).
