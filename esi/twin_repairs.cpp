@@ -309,6 +309,11 @@ class Repairer {
           // is created unless the device-file loader derives that object from
           // the SII (1018h, 1C00h, 1C1xh, 16xxh/1Axxh, 1C32h/1C33h).
           if (!e && derived_object(pe.index)) continue;
+          // A PDO mapping object's entry is never process data (the MARCH
+          // boards' 1A00h, data and mapping at one index: a known limit).
+          const bool mapping_object = (pe.index >= kRxMappingFirst && pe.index <= kRxMappingLast) ||
+                                      (pe.index >= kTxMappingFirst && pe.index <= kTxMappingLast);
+          if (mapping_object) continue;
           if (e) {
             if (!(e->access.bits & map_bit) && e->bit_length == pe.bit_length) {
               e->access.bits |= map_bit;
