@@ -45,8 +45,47 @@ std::vector<EsiCandidate> scan_esi_dir(const fs::path& dir) {
 // addresses, and the ENI's PDO assignment as the default one (the PDOs'
 // sync manager and the 1C1xh defaults), since that is what the configured
 // network runs with.
+// ETG.2100 Slave/DC and the PS register InitCmd that writes the DC activation
+// 0x0980 (AssignActivate): the cycle and shift the configured network runs
+// with become the defaults of 1C32h/1C33h:02 (cycle time) and :03 (shift time)
+// (ETG.1020 §22.2), what a master reads back from the twin; an AssignActivate
+// that none of the ESI's OpModes has is a warning. The sync mode (1C3xh:01) is
+// left as the ESI has it: the master's writes select it.
+void apply_eni_dc(const EniSlave& s, od::DeviceDescription& d, std::vector<EsiWarning>* warnings) {
+  if (!s.dc) return;
+  constexpr std::uint16_t kDcActivation = 0x0980;
+  constexpr std::uint8_t kCycleTimeSub = 2, kShiftTimeSub = 3;
+  constexpr std::uint16_t kSyncOutputs = 0x1C32, kSyncInputs = 0x1C33;
+  std::optional<std::uint16_t> assign;
+  for (const auto& c : s.init_cmds) {
+    const bool ps = std::find(c.transitions.begin(), c.transitions.end(), "PS") != c.transitions.end();
+    if (ps && c.ado == kDcActivation && c.data.size() >= 2) {
+      assign = static_cast<std::uint16_t>(c.data[0] | (c.data[1] << 8));
+    }
+  }
+  if (assign && *assign != 0 && warnings &&
+      std::none_of(d.dc_op_modes.begin(), d.dc_op_modes.end(),
+                   [&](const od::DcOpMode& m) { return m.assign_activate == *assign; })) {
+    warnings->push_back({"DC", s.dc->line,
+                         fmt::format("AssignActivate #x{:04X} (the 0980h InitCmd) is none of the ESI's OpModes", *assign)});
+  }
+  auto set = [&](std::uint16_t index, std::uint8_t sub, std::uint32_t v) {
+    od::Object* o = d.dictionary.find(index);
+    od::Entry* e = o ? o->find(sub) : nullptr;
+    if (!e || e->bit_length != 32) return;
+    e->default_value = {static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v >> 16),
+                        static_cast<std::uint8_t>(v >> 24)};
+  };
+  if (s.dc->cycle_time0 == 0) return;
+  for (std::uint16_t index : {kSyncOutputs, kSyncInputs}) {
+    set(index, kCycleTimeSub, s.dc->cycle_time0);
+    set(index, kShiftTimeSub, static_cast<std::uint32_t>(s.dc->shift_time));
+  }
+}
+
 void apply_eni_layout(const EniSlave& s, od::DeviceDescription& d, std::vector<EsiWarning>* warnings) {
   d.identity.serial = s.serial;
+  apply_eni_dc(s, d, warnings);
   auto warn = [&](int line, std::string element, std::string message) {
     if (warnings) warnings->push_back({std::move(element), line, std::move(message)});
   };

@@ -126,9 +126,19 @@ class EniReader {
     if (auto pd = s.child("ProcessData")) process_data(pd, out);
     if (auto mbx = s.child("Mailbox")) mailbox(mbx, out);
     for (auto cmd : s.child("InitCmds").children("InitCmd")) out.init_cmds.push_back(register_cmd(cmd));
+    if (auto dc = s.child("DC")) {
+      EniDc d;
+      d.line = ctx_.line(dc);
+      d.reference_clock = trimmed(dc.child("ReferenceClock")) == "true" || trimmed(dc.child("ReferenceClock")) == "1";
+      d.cycle_time0 = optional_number<std::uint32_t>(dc, "CycleTime0").value_or(0);
+      d.cycle_time1 = optional_number<std::uint32_t>(dc, "CycleTime1").value_or(0);
+      d.shift_time = static_cast<std::int32_t>(optional_number<std::uint32_t>(dc, "ShiftTime").value_or(0));
+      out.dc = d;
+    }
     for (auto child : s.children()) {
       const std::string_view n = child.name();
-      if (n != "Info" && n != "ProcessData" && n != "Mailbox" && n != "InitCmds" && child.type() == pugi::node_element) {
+      if (n != "Info" && n != "ProcessData" && n != "Mailbox" && n != "InitCmds" && n != "DC" &&
+          child.type() == pugi::node_element) {
         ctx_.warn(child, "not used by the virtual chain; ignored");
       }
     }

@@ -89,6 +89,15 @@ struct EniMailbox {
   int line = 0;
 };
 
+// ETG.2100 Slave/DC: the distributed-clock set-up the configurator chose.
+struct EniDc {
+  bool reference_clock = false;
+  std::uint32_t cycle_time0 = 0;  // ns, Sync0
+  std::uint32_t cycle_time1 = 0;  // ns, Sync1 (0: none)
+  std::int32_t shift_time = 0;    // ns
+  int line = 0;
+};
+
 struct EniSlave {
   std::string name;
   std::uint32_t vendor_id = 0;
@@ -103,6 +112,7 @@ struct EniSlave {
   std::optional<std::uint32_t> send_bit_length, recv_bit_length;  // ProcessData Send/Recv
   std::vector<EniCoeInitCmd> coe_init_cmds;
   std::vector<EniRegisterInitCmd> init_cmds;
+  std::optional<EniDc> dc;
   int line = 0;
   int info_line = 0;
 };
