@@ -61,8 +61,6 @@ constexpr std::size_t kMappingBytes = 4;
 constexpr std::size_t kAssignBytes = 2;
 constexpr unsigned kMaxBitType = 8;
 constexpr unsigned kMaxIntegerBits = 64;
-// ETG.2100 CoE InitCmd Ccs 2: SDO download.
-constexpr std::uint8_t kCcsDownload = 2;
 // A PDO mapping entry (ETG.1000.6 §5.6.7.4.7): index << 16 | subindex << 8 | bits.
 constexpr unsigned kMappingIndexShift = 16;
 constexpr unsigned kMappingSubShift = 8;
@@ -235,7 +233,7 @@ class Builder {
     }
     // What the CoE InitCmds assign and map.
     for (const auto& c : s_.coe_init_cmds) {
-      if (c.ccs != kCcsDownload) continue;
+      if (!c.download) continue;
       if (c.index >= kSmAssignFirst && c.index <= kSmAssignLast) {
         const unsigned sm = c.index - kSmAssignFirst;
         std::vector<std::uint16_t> listed;
@@ -313,7 +311,7 @@ class Builder {
       note_object(index, sub, std::move(e));
     }
     for (const auto& c : s_.coe_init_cmds) {
-      if (c.ccs != kCcsDownload || (c.index >= kCommunicationFirst && c.index <= kCommunicationLast)) continue;
+      if (!c.download || (c.index >= kCommunicationFirst && c.index <= kCommunicationLast)) continue;
       if (c.complete_access) {
         if (!objects_.contains(c.index)) {
           warn(c.line, "InitCmd", fmt::format("complete access to #x{:04X}, an object the ENI does not describe: "

@@ -18,9 +18,10 @@ namespace {
 
 // ETG.2100: ProcessData has Sm0..Sm7 (one per sync manager of the ESC).
 constexpr unsigned kMaxSyncManagers = 8;
-// ETG.2100 CoE InitCmd Ccs: 1 upload, 2 download (ETG.1000.6 SDO command specifiers).
-constexpr std::uint8_t kCcsUpload = 1;
-constexpr std::uint8_t kCcsDownload = 2;
+// ETG.2100 CoE InitCmd Ccs: 1 or 2 (which of them is the download depends on
+// the writer of the file; see EniCoeInitCmd::download).
+constexpr std::uint8_t kCcsOne = 1;
+constexpr std::uint8_t kCcsTwo = 2;
 // ETG.1000.6 §5.6.7: RxPDO mapping objects 1600h-17FFh, TxPDO 1A00h-1BFFh.
 constexpr std::uint16_t kRxPdoFirst = 0x1600;
 constexpr std::uint16_t kTxPdoFirst = 0x1A00;
@@ -248,14 +249,14 @@ class EniReader {
     c.line = ctx_.line(cmd);
     c.transitions = transitions(cmd);
     c.ccs = number<std::uint8_t>(cmd, "Ccs");
-    if (c.ccs != kCcsUpload && c.ccs != kCcsDownload) {
-      fail(cmd.child("Ccs"), fmt::format("Ccs {} is neither 1 (upload) nor 2 (download)", c.ccs));
+    if (c.ccs != kCcsOne && c.ccs != kCcsTwo) {
+      fail(cmd.child("Ccs"), fmt::format("Ccs {} is neither 1 nor 2", c.ccs));
     }
     c.index = number<std::uint16_t>(cmd, "Index");
     c.subindex = number<std::uint8_t>(cmd, "SubIndex");
     c.complete_access = esi_bool(cmd.attribute("CompleteAccess"));
     if (auto d = cmd.child("Data")) c.data = hex(d);
-    if (c.ccs == kCcsDownload && c.data.empty()) fail(cmd, "a download InitCmd (Ccs 2) without Data");
+    c.download = c.ccs == kCcsTwo;  // ETG.2100's table; settled per file in settle_ccs()
     c.comment = trimmed(cmd.child("Comment"));
     return c;
   }
@@ -284,6 +285,28 @@ class EniReader {
   const EsiContext& ctx_;
 };
 
+// Which Ccs is the download, decided for the whole file (EniCoeInitCmd::download):
+// a file that writes any CoE InitCmd with Ccs 2 follows ETG.2100's table and
+// SOEM (2 download, 1 upload); a file that writes only Ccs 1 is a configurator
+// export, whose Ccs 1 commands with Data are downloads (the CiA 301 specifier),
+// and that choice is a warning at the first such command.
+void settle_ccs(EniNetwork& net, const EsiContext& ctx) {
+  const EniCoeInitCmd* first_one = nullptr;
+  for (const auto& s : net.slaves) {
+    for (const auto& c : s.coe_init_cmds) {
+      if (c.ccs == kCcsTwo) return;
+      if (!first_one && !c.data.empty()) first_one = &c;
+    }
+  }
+  if (!first_one) return;
+  ctx.warn_at("InitCmd", first_one->line,
+              "every CoE InitCmd of this file has Ccs 1: those with Data are taken as SDO downloads "
+              "(the configurators' convention, CiA 301 'initiate download'), those without as uploads");
+  for (auto& s : net.slaves) {
+    for (auto& c : s.coe_init_cmds) c.download = !c.data.empty();
+  }
+}
+
 }  // namespace
 
 Expected<EniNetwork, LoadError> read_eni_string(std::string_view xml, std::string_view name,
@@ -294,7 +317,9 @@ Expected<EniNetwork, LoadError> read_eni_string(std::string_view xml, std::strin
   if (!parsed_root) return ecat::fail(parsed_root.error());
   auto root = *parsed_root;
   try {
-    return EniReader(ctx).read(root);
+    auto net = EniReader(ctx).read(root);
+    settle_ccs(net, ctx);
+    return net;
   } catch (const LoadFailure& f) {
     return ecat::fail(f.error);
   }

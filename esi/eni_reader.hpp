@@ -23,11 +23,16 @@
 
 namespace ecat::esi {
 
-// ETG.2100 CoE InitCmd (Mailbox/CoE/InitCmds/InitCmd): an SDO download
-// (Ccs 2) or upload (Ccs 1) the master runs on the listed ESM transitions.
+// ETG.2100 CoE InitCmd (Mailbox/CoE/InitCmds/InitCmd): an SDO download or
+// upload the master runs on the listed ESM transitions.
 struct EniCoeInitCmd {
   std::vector<std::string> transitions;  // "IP", "PS", "SO", ...
-  std::uint8_t ccs = 2;
+  std::uint8_t ccs = 2;  // as written in the file
+  // Whether this is a download. The files disagree on Ccs: ETG.2100's table
+  // and SOEM take 2 as a download, configurator exports (TwinCAT's startup
+  // list) write 1, the CiA 301 specifier of "initiate download". Decided per
+  // file (docs/twins.md "ENI: the Ccs of CoE InitCmds").
+  bool download = true;
   std::uint16_t index = 0;
   std::uint8_t subindex = 0;
   bool complete_access = false;

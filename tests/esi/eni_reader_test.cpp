@@ -71,7 +71,7 @@ TEST(EniReader, ErrorsNameFileAndLine) {
             "net.xml:14: Data: '0g' is not hex binary (two hex digits per byte)");
   EXPECT_EQ(error_of(one_slave(kIdentity, mbx + "<InitCmd><Transition>PS</Transition><Ccs>3</Ccs><Index>#x8000</Index>"
                                                 "<SubIndex>1</SubIndex><Data>00</Data></InitCmd>\n</InitCmds></CoE>\n</Mailbox>\n")),
-            "net.xml:13: Ccs 3 is neither 1 (upload) nor 2 (download)");
+            "net.xml:13: Ccs 3 is neither 1 nor 2");
   EXPECT_EQ(error_of(one_slave(kIdentity, mbx + "<InitCmd><Ccs>2</Ccs><Index>#x8000</Index><SubIndex>1</SubIndex>"
                                                 "<Data>00</Data></InitCmd>\n</InitCmds></CoE>\n</Mailbox>\n")),
             "net.xml:13: InitCmd without Transition");
