@@ -68,6 +68,12 @@ int report(const ecat::app::SessionReport& r, const Options& o) {
                 static_cast<double>(r.phase_error_max.count()) / 1e3, static_cast<double>(r.margin_min.count()) / 1e3,
                 static_cast<unsigned long long>(r.sync0_without_frame));
   }
+  for (std::size_t i = 0; i < r.left_op.size(); ++i) {
+    if (r.left_op[i] != 0) {
+      std::printf("slave %zu: left Op %u time(s), recovered; last AL status code 0x%04X\n", i + 1, r.left_op[i],
+                  r.last_code[i]);
+    }
+  }
   bool ok = r.lost_frames == 0 && r.wkc_errors == 0 && r.state_errors == 0;
   if (o.session.move && !r.moved_ok) {
     std::fprintf(stderr, "ecat-master: a drive did not follow the move\n");
@@ -98,6 +104,8 @@ int main(int argc, char** argv) {
                  "With --dc: send each cyclic frame to reach the reference clock this long before SYNC0, locked "
                  "to the DC system time (default half the period; 0: no phase lock)")
       ->check(CLI::Range(0.0, 1e6));
+  cli.add_flag("--recover", o.session.recover,
+               "Acknowledge a slave that left Op with an error and request Op again (state checked every 100 cycles)");
   cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
       ->check(CLI::Range(1, 99));
   cli.add_option("--record", o.record, "Write every frame the master sends to this pcap file");

@@ -8,6 +8,8 @@
 
 #include "apps/ecat-master/cia402_motion.hpp"
 #include "apps/ecat-master/error_text.hpp"
+#include "common/frame.hpp"
+#include "common/le.hpp"
 #include "master/registers.hpp"
 
 namespace ecat::app {
@@ -30,6 +32,7 @@ constexpr std::uint8_t kSyncModeSub = 1;
 constexpr std::uint16_t kSyncModeDcSync0 = 2;
 constexpr Nanoseconds kSync0StartDelay = std::chrono::milliseconds(20);
 constexpr std::uint64_t kStateCheckInterval = 500;
+constexpr std::uint64_t kRecoverCheckInterval = 100;
 constexpr std::uint16_t kSupportedDriveModes = 0x6502;
 constexpr std::uint32_t kSupportsCsp = 1u << 7;
 constexpr std::uint16_t kModesOfOperation = 0x6060;
@@ -230,12 +233,34 @@ void Session::drive_cycle(std::uint64_t cycle) {
 }
 
 void Session::check_states() {
+  // One frame first: BRD of the AL status ORs every slave's 0x0130 (WKC =
+  // slave count), so all in Op without error reads 0x08; only otherwise is
+  // each slave read (one frame each would eat into the cycle).
+  std::uint8_t all[2]{};
+  auto wkc = master_.transact(Command::Brd, device_address(0, master::reg::kAlStatus), all);
+  const auto op = static_cast<std::uint16_t>(master::AlState::Op);
+  if (wkc && *wkc == report_.slaves && load_le<std::uint16_t>(all) == op) return;
+  report_.left_op.resize(report_.slaves, 0);
+  report_.last_code.resize(report_.slaves, 0);
   for (std::size_t i = 0; i < report_.slaves; ++i) {
     auto st = master_.read_al_status(i);
     if (!st || !st->is(master::AlState::Op) || st->error()) {
       ++report_.state_errors;
       if (o_.verbose && st) {
         std::printf("slave %zu left Op: AL status 0x%04X, AL status code 0x%04X\n", i + 1, st->raw, st->code);
+      }
+      if (!st || !o_.recover) continue;
+      // --recover, as SOEM's ec_sample check thread: acknowledge the error
+      // (state | 0x10), and ask a slave back in SafeOp for Op; no waiting,
+      // the next check sees the result.
+      const std::uint16_t station = master_.slave(i).station_address;
+      if (st->error()) {
+        ++report_.left_op[i];
+        report_.last_code[i] = st->code;
+        (void)master_.fpwr_u16(station, master::reg::kAlControl,
+                               static_cast<std::uint16_t>(st->state() | master::kAlErrorBit));
+      } else if (st->is(master::AlState::SafeOp)) {
+        (void)master_.fpwr_u16(station, master::reg::kAlControl, op);
       }
     }
   }
@@ -278,7 +303,8 @@ Expected<SessionReport, std::string> Session::run() {
     // A slave that left Op still counts its SM2 writes in the WKC, so the
     // state is checked too (as ethercrab does every cycle; here every
     // kStateCheckInterval cycles and after the last one).
-    if ((c + 1) % kStateCheckInterval == 0 || c + 1 == o_.cycles) check_states();
+    const std::uint64_t interval = o_.recover ? kRecoverCheckInterval : kStateCheckInterval;
+    if ((c + 1) % interval == 0 || c + 1 == o_.cycles) check_states();
     if (c == 0) {
       for (std::size_t k = 0; k < motions_.size(); ++k) start_positions[k] = motions_[k].actual_position();
     }

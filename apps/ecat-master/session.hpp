@@ -32,6 +32,9 @@ struct SessionOptions {
   // each SYNC0 (master/dc_phase.hpp); negative = half the period; 0 = no
   // phase lock (a fixed schedule from the first cycle, as before issue 19).
   Nanoseconds dc_lead{-1};
+  // Acknowledge a slave that left Op with an error and bring it back (as
+  // SOEM's ec_sample does), checking every 100 cycles instead of 500.
+  bool recover = false;
 };
 
 struct SessionReport {
@@ -53,6 +56,9 @@ struct SessionReport {
   Nanoseconds phase_error_max{0};
   Nanoseconds margin_min{0};       // smallest time from a frame's arrival to its SYNC0
   std::uint64_t sync0_without_frame = 0;
+  // --recover: per slave, how often it was found in an error state and acknowledged, and its last code.
+  std::vector<std::uint32_t> left_op;
+  std::vector<std::uint16_t> last_code;
   std::vector<std::int32_t> final_positions;  // 6064h per drive after --move
   bool moved_ok = true;
 };

@@ -7,7 +7,8 @@
 # exit. A measurement, not a ctest test: it takes minutes and its figures
 # depend on the machine. Logs are kept in DC_RUN_OUT (default a new /tmp dir).
 #   DC_RUN_MASTER=ecat (default): build/bin/ecat-master --dc, SCHED_FIFO 50
-#     (--rt-priority), frames at the DC phase lock's lead before SYNC0;
+#     (--rt-priority), frames at the DC phase lock's lead before SYNC0, slaves
+#     that leave Op acknowledged and brought back (--recover), as ec_sample does;
 #     DC_RUN_MASTER_ARGS adds options (e.g. "--dc-lead-us 300").
 #   DC_RUN_MASTER=soem: the program in ECAT_SOEM_DC (SOEM 2.x ec_sample with
 #     DC Sync0 and a run time argument, built outside this repository; the
@@ -41,7 +42,7 @@ case "$which" in
   ecat)
     # shellcheck disable=SC2086  # DC_RUN_MASTER_ARGS is a list of options
     timeout -s KILL $((seconds + 240)) ip netns exec "$E2E_NS_M" "$build/bin/ecat-master" --iface m0 --dc \
-      --cycles "$cycles" --period-us 1000 --expect-slaves 4 -q --rt-priority 50 ${DC_RUN_MASTER_ARGS:-} \
+      --cycles "$cycles" --period-us 1000 --expect-slaves 4 -q --rt-priority 50 --recover ${DC_RUN_MASTER_ARGS:-} \
       > "$out/master.log" 2>&1 || rc=$?
     ;;
   soem)
