@@ -31,7 +31,8 @@ e2e_use_realtime
 d="$src/xml/devices"
 chain="$d/generic-servo.xml,$d/simtach-rse.xml,$d/yaskawa-sigma5-sd.xml,$d/welcon-servo.xml"
 [ -f "$d/generic-servo.xml" ] || chain="${chain#"$d/generic-servo.xml,"}"
-E2E_SLAVE_TIMEOUT=$((seconds + 300))
+E2E_SLAVE_TIMEOUT=$((seconds + 300))  # read by e2e_start_slave (lib/netns.sh)
+export E2E_SLAVE_TIMEOUT
 e2e_start_slave slave "${E2E_SLAVE_RT[@]}" --stats 60 --chain "$chain" || exit 1
 slave_pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
 cycles=$((seconds * 1000))
