@@ -307,7 +307,11 @@ void SyncController::sync_cycle(Nanoseconds now) noexcept {
   const std::uint16_t limit = store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit) != nullptr
                                   ? store_.get<std::uint16_t>(kErrorSettings, kErrorSettingsSyncErrorLimit)
                                   : kDefaultErrorLimit;
-  if (error_counter_ > limit && esm_ != nullptr) {
+  // The sequence is invalid once the counter reaches the limit (Beckhoff's
+  // SSC: valid while counter < 10F1h:02; the Yaskawa Sigma-V manual trips at
+  // 9 with the limit 9); a limit of 0 switches the detection off (SSC V5.13,
+  // the same manual). docs/dc.md "Sync error accounting".
+  if (limit != 0 && error_counter_ >= limit && esm_ != nullptr) {
     error_counter_ = 0;
     esm_->raise_error(AlStatusCode::SynchronizationError, AlState::SafeOp);
   }

@@ -47,7 +47,7 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   // SYNC missing for this many cycles in SafeOp/Op: 0x0034 (or 0x002C if switched off).
   static constexpr unsigned kSyncTimeoutCycles = 3;
   // Sync error counter (ETG.1020): +3 per missed SM event, -1 per good cycle;
-  // above the limit (10F1h:02 if present) the slave leaves Op with 0x001A.
+  // at the limit (10F1h:02 if present; 0 = off) the slave leaves Op with 0x001A.
   static constexpr std::uint16_t kMissPenalty = 3;
   static constexpr std::uint16_t kDefaultErrorLimit = 4;
   static constexpr Nanoseconds kDefaultFreeRunCycle{1'000'000};

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -44,6 +45,10 @@ struct CyclicResult {
   std::uint16_t wkc = 0;
   std::uint16_t expected_wkc = 0;
   Nanoseconds round_trip{0};
+  Nanoseconds sent_at{0};  // the master's clock just before the frame was sent
+  // With DC: the reference clock's system time when the frame passed it
+  // (the FRMW 0x0910:8 read-back), if the datagram came back with WKC >= 1.
+  std::optional<std::uint64_t> reference_time;
   bool ok() const noexcept { return wkc == expected_wkc; }
 };
 

@@ -184,6 +184,9 @@ Expected<CyclicResult, MasterError> Master::exchange_process_data() {
     return fail(r.error());
   }
   CyclicResult res;
+  res.sent_at = start;
+  // FRMW: the reference reads (WKC +1), every other DC slave writes (+1 each).
+  if (first == 1 && dgs[0].wkc >= 1) res.reference_time = load_le<std::uint64_t>(dc_time_.data());
   for (std::size_t i = first; i < n; ++i) {
     res.wkc = static_cast<std::uint16_t>(res.wkc + (dgs[i].command == Command::Lwr ? 2 * dgs[i].wkc : dgs[i].wkc));
   }

@@ -5,6 +5,7 @@
 // --in-process it runs against virtual slaves in the same process.
 #include <time.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -13,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "apps/ecat-master/session.hpp"
+#include "apps/ecat-slave/realtime.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
 #include "transport/in_memory_transport.hpp"
@@ -32,16 +34,22 @@ struct Options {
   unsigned count = 1;
   std::string record;
   double period_us = 1000;
+  double dc_lead_us = -1;
+  int rt_priority = 0;
   ecat::app::SessionOptions session;
 };
 
-void sleep_until(const ecat::Clock& clock, ecat::Nanoseconds deadline) {
-  const auto left = deadline - clock.now();
-  if (left.count() <= 0) return;
+constexpr std::int64_t kNsPerSecond = 1'000'000'000;
+
+// Sleeps to an absolute CLOCK_MONOTONIC time (SteadyClock is steady_clock,
+// CLOCK_MONOTONIC on Linux): a wake-up that comes late does not push the
+// following deadlines, and a signal only resumes the same sleep.
+void sleep_until(ecat::Nanoseconds deadline) {
   timespec ts{};
-  ts.tv_sec = static_cast<time_t>(left.count() / 1000000000);
-  ts.tv_nsec = static_cast<long>(left.count() % 1000000000);
-  nanosleep(&ts, nullptr);
+  ts.tv_sec = static_cast<time_t>(deadline.count() / kNsPerSecond);
+  ts.tv_nsec = static_cast<long>(deadline.count() % kNsPerSecond);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
 }
 
 int report(const ecat::app::SessionReport& r, const Options& o) {
@@ -52,6 +60,20 @@ int report(const ecat::app::SessionReport& r, const Options& o) {
               static_cast<double>(r.rtt_median.count()) / 1e3,
               static_cast<double>(r.rtt_p99.count()) / 1e3, static_cast<double>(r.rtt_max.count()) / 1e3,
               static_cast<double>(r.jitter_max.count()) / 1e3);
+  std::printf("lateness-us %s max %.1f skipped-periods %llu\n", r.lateness.to_string().c_str(),
+              static_cast<double>(r.lateness.max().count()) / 1e3, static_cast<unsigned long long>(r.skipped_slots));
+  if (r.phase_locked) {
+    std::printf("dc-phase error-p99-us %.1f error-max-us %.1f margin-min-us %.1f sync0-without-frame %llu\n",
+                static_cast<double>(r.phase_error_p99.count()) / 1e3,
+                static_cast<double>(r.phase_error_max.count()) / 1e3, static_cast<double>(r.margin_min.count()) / 1e3,
+                static_cast<unsigned long long>(r.sync0_without_frame));
+  }
+  for (std::size_t i = 0; i < r.left_op.size(); ++i) {
+    if (r.left_op[i] != 0) {
+      std::printf("slave %zu: left Op %u time(s), recovered; last AL status code 0x%04X\n", i + 1, r.left_op[i],
+                  r.last_code[i]);
+    }
+  }
   bool ok = r.lost_frames == 0 && r.wkc_errors == 0 && r.state_errors == 0;
   if (o.session.move && !r.moved_ok) {
     std::fprintf(stderr, "ecat-master: a drive did not follow the move\n");
@@ -78,6 +100,14 @@ int main(int argc, char** argv) {
   cli.add_flag("--dc", o.session.dc, "Set up distributed clocks and DC Sync0 mode (1C32h/1C33h = 2)");
   cli.add_flag("--move", o.session.move, "Enable every CiA402 drive and move it in CSP mode");
   cli.add_option("--move-distance", o.session.move_distance, "Move distance in increments");
+  cli.add_option("--dc-lead-us", o.dc_lead_us,
+                 "With --dc: send each cyclic frame to reach the reference clock this long before SYNC0, locked "
+                 "to the DC system time (default half the period; 0: no phase lock)")
+      ->check(CLI::Range(0.0, 1e6));
+  cli.add_flag("--recover", o.session.recover,
+               "Acknowledge a slave that left Op with an error and request Op again (state checked every 100 cycles)");
+  cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
+      ->check(CLI::Range(1, 99));
   cli.add_option("--record", o.record, "Write every frame the master sends to this pcap file");
   cli.add_flag("-q,--quiet", [&](std::int64_t) { o.session.verbose = false; }, "Print only the summary");
   iface->excludes(udp)->excludes(inproc);
@@ -97,6 +127,28 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   o.session.period = ecat::Nanoseconds{static_cast<std::int64_t>(o.period_us * 1e3)};
+  if (o.dc_lead_us >= 0) {
+    if (o.dc_lead_us >= o.period_us) {
+      std::fprintf(stderr, "ecat-master: --dc-lead-us must be below the period (see --help)\n");
+      return kExitUsage;
+    }
+    o.session.dc_lead = ecat::Nanoseconds{static_cast<std::int64_t>(o.dc_lead_us * 1e3)};
+  }
+  if (o.rt_priority != 0) {
+    // Asked for explicitly: a refusal is fatal (as in ecat-slave).
+    if (auto ok = ecat::app::set_realtime_priority(o.rt_priority); !ok) {
+      std::fprintf(stderr, "ecat-master: %s\n", ok.error().c_str());
+      return kExitFailure;
+    }
+    auto locked = ecat::app::lock_memory();
+    if (!locked) {
+      std::fprintf(stderr, "ecat-master: %s\n", locked.error().c_str());
+      return kExitFailure;
+    }
+    if (*locked == ecat::app::MemoryLock::CurrentOnly) {
+      std::fprintf(stderr, "ecat-master: RLIMIT_MEMLOCK could not be raised: only the memory mapped now is locked\n");
+    }
+  }
 
   ecat::SteadyClock steady;
   ecat::ManualClock simulated;
@@ -180,7 +232,7 @@ int main(int argc, char** argv) {
       if (deadline > simulated.now()) simulated.set(deadline);
       (void)chain->poll(simulated.now());
     } else {
-      sleep_until(steady, deadline);
+      sleep_until(deadline);
     }
   };
   ecat::app::Session session(master, clock, wait, o.session);

@@ -1,12 +1,16 @@
 #include "apps/ecat-master/session.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 
 #include <fmt/format.h>
 
 #include "apps/ecat-master/cia402_motion.hpp"
 #include "apps/ecat-master/error_text.hpp"
+#include "common/frame.hpp"
+#include "common/le.hpp"
+#include "master/registers.hpp"
 
 namespace ecat::app {
 namespace {
@@ -15,6 +19,12 @@ constexpr unsigned kBitsPerByte = 8;
 // Cycles exchanged in SafeOp before Op is requested, so the slaves have seen
 // valid outputs (SM2 written, watchdog triggered) when they check SafeOp->Op.
 constexpr unsigned kSafeOpWarmupCycles = 10;
+// With the DC phase lock, SafeOp runs long enough for the lock to acquire and
+// settle (dc_phase_test: |phase error| < 1 us after ~150 frames) before Op,
+// where a late frame counts as a missed SM event.
+constexpr unsigned kSafeOpPhaseLockCycles = 300;
+// Op requested with the cycle running: at most this many cycles to reach it.
+constexpr unsigned kOpRequestCycles = 3000;
 constexpr unsigned kDcDriftIterations = 1000;
 constexpr std::uint16_t kSyncManagerOutputsParameter = 0x1C32;
 constexpr std::uint16_t kSyncManagerInputsParameter = 0x1C33;
@@ -22,6 +32,7 @@ constexpr std::uint8_t kSyncModeSub = 1;
 constexpr std::uint16_t kSyncModeDcSync0 = 2;
 constexpr Nanoseconds kSync0StartDelay = std::chrono::milliseconds(20);
 constexpr std::uint64_t kStateCheckInterval = 500;
+constexpr std::uint64_t kRecoverCheckInterval = 100;
 constexpr std::uint16_t kSupportedDriveModes = 0x6502;
 constexpr std::uint32_t kSupportsCsp = 1u << 7;
 constexpr std::uint16_t kModesOfOperation = 0x6060;
@@ -126,14 +137,30 @@ Expected<void, std::string> Session::bring_up() {
     if (auto ok = master_.dc_static_drift_compensation(kDcDriftIterations); !ok) {
       return fail(fmt::format("DC drift compensation: {}", error_text(ok.error())));
     }
+    std::optional<std::uint64_t> sync0_start;
     for (std::size_t i = 0; i < *n; ++i) {
       if (master_.slave(i).esc.has_dc()) {
         auto start = master_.configure_sync0(i, static_cast<std::uint32_t>(o_.period.count()), 0, kSync0StartDelay);
         if (!start) return fail(fmt::format("slave {}: Sync0: {}", i + 1, error_text(start.error())));
+        // Every start is a whole number of cycles (configure_sync0): one phase.
+        if (!sync0_start) sync0_start = *start;
       }
+    }
+    if (sync0_start && o_.dc_lead.count() != 0) {
+      master::DcPhaseConfig pc;
+      pc.cycle = o_.period;
+      pc.lead = o_.dc_lead.count() < 0 ? o_.period / 2 : o_.dc_lead;
+      pc.sync0_start = *sync0_start;
+      phase_.emplace(pc);
     }
   }
   for (auto target : {master::AlState::SafeOp, master::AlState::Op}) {
+    if (target == master::AlState::Op && o_.dc) {
+      // A DC slave counts SYNC0s without new outputs from its first cycle in
+      // Op (docs/dc.md): Op is asked of all at once while the cycle runs.
+      if (auto ok = request_op_cycling(); !ok) return ok;
+      break;
+    }
     for (std::size_t i = 0; i < *n; ++i) {
       auto st = master_.request_state(i, target);
       if (!st) return fail(fmt::format("slave {}: {}: {}", i + 1, state_name(static_cast<std::uint8_t>(target)), error_text(st.error())));
@@ -143,14 +170,65 @@ Expected<void, std::string> Session::bring_up() {
       }
       if (target == master::AlState::SafeOp && i + 1 == *n) {
         // Valid outputs before Op (ETG.1000.6 §6.4.1: SafeOp->Op checks them).
-        for (unsigned c = 0; c < kSafeOpWarmupCycles; ++c) {
-          (void)master_.exchange_process_data();
-          wait_(clock_.now() + o_.period);
-        }
+        const unsigned warmup = phase_ ? kSafeOpPhaseLockCycles : kSafeOpWarmupCycles;
+        for (unsigned c = 0; c < warmup; ++c) (void)cycle_exchange();
       }
     }
   }
   if (o_.verbose) std::printf("all %zu slave(s) in Op\n", *n);
+  return {};
+}
+
+Expected<master::CyclicResult, master::MasterError> Session::cycle_exchange() {
+  Nanoseconds target;
+  if (phase_) {
+    target = phase_->next_send(clock_.now());
+  } else {
+    const Nanoseconds now = clock_.now();
+    if (next_fixed_.count() < 0) next_fixed_ = now;
+    // More than a period behind (a stall): the missed periods are skipped,
+    // not sent in a burst.
+    while (next_fixed_ + o_.period <= now) {
+      next_fixed_ += o_.period;
+      if (record_lateness_) ++report_.skipped_slots;
+    }
+    target = next_fixed_;
+    next_fixed_ += o_.period;
+  }
+  wait_(target);
+  if (record_lateness_) {
+    const Nanoseconds late = clock_.now() - target;
+    report_.lateness.add(late);
+    report_.jitter_max = std::max(report_.jitter_max, late);
+  }
+  auto r = master_.exchange_process_data();
+  if (r && phase_ && r->reference_time) phase_->update(r->sent_at, *r->reference_time);
+  return r;
+}
+
+Expected<void, std::string> Session::request_op_cycling() {
+  const auto op = static_cast<std::uint16_t>(master::AlState::Op);
+  for (std::size_t i = 0; i < report_.slaves; ++i) {
+    if (auto ok = master_.fpwr_u16(master_.slave(i).station_address, master::reg::kAlControl, op); !ok) {
+      return fail(fmt::format("slave {}: Op: {}", i + 1, error_text(ok.error())));
+    }
+  }
+  std::vector<bool> in_op(report_.slaves, false);
+  std::size_t reached = 0;
+  for (unsigned c = 0; c < kOpRequestCycles && reached < report_.slaves; ++c) {
+    (void)cycle_exchange();
+    for (std::size_t i = 0; i < report_.slaves; ++i) {
+      if (in_op[i]) continue;
+      auto st = master_.read_al_status(i);
+      if (!st) continue;  // a lost frame: read again next cycle
+      if (st->error()) return fail(fmt::format("slave {}: Op refused, AL status code 0x{:04X}", i + 1, st->code));
+      if (st->is(master::AlState::Op)) {
+        in_op[i] = true;
+        ++reached;
+      }
+    }
+  }
+  if (reached < report_.slaves) return fail(fmt::format("Op: {} of {} slave(s) reached it", reached, report_.slaves));
   return {};
 }
 
@@ -159,12 +237,34 @@ void Session::drive_cycle(std::uint64_t cycle) {
 }
 
 void Session::check_states() {
+  // One frame first: BRD of the AL status ORs every slave's 0x0130 (WKC =
+  // slave count), so all in Op without error reads 0x08; only otherwise is
+  // each slave read (one frame each would eat into the cycle).
+  std::uint8_t all[2]{};
+  auto wkc = master_.transact(Command::Brd, device_address(0, master::reg::kAlStatus), all);
+  const auto op = static_cast<std::uint16_t>(master::AlState::Op);
+  if (wkc && *wkc == report_.slaves && load_le<std::uint16_t>(all) == op) return;
+  report_.left_op.resize(report_.slaves, 0);
+  report_.last_code.resize(report_.slaves, 0);
   for (std::size_t i = 0; i < report_.slaves; ++i) {
     auto st = master_.read_al_status(i);
     if (!st || !st->is(master::AlState::Op) || st->error()) {
       ++report_.state_errors;
       if (o_.verbose && st) {
         std::printf("slave %zu left Op: AL status 0x%04X, AL status code 0x%04X\n", i + 1, st->raw, st->code);
+      }
+      if (!st || !o_.recover) continue;
+      // --recover, as SOEM's ec_sample check thread: acknowledge the error
+      // (state | 0x10), and ask a slave back in SafeOp for Op; no waiting,
+      // the next check sees the result.
+      const std::uint16_t station = master_.slave(i).station_address;
+      if (st->error()) {
+        ++report_.left_op[i];
+        report_.last_code[i] = st->code;
+        (void)master_.fpwr_u16(station, master::reg::kAlControl,
+                               static_cast<std::uint16_t>(st->state() | master::kAlErrorBit));
+      } else if (st->is(master::AlState::SafeOp)) {
+        (void)master_.fpwr_u16(station, master::reg::kAlControl, op);
       }
     }
   }
@@ -183,14 +283,21 @@ Expected<SessionReport, std::string> Session::run() {
     }
   }
   std::vector<std::int32_t> start_positions(motions_.size(), 0);
-  const Nanoseconds start = clock_.now();
+  std::vector<Nanoseconds> phase_errors;
+  if (phase_) phase_errors.reserve(o_.cycles);
+  const std::uint64_t missed_before = phase_ ? phase_->sync0_without_frame() : 0;
+  report_.margin_min = o_.period;
+  record_lateness_ = true;
   for (std::uint64_t c = 0; c < o_.cycles; ++c) {
-    const Nanoseconds scheduled = start + o_.period * static_cast<std::int64_t>(c);
-    wait_(scheduled);
-    report_.jitter_max = std::max(report_.jitter_max, clock_.now() - scheduled);
     if (o_.move) drive_cycle(c);
-    auto r = master_.exchange_process_data();
+    auto r = cycle_exchange();
     ++report_.cycles;
+    if (r && phase_ && r->reference_time && phase_->acquired()) {
+      const Nanoseconds err{std::abs(phase_->phase_error())};
+      phase_errors.push_back(err);
+      report_.phase_error_max = std::max(report_.phase_error_max, err);
+      report_.margin_min = std::min(report_.margin_min, Nanoseconds{phase_->margin_to_sync0()});
+    }
     if (!r) {
       ++report_.lost_frames;
       continue;
@@ -200,10 +307,17 @@ Expected<SessionReport, std::string> Session::run() {
     // A slave that left Op still counts its SM2 writes in the WKC, so the
     // state is checked too (as ethercrab does every cycle; here every
     // kStateCheckInterval cycles and after the last one).
-    if ((c + 1) % kStateCheckInterval == 0 || c + 1 == o_.cycles) check_states();
+    const std::uint64_t interval = o_.recover ? kRecoverCheckInterval : kStateCheckInterval;
+    if ((c + 1) % interval == 0 || c + 1 == o_.cycles) check_states();
     if (c == 0) {
       for (std::size_t k = 0; k < motions_.size(); ++k) start_positions[k] = motions_[k].actual_position();
     }
+  }
+  record_lateness_ = false;
+  if (phase_) {
+    report_.phase_locked = true;
+    report_.phase_error_p99 = percentile(phase_errors, 0.99);
+    report_.sync0_without_frame = phase_->sync0_without_frame() - missed_before;
   }
   report_.rtt_median = percentile(rtts, 0.5);
   report_.rtt_p99 = percentile(rtts, 0.99);

@@ -6,13 +6,16 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "apps/ecat-master/cia402_motion.hpp"
+#include "apps/ecat-master/lateness.hpp"
 #include "apps/ecat-master/pdo_locator.hpp"
 #include "common/clock.hpp"
 #include "common/expected.hpp"
+#include "master/dc_phase.hpp"
 #include "master/master.hpp"
 
 namespace ecat::app {
@@ -25,6 +28,13 @@ struct SessionOptions {
   bool move = false;
   std::int32_t move_distance = 100000;  // increments, CSP ramp
   bool verbose = true;
+  // With dc: the cyclic frame reaches the reference clock this long before
+  // each SYNC0 (master/dc_phase.hpp); negative = half the period; 0 = no
+  // phase lock (a fixed schedule from the first cycle, as before issue 19).
+  Nanoseconds dc_lead{-1};
+  // Acknowledge a slave that left Op with an error and bring it back (as
+  // SOEM's ec_sample does), checking every 100 cycles instead of 500.
+  bool recover = false;
 };
 
 struct SessionReport {
@@ -37,6 +47,18 @@ struct SessionReport {
   Nanoseconds rtt_p99{0};
   Nanoseconds rtt_max{0};
   Nanoseconds jitter_max{0};  // largest deviation of a cycle start from its schedule
+  LatenessHistogram lateness;  // every cycle's wake-up minus its scheduled time
+  std::uint64_t skipped_slots = 0;  // fixed schedule: periods skipped after a stall
+  // DC phase lock (run() only, after its acquisition): arrival at the
+  // reference minus the target (SYNC0 - lead), and SYNC0 events no frame fed.
+  bool phase_locked = false;
+  Nanoseconds phase_error_p99{0};  // of |error|
+  Nanoseconds phase_error_max{0};
+  Nanoseconds margin_min{0};       // smallest time from a frame's arrival to its SYNC0
+  std::uint64_t sync0_without_frame = 0;
+  // --recover: per slave, how often it was found in an error state and acknowledged, and its last code.
+  std::vector<std::uint32_t> left_op;
+  std::vector<std::uint16_t> last_code;
   std::vector<std::int32_t> final_positions;  // 6064h per drive after --move
   bool moved_ok = true;
 };
@@ -59,6 +81,10 @@ class Session {
   Expected<void, std::string> configure_slave(std::size_t i);
   void drive_cycle(std::uint64_t cycle);
   void check_states();
+  // Waits for the next cycle (the phase lock's send time, else the fixed
+  // schedule), records the lateness, exchanges the frame, feeds the lock.
+  Expected<master::CyclicResult, master::MasterError> cycle_exchange();
+  Expected<void, std::string> request_op_cycling();
 
   master::Master& master_;
   const Clock& clock_;
@@ -69,6 +95,9 @@ class Session {
   std::vector<bool> csp_;  // drive supports cyclic synchronous position
   std::vector<Cia402Motion> motions_;
   SessionReport report_;
+  std::optional<master::DcPhaseLock> phase_;
+  Nanoseconds next_fixed_{-1};  // fixed schedule: next cycle's time (-1: not started)
+  bool record_lateness_ = false;
 };
 
 }  // namespace ecat::app

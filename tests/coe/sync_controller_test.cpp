@@ -118,6 +118,37 @@ TEST_F(SyncTest, MissedSmEventsCountAndDropToSafeOp0x001A) {
   EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSmEventMissed), 2u);
 }
 
+// The Yaskawa Sigma-V manual's example (seeds/digests/yaskawa-sigma5-sd-coe.md
+// 2.4, 10F1h:02 = 9): SM2 events 1 0 1 0 1 0 1 0 give the counter
+// 0 3 2 5 4 7 6 9, and the drive trips when it *reaches* the limit, on the
+// 8th DC cycle. Beckhoff's SSC also calls the sequence invalid once the
+// counter is >= 10F1h:02 (docs/dc.md).
+TEST_F(SyncTest, SyncErrorWhenTheCounterReachesTheLimitAsInTheYaskawaExample) {
+  ASSERT_TRUE(sdo_write(kErrorSettings, kErrorSettingsSyncErrorLimit, 9, 2).has_value());
+  go_dc_op();  // outputs written before Op: the first SYNC0 in Op is good
+  for (int k = 0; k < 7; ++k) {
+    if (k % 2 == 0 && k > 0) new_outputs();  // k = 0: the buffer written before Op is taken here
+    sync0(t += kCycle);
+    ASSERT_EQ(status(), 0x0008) << "DC cycle " << k + 1;
+  }
+  sync0(t += kCycle);  // 8th: a miss, counter 6 + 3 = 9 = limit
+  EXPECT_EQ(status(), 0x0014);
+  EXPECT_EQ(code(), 0x001A);
+  EXPECT_EQ(sync.sm_events_missed(), 4u);
+}
+
+// 10F1h:02 = 0: no sync error detection (SSC V5.13, the Yaskawa manual);
+// the missed events are still counted in 1C32h:0Bh.
+TEST_F(SyncTest, LimitZeroSwitchesTheSyncErrorOff) {
+  ASSERT_TRUE(sdo_write(kErrorSettings, kErrorSettingsSyncErrorLimit, 0, 2).has_value());
+  go_dc_op();
+  sync0(t += kCycle);
+  for (int k = 0; k < 10; ++k) sync0(t += kCycle);
+  EXPECT_EQ(status(), 0x0008);
+  EXPECT_EQ(sync.sm_events_missed(), 10u);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSmEventMissed), 10u);
+}
+
 TEST_F(SyncTest, CounterResetBySubindex8) {
   go_dc_op();
   sync0(t += kCycle);  // takes the buffer written before Op
