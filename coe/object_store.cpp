@@ -15,6 +15,11 @@ std::uint32_t capacity_of(const od::Entry& e, const ObjectStore::Options& option
 }  // namespace
 
 ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : dictionary_(dictionary) {
+  // Exact sizes up front: one store per slave, thousands in a chain (issue 16).
+  std::size_t entries = 0;
+  for (const od::Object& o : dictionary.objects()) entries += o.entries.size();
+  slots_.reserve(entries);
+  objects_.reserve(dictionary.size());
   std::uint32_t offset = 0;
   for (const od::Object& o : dictionary.objects()) {
     ObjectRange r;

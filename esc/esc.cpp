@@ -33,7 +33,7 @@ Esc::Esc(EscConfig config, const Clock& clock)
   // Registers and the configured RAM only (issue 16): every access beyond
   // ram_end() is clipped before it reaches memory (mem_read/mem_write, the
   // SMs' memory_end, the FMMU routes, peek, register_u16).
-  mem_.reset(new std::uint8_t[memory_size()]());
+  mem_ = map_memory(memory_size());
   for (unsigned n = 0; n < kMaxSyncManagers; ++n) {
     sms_[n].bind(mem_.get() + reg::sync_manager(n), mem_.get(), ram_end());
   }
@@ -61,7 +61,8 @@ std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept {
 // Power-on / ESC reset: every register to its reset value (Section II), RAM
 // cleared, then the EEPROM load of the configuration area.
 void Esc::reset() noexcept {
-  std::memset(mem_.get(), 0, memory_size());
+  if (!memory_fresh_) std::memset(mem_.get(), 0, memory_size());
+  memory_fresh_ = false;
   std::uint8_t* m = mem_.get();
   m[reg::kType] = config_.type;
   m[reg::kRevision] = config_.revision;

@@ -264,7 +264,15 @@ class Esc final : public Pdi {
   // What every frame reads at every ESC, together in the last cache lines
   // of the object, right after the DC unit's frame-arrival state (issue 8:
   // a 1000-ESC line touches a few lines per ESC, not one per member).
-  std::unique_ptr<std::uint8_t[]> mem_;  // memory_size() bytes, allocated once
+  // memory_size() bytes, mapped once (esc/esc_memory.cpp): pages the ESC
+  // never touches - most of a large process RAM - are not resident.
+  struct MemoryUnmap {
+    std::size_t size;  // no initializer: default-constructible inside the incomplete Esc
+    void operator()(std::uint8_t* p) const noexcept;
+  };
+  std::unique_ptr<std::uint8_t[], MemoryUnmap> mem_;
+  static std::unique_ptr<std::uint8_t[], MemoryUnmap> map_memory(std::size_t size);
+  bool memory_fresh_ = true;  // still all zero as mapped: the power-on reset need not clear it
   Nanoseconds next_timer_ = Nanoseconds::max();
   Nanoseconds now_{0};
   // Logical bytes [logical_first_, logical_end_) span every active FMMU:
