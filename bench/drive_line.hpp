@@ -45,16 +45,18 @@ inline constexpr Nanoseconds kCyclePeriod{1'000'000};
 
 class DriveLine {
  public:
-  explicit DriveLine(std::size_t n) : chain_(clock_), n_(n) {
-    auto dev = esi::load_default_device();
-    if (!dev) throw std::runtime_error(dev.error().to_string());
+  explicit DriveLine(std::size_t n) : DriveLine(n, default_device()) {}
+  // N slaves of `dev`, one description shared by all (issue 16). A device
+  // without a CiA 402 drive (an I/O slave) is taken to Op and cycled with
+  // its process data as it is; a drive is also enabled in CSP.
+  DriveLine(std::size_t n, std::shared_ptr<const od::DeviceDescription> dev) : chain_(clock_), n_(n) {
     for (const auto& p : dev->rx_pdos) if (p.sm == 2) out_ += p.bit_length() / 8;
     for (const auto& p : dev->tx_pdos) if (p.sm == 3) in_ += p.bit_length() / 8;
     const auto& sms = dev->sync_managers;
     for (std::size_t i = 0; i < n; ++i) {
       slave::SlaveOptions o;
       o.name = "drive-" + std::to_string(i + 1);
-      if (auto r = chain_.add(*dev, o); !r) throw std::runtime_error(r.error());
+      if (auto r = chain_.add(dev, o); !r) throw std::runtime_error(r.error());
     }
     // Station addresses, many APWRs per frame.
     batch([&](Frame& f, std::size_t i) {
@@ -79,6 +81,7 @@ class DriveLine {
     request(od::EsmState::SafeOp);
     for (int i = 0; i < 3; ++i) cycle();
     request(od::EsmState::Op);
+    if (!dev->drive) return;
     // Follow the actual position, set CSP, walk the power state machine.
     for (std::size_t d = 0; d < n_; ++d) {
       put_out(d, kOutMode, 1, kModeCsp);
@@ -139,6 +142,12 @@ class DriveLine {
     Frame frame;
     std::size_t datagrams = 0;
   };
+
+  static std::shared_ptr<const od::DeviceDescription> default_device() {
+    auto loaded = esi::load_default_device();
+    if (!loaded) throw std::runtime_error(loaded.error().to_string());
+    return std::make_shared<const od::DeviceDescription>(std::move(*loaded));
+  }
 
   static Data fmmu_block(std::uint32_t logical, std::uint16_t length, std::uint16_t physical, std::uint8_t type) {
     Data d = le32(logical);

@@ -7,7 +7,13 @@ namespace {
 
 std::uint32_t capacity_of(const od::Entry& e, const ObjectStore::Options& options) noexcept {
   if (od::is_string(e.type)) {
-    return e.bit_length > 0 ? (e.bit_length + 7u) / 8u : options.variable_capacity;
+    if (e.bit_length > 0) return (e.bit_length + 7u) / 8u;
+    // A const string of unbounded length never changes (od::Access::is_const):
+    // its default is all it will ever hold. Reserving variable_capacity
+    // (64 KiB) for each cost the CiA 301 profile's 1008h/1009h/100Ah 192 KiB
+    // per slave (issue 16: 10,000 I/O slaves in one process).
+    if (e.access.is_const) return static_cast<std::uint32_t>(e.default_value.size());
+    return options.variable_capacity;
   }
   return std::max<std::uint32_t>(1, (e.bit_length + 7u) / 8u);
 }
@@ -15,6 +21,11 @@ std::uint32_t capacity_of(const od::Entry& e, const ObjectStore::Options& option
 }  // namespace
 
 ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : dictionary_(dictionary) {
+  // Exact sizes up front: one store per slave, thousands in a chain (issue 16).
+  std::size_t entries = 0;
+  for (const od::Object& o : dictionary.objects()) entries += o.entries.size();
+  slots_.reserve(entries);
+  objects_.reserve(dictionary.size());
   std::uint32_t offset = 0;
   for (const od::Object& o : dictionary.objects()) {
     ObjectRange r;

@@ -25,11 +25,15 @@ std::uint16_t sii_word(const std::vector<std::uint8_t>& sii, std::size_t w) {
 }  // namespace
 
 Esc::Esc(EscConfig config, const Clock& clock)
-    : config_(std::move(config)), clock_(clock), mem_(new std::uint8_t[kAddressSpace]()) {
+    : config_(std::move(config)), clock_(clock) {
   config_.fmmu_count = std::min(config_.fmmu_count, kMaxFmmus);
   config_.sync_manager_count = std::min(config_.sync_manager_count, kMaxSyncManagers);
   config_.port_count = std::min(config_.port_count, kMaxPorts);
   config_.process_ram_size = std::min(config_.process_ram_size, kMaxProcessRam);
+  // Registers and the configured RAM only (issue 16): every access beyond
+  // ram_end() is clipped before it reaches memory (mem_read/mem_write, the
+  // SMs' memory_end, the FMMU routes, peek, register_u16).
+  mem_ = map_memory(memory_size());
   for (unsigned n = 0; n < kMaxSyncManagers; ++n) {
     sms_[n].bind(mem_.get() + reg::sync_manager(n), mem_.get(), ram_end());
   }
@@ -48,13 +52,17 @@ std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept {
     const_cast<DcUnit&>(dc_).read(static_cast<std::uint16_t>(address - reg::kDcBase), b, now_, Side::Pdi);
     return load_le<std::uint16_t>(b);
   }
-  return load_le<std::uint16_t>(mem_.get() + address);
+  if (address + sizeof(std::uint16_t) <= ram_end()) return load_le<std::uint16_t>(mem_.get() + address);
+  std::uint8_t b[2]{};
+  peek(address, b);  // at or past the RAM's end: the missing bytes read as 0
+  return load_le<std::uint16_t>(b);
 }
 
 // Power-on / ESC reset: every register to its reset value (Section II), RAM
 // cleared, then the EEPROM load of the configuration area.
 void Esc::reset() noexcept {
-  std::memset(mem_.get(), 0, kAddressSpace);
+  if (!memory_fresh_) std::memset(mem_.get(), 0, memory_size());
+  memory_fresh_ = false;
   std::uint8_t* m = mem_.get();
   m[reg::kType] = config_.type;
   m[reg::kRevision] = config_.revision;

@@ -1,5 +1,5 @@
-// The emulated EtherCAT Slave Controller: a datagram processor over a 64 KiB
-// register file + process RAM (ESC datasheet Section I/II; ETG.1000.4 §5-6;
+// The emulated EtherCAT Slave Controller: a datagram processor over the
+// register file 0x0000-0x0FFF + the configured process RAM (ESC datasheet Section I/II; ETG.1000.4 §5-6;
 // shared/spec/esc-registers.md). The EtherCAT side is process(): the frame's
 // datagrams as they pass this ESC. The application side is the esc::Pdi
 // interface (read/write with the sync-manager buffer rules), exactly what a
@@ -38,6 +38,10 @@
 
 namespace ecat::esc {
 
+// The 16-bit address space an ESC answers to. Only its registers and its
+// configured process RAM are backed by memory (Esc::memory_size()); addresses
+// beyond the RAM are "not present" as on silicon (issue 16: a slave costs the
+// memory it has, not 64 KiB).
 inline constexpr std::size_t kAddressSpace = 0x10000;
 
 class Segment;
@@ -92,9 +96,12 @@ class Esc final : public Pdi {
   bool port_open(unsigned port) const noexcept { return port < kMaxPorts && port_open_[port]; }
 
   // --- Accessors for tests and the slave layer ---
+  // Registers 0x0000-0x0FFF, then the process RAM: memory_size() bytes
+  // (0x1000 + EscConfig::process_ram_size); nothing beyond is stored.
   const std::uint8_t* memory() const noexcept { return mem_.get(); }
+  std::size_t memory_size() const noexcept { return ram_end(); }
   // Raw little-endian register value without side effects (the DC block is
-  // read through DcUnit as a PDI read).
+  // read through DcUnit as a PDI read); bytes beyond the RAM read as 0.
   std::uint16_t register_u16(std::uint16_t address) const noexcept;
   const EscConfig& config() const noexcept { return config_; }
   DcUnit& dc() noexcept { return dc_; }
@@ -257,7 +264,15 @@ class Esc final : public Pdi {
   // What every frame reads at every ESC, together in the last cache lines
   // of the object, right after the DC unit's frame-arrival state (issue 8:
   // a 1000-ESC line touches a few lines per ESC, not one per member).
-  std::unique_ptr<std::uint8_t[]> mem_;  // kAddressSpace bytes, allocated once
+  // memory_size() bytes, mapped once (esc/esc_memory.cpp): pages the ESC
+  // never touches - most of a large process RAM - are not resident.
+  struct MemoryUnmap {
+    std::size_t size;  // no initializer: default-constructible inside the incomplete Esc
+    void operator()(std::uint8_t* p) const noexcept;
+  };
+  std::unique_ptr<std::uint8_t[], MemoryUnmap> mem_;
+  static std::unique_ptr<std::uint8_t[], MemoryUnmap> map_memory(std::size_t size);
+  bool memory_fresh_ = true;  // still all zero as mapped: the power-on reset need not clear it
   Nanoseconds next_timer_ = Nanoseconds::max();
   Nanoseconds now_{0};
   // Logical bytes [logical_first_, logical_end_) span every active FMMU:

@@ -97,7 +97,7 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
 void Esc::peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept {
   for (std::size_t i = 0; i < out.size(); ++i) {
     const std::uint32_t a = address + static_cast<std::uint32_t>(i);
-    out[i] = a < kAddressSpace ? mem_[a] : 0;
+    out[i] = a < ram_end() ? mem_[a] : 0;  // not present beyond the RAM
   }
 }
 

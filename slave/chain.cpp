@@ -14,6 +14,11 @@
 namespace ecat::slave {
 
 Expected<void, std::string> Chain::add(od::DeviceDescription device, const SlaveOptions& options) {
+  return add(std::make_shared<const od::DeviceDescription>(std::move(device)), options);
+}
+
+Expected<void, std::string> Chain::add(std::shared_ptr<const od::DeviceDescription> device,
+                                       const SlaveOptions& options) {
   auto s = VirtualSlave::create(std::move(device), clock_, options);
   if (!s) return fail(s.error());
   segment_.add((*s)->esc());

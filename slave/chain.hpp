@@ -28,6 +28,9 @@ class Chain {
 
   // Appends a slave at the end of the line (set-up only).
   Expected<void, std::string> add(od::DeviceDescription device, const SlaveOptions& options);
+  // The same with a description shared by several slaves (issue 16: one
+  // copy of the dictionary, names and SII for a thousand drives of a type).
+  Expected<void, std::string> add(std::shared_ptr<const od::DeviceDescription> device, const SlaveOptions& options);
 
   // Carries `frame` (a whole Ethernet frame) through the line at `now`, in
   // place, then lets each slave's firmware react. Returns true when the frame

@@ -16,9 +16,14 @@ namespace ecat::slave {
 Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(od::DeviceDescription device,
                                                                          const Clock& clock,
                                                                          const SlaveOptions& options) {
+  return create(std::make_shared<const od::DeviceDescription>(std::move(device)), clock, options);
+}
+
+Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
+    std::shared_ptr<const od::DeviceDescription> device, const Clock& clock, const SlaveOptions& options) {
   std::unique_ptr<VirtualSlave> s(new VirtualSlave());
-  if (auto ok = check_drive(device); !ok) return fail(ok.error());
-  s->device_ = std::make_unique<od::DeviceDescription>(std::move(device));
+  if (auto ok = check_drive(*device); !ok) return fail(ok.error());
+  s->device_ = std::move(device);
   auto config = esc_config_for(*s->device_);
   if (!config) return fail(config.error());
   s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);

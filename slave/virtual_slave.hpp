@@ -1,8 +1,11 @@
 // One virtual EtherCAT slave: the emulated ESC (silicon) and the firmware
 // above its PDI - the EtherCAT state machine, the mailbox with CoE, and, for
 // a CiA402 device, the drive with its simulated motor. Built from one device
-// description, which it owns, so the dictionary it serves is the one the
+// description, which it holds, so the dictionary it serves is the one the
 // ESI and SII were made from (STYLE lesson 2: no globals, one object each).
+// The description is read-only once the slave is built (the values live in
+// the CoE object store), so slaves of one device type may share it
+// (issue 16: a chain of thousands of slaves keeps one copy).
 #pragma once
 
 #include <memory>
@@ -28,6 +31,9 @@ class VirtualSlave {
   static Expected<std::unique_ptr<VirtualSlave>, std::string> create(od::DeviceDescription device,
                                                                      const Clock& clock,
                                                                      const SlaveOptions& options);
+  // The same over a description shared with other slaves (not null).
+  static Expected<std::unique_ptr<VirtualSlave>, std::string> create(
+      std::shared_ptr<const od::DeviceDescription> device, const Clock& clock, const SlaveOptions& options);
   ~VirtualSlave();
   VirtualSlave(const VirtualSlave&) = delete;
   VirtualSlave& operator=(const VirtualSlave&) = delete;
@@ -72,7 +78,7 @@ class VirtualSlave {
  private:
   VirtualSlave() = default;
 
-  std::unique_ptr<od::DeviceDescription> device_;
+  std::shared_ptr<const od::DeviceDescription> device_;
   std::unique_ptr<esc::Esc> esc_;
   std::unique_ptr<pdi_spi::EmulatedChip> chip_;  // SPI PDI only
   std::unique_ptr<pdi_spi::SpiPdi> spi_pdi_;      // SPI PDI only

@@ -63,18 +63,19 @@ struct Twin {
   // Whole memory image, IRQ pin, attention flag, ports and timers of every ESC.
   void expect_same(const char* what) {
     for (std::size_t i = 0; i < kSlaves; ++i) {
-      ASSERT_EQ(0, std::memcmp(fast[i].memory(), checked[i].memory(), kAddressSpace))
+      ASSERT_EQ(fast[i].memory_size(), checked[i].memory_size()) << what;
+      ASSERT_EQ(0, std::memcmp(fast[i].memory(), checked[i].memory(), fast[i].memory_size()))
           << what << ": memory of slave " << i << " differs at "
-          << first_difference(fast[i].memory(), checked[i].memory());
+          << first_difference(fast[i].memory(), checked[i].memory(), fast[i].memory_size());
       ASSERT_EQ(fast[i].irq(), checked[i].irq()) << what;
       ASSERT_EQ(fast[i].pdi_attention(), checked[i].pdi_attention()) << what;
       ASSERT_EQ(fast[i].next_timer(), checked[i].next_timer()) << what;
       for (unsigned p = 0; p < kMaxPorts; ++p) ASSERT_EQ(fast[i].port_open(p), checked[i].port_open(p)) << what;
     }
   }
-  static std::size_t first_difference(const std::uint8_t* a, const std::uint8_t* b) {
+  static std::size_t first_difference(const std::uint8_t* a, const std::uint8_t* b, std::size_t size) {
     std::size_t i = 0;
-    while (i < kAddressSpace && a[i] == b[i]) ++i;
+    while (i < size && a[i] == b[i]) ++i;
     return i;
   }
 

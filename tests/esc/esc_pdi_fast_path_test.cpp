@@ -107,7 +107,8 @@ struct Twin {
     checked[0].set_link(port, up);
   }
   void expect_same(const char* what) {
-    ASSERT_EQ(0, std::memcmp(fast[0].memory(), checked[0].memory(), kAddressSpace))
+    ASSERT_EQ(fast[0].memory_size(), checked[0].memory_size()) << what;
+    ASSERT_EQ(0, std::memcmp(fast[0].memory(), checked[0].memory(), fast[0].memory_size()))
         << what << ": memory differs at 0x" << std::hex << first_difference();
     ASSERT_EQ(fast[0].irq(), checked[0].irq()) << what;
     ASSERT_EQ(fast[0].pdi_attention(), checked[0].pdi_attention()) << what;
@@ -115,7 +116,7 @@ struct Twin {
   }
   std::size_t first_difference() {
     std::size_t i = 0;
-    while (i < kAddressSpace && fast[0].memory()[i] == checked[0].memory()[i]) ++i;
+    while (i < fast[0].memory_size() && fast[0].memory()[i] == checked[0].memory()[i]) ++i;
     return i;
   }
   std::uint8_t byte(std::uint16_t a) { return fast[0].memory()[a]; }
