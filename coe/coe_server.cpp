@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "coe/module_ident_check.hpp"
+
 namespace ecat::coe {
 
 std::size_t CoeServer::mailbox_bytes(const od::DeviceDescription& device) noexcept {
@@ -31,8 +33,11 @@ CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOpti
 }
 
 esc::AlStatusCode CoeServer::Hooks::check_transition(esc::AlState from, esc::AlState to) noexcept {
-  if (from == esc::AlState::PreOp && to == esc::AlState::SafeOp) return owner_.pdo_.check_safeop(owner_.pdi_);
-  return esc::AlStatusCode::NoError;
+  if (from != esc::AlState::PreOp || to != esc::AlState::SafeOp) return esc::AlStatusCode::NoError;
+  // ETG.5001.1: the configured modules (F030h) first, then the PDO mapping
+  // that those modules' PDOs make up.
+  if (auto code = check_module_idents(owner_.store_); code != esc::AlStatusCode::NoError) return code;
+  return owner_.pdo_.check_safeop(owner_.pdi_);
 }
 
 }  // namespace ecat::coe

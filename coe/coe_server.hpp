@@ -73,7 +73,8 @@ class CoeServer {
   const std::vector<std::string>& warnings() const noexcept { return warnings_; }
 
  private:
-  // PreOp->SafeOp: PDO mapping against SM2/SM3 (ETG.1000.6 §6.4.1.3).
+  // PreOp->SafeOp: the module ident list (ETG.5001.1, F030h against F050h),
+  // then the PDO mapping against SM2/SM3 (ETG.1000.6 §6.4.1.3).
   class Hooks final : public esc::EsmHooks {
    public:
     explicit Hooks(CoeServer& owner) : owner_(owner) {}

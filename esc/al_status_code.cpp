@@ -58,6 +58,7 @@ std::string_view describe(AlStatusCode code) noexcept {
     case AlStatusCode::EepromError: return "EEPROM error";
     case AlStatusCode::SlaveRestartedLocally: return "Slave restarted locally";
     case AlStatusCode::DeviceIdentificationValueUpdated: return "Device identification value updated";
+    case AlStatusCode::DetectedModuleIdentListMismatch: return "Detected module ident list does not match";
   }
   const auto raw = static_cast<std::uint16_t>(code);
   // ETG.1000.6 Table 11: 0x8000..0xFFFF vendor specific, the rest reserved.

@@ -62,6 +62,9 @@ enum class AlStatusCode : std::uint16_t {
   EepromError = 0x0051,
   SlaveRestartedLocally = 0x0060,
   DeviceIdentificationValueUpdated = 0x0061,
+  // ETG.1000.6 Table 11 / ETG.5001.1: the configured module ident list (F030h)
+  // the master wrote does not match the detected one (F050h); docs/esi-sii.md.
+  DetectedModuleIdentListMismatch = 0x0070,
 };
 
 // Text as ETG.1000.6 names the code ("Invalid requested state change").

@@ -14,6 +14,7 @@ od::DeviceDescription build_device(DeviceSpec spec) {
     if (auto ok = dev.dictionary.put(build_object(index, obj)); !ok) fail_at(obj.where, ok.error());
   }
   build_pdos(spec, dev);
+  build_modules(spec, dev);
   check_sync_manager_memory(spec, dev);
   return dev;
 }

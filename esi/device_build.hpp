@@ -16,6 +16,9 @@ od::DeviceDescription build_device(DeviceSpec spec);
 void derive_objects(DeviceSpec& spec);                        // device_derive.cpp
 void derive_axes(DeviceSpec& spec);                           // device_axes.cpp
 od::AxisLayout axis_layout(const DeviceSpec& spec);           // device_axes.cpp
+void derive_modules(DeviceSpec& spec);                        // device_modules.cpp
+void build_modules(const DeviceSpec& spec, od::DeviceDescription& dev);  // device_modules.cpp
+od::Pdo build_module_pdo(const PdoSpec& spec, od::DeviceDescription& dev);  // device_checks.cpp
 od::Object build_object(std::uint16_t index, const ObjectSpec& spec);  // device_objects.cpp
 void build_layout(const DeviceSpec& spec, od::DeviceDescription& dev);  // device_layout.cpp
 void build_pdos(const DeviceSpec& spec, od::DeviceDescription& dev);    // device_checks.cpp

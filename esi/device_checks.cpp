@@ -147,6 +147,8 @@ Where sm_where(const DeviceSpec& spec, std::size_t index) {
 
 }  // namespace
 
+od::Pdo build_module_pdo(const PdoSpec& spec, od::DeviceDescription& dev) { return build_pdo(spec, dev); }
+
 void build_pdos(const DeviceSpec& spec, od::DeviceDescription& dev) {
   for (const auto& [index, p] : spec.pdos) {
     (p.rx ? dev.rx_pdos : dev.tx_pdos).push_back(build_pdo(p, dev));

@@ -272,6 +272,7 @@ void derive_objects(DeviceSpec& spec) {
   derive_identity(spec);
   derive_drive(spec);  // before the axes: axis n copies 6502h and 60E3h as derived
   derive_axes(spec);   // before the PDO objects: they follow every axis' PDOs
+  derive_modules(spec);  // likewise: the configured modules' PDOs join the device
   derive_sm_objects(spec);
   derive_pdo_mappings(spec);
   derive_sync_parameters(spec);

@@ -96,6 +96,8 @@ class FileReader {
       read_pdo(node, name == "RxPdo");
     } else if (name == "Drive") {
       read_drive(node);
+    } else if (name == "Modules") {
+      read_modules(node);
     } else {
       fail_at(where(node), fmt::format("unknown element <{}>", name));  // the schema catches it first
     }
@@ -112,18 +114,19 @@ class FileReader {
         defined_here_.erase(index);
         continue;
       }
-      read_object(node, index);
+      read_object(node, index, spec_.objects, defined_here_);
     }
   }
 
-  void read_object(const pugi::xml_node& node, std::uint16_t index) {
+  void read_object(const pugi::xml_node& node, std::uint16_t index, std::map<std::uint16_t, ObjectSpec>& objects,
+                   std::map<std::uint16_t, int>& defined) {
     const Where w = where(node);
-    if (auto it = defined_here_.find(index); it != defined_here_.end()) {
+    if (auto it = defined.find(index); it != defined.end()) {
       fail_at(w, fmt::format("duplicate object {} (first defined at line {})", object_name(index),
                              it->second));
     }
-    defined_here_.emplace(index, w.line);
-    ObjectSpec& obj = spec_.objects[index];
+    defined.emplace(index, w.line);
+    ObjectSpec& obj = objects[index];
     if (obj.where.file.empty()) obj.where = w;
     obj.attrs.merge(element(node).attrs);
     std::set<std::uint8_t> subs_here;
@@ -137,20 +140,60 @@ class FileReader {
     }
   }
 
-  void read_pdo(const pugi::xml_node& node, bool rx) {
+  void read_pdo(const pugi::xml_node& node, bool rx) { read_pdo(node, rx, spec_.pdos, pdos_here_); }
+
+  void read_pdo(const pugi::xml_node& node, bool rx, std::map<std::uint16_t, PdoSpec>& pdos,
+                std::map<std::uint16_t, int>& defined) {
     const auto index = static_cast<std::uint16_t>(number(node, "index", kMaxIndex));
     const Where w = where(node);
-    if (auto it = pdos_here_.find(index); it != pdos_here_.end()) {
+    if (auto it = defined.find(index); it != defined.end()) {
       fail_at(w, fmt::format("duplicate PDO {} (first defined at line {})", object_name(index),
                              it->second));
     }
-    pdos_here_.emplace(index, w.line);
+    defined.emplace(index, w.line);
     PdoSpec pdo;
     pdo.rx = rx;
     pdo.index = index;
     pdo.element = element(node);
     pdo.entries = children(node);
-    spec_.pdos[index] = std::move(pdo);
+    pdos[index] = std::move(pdo);
+  }
+
+  // <Modules>: module types (each with its own objects and PDOs at slot-0
+  // indices), slot rules and the configured modules; replaces an earlier one.
+  void read_modules(const pugi::xml_node& node) {
+    ModulesSpec m;
+    m.element = element(node);
+    for (const auto& c : node.children()) {
+      if (c.type() != pugi::node_element) continue;
+      const std::string_view name = c.name();
+      if (name == "Slot") {
+        m.slots.push_back(element(c));
+      } else if (name == "Plug") {
+        m.plugs.push_back(element(c));
+      } else if (name == "Module") {
+        m.modules.push_back(read_module(c));
+      }
+    }
+    spec_.modules = std::move(m);
+  }
+
+  ModuleSpec read_module(const pugi::xml_node& node) {
+    ModuleSpec mod;
+    mod.element = element(node);
+    std::map<std::uint16_t, int> objects_here, pdos_here;
+    for (const auto& c : node.children()) {
+      if (c.type() != pugi::node_element) continue;
+      const std::string_view name = c.name();
+      if (name == "Objects") {
+        for (const auto& o : c.children("Object")) {
+          read_object(o, static_cast<std::uint16_t>(number(o, "index", kMaxIndex)), mod.objects, objects_here);
+        }
+      } else if (name == "RxPdo" || name == "TxPdo") {
+        read_pdo(c, name == "RxPdo", mod.pdos, pdos_here);
+      }
+    }
+    return mod;
   }
 
   void read_drive(const pugi::xml_node& node) {

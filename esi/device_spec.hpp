@@ -58,6 +58,21 @@ struct PdoSpec {
   std::vector<ElementSpec> entries;
 };
 
+// <Modules><Module>: one module type with its objects and PDOs at slot-0 indices.
+struct ModuleSpec {
+  ElementSpec element;
+  std::map<std::uint16_t, ObjectSpec> objects;
+  std::map<std::uint16_t, PdoSpec> pdos;
+};
+
+// <Modules>: a later one replaces the whole earlier one.
+struct ModulesSpec {
+  ElementSpec element;
+  std::vector<ModuleSpec> modules;
+  std::vector<ElementSpec> slots;
+  std::vector<ElementSpec> plugs;
+};
+
 struct DeviceSpec {
   ElementSpec identity, esc, mailbox, dc, drive;
   std::optional<std::vector<ElementSpec>> sync_managers;
@@ -72,6 +87,7 @@ struct DeviceSpec {
   std::optional<std::vector<ElementSpec>> axis_objects;
   // <Drive><AxisIndex>, by (axis text, index text) as written; later ones replace.
   std::vector<ElementSpec> axis_indices;
+  std::optional<ModulesSpec> modules;
 };
 
 }  // namespace ecat::esi

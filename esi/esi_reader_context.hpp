@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -87,6 +88,16 @@ Expected<void, LoadError> read_esi_device(const pugi::xml_node& info, const pugi
 // what the SII says (1018h, 1C00h, 1C12h/1C13h, 16xxh/1Axxh) follow the SII
 // where they disagree, PDO entries without an object get one; each repair is
 // a warning with its line.
+// Device/Slots and the Descriptions/Modules they name (esi_reader_modules.cpp):
+// fills d.modular and places each slot's default module (MinInstances
+// copies) at its slot indices. `read_pdo` reads one RxPdo/TxPdo element into
+// the given description (the device reader's own PDO reading).
+using EsiPdoReader = std::function<Expected<void, LoadError>(const pugi::xml_node& pdo, bool rx,
+                                                             od::DeviceDescription& into)>;
+Expected<void, LoadError> read_esi_modules(const pugi::xml_node& info, const pugi::xml_node& slots,
+                                           const EsiContext& ctx, const EsiPdoReader& read_pdo,
+                                           od::DeviceDescription& d);
+
 void repair_for_twin(const pugi::xml_node& device, const EsiContext& ctx, od::DeviceDescription& d);
 
 // Reads Profile/Dictionary into the device (DataTypes resolved, Objects with

@@ -116,11 +116,19 @@ class DeviceReader {
         read_dc(child);
       } else if (n == "Eeprom") {
         read_eeprom(child);
+      } else if (n == "Slots") {
+        slots_ = child;
       } else {
         ctx_.ignored(child);
       }
     }
     finish();
+    if (slots_) {
+      const EsiPdoReader module_pdo = [this](const pugi::xml_node& pdo, bool rx, od::DeviceDescription& into) {
+        return DeviceReader(ctx_, into).read_pdo(pdo, rx);
+      };
+      if (auto ok = read_esi_modules(info, slots_, ctx_, module_pdo, d_); !ok) return ok;
+    }
     repair_for_twin(dev, ctx_, d_);
     return {};
   }
@@ -388,6 +396,7 @@ class DeviceReader {
   std::int64_t profile_no_ = 0;
   std::int64_t add_info_ = 0;
   pugi::xml_node bootstrap_node_;
+  pugi::xml_node slots_;
   bool mailbox_seen_ = false;
   struct Untyped {
     bool rx;

@@ -63,6 +63,17 @@ std::string group_type(const od::Identity& id) {
   return id.group_type.empty() ? std::string("Generic") : id.group_type;
 }
 
+// The device's own objects: a configured module's objects are described by
+// its module type (ETG.2000 Modules), at the slot-0 indices.
+od::Dictionary device_objects(const od::DeviceDescription& d) {
+  if (!d.modular) return d.dictionary;
+  od::Dictionary own;
+  for (const auto& o : d.dictionary.objects()) {
+    if (!d.modular->placed_object(o.index)) (void)own.put(o);
+  }
+  return own;
+}
+
 void append_profile(pugi::xml_node device, const od::DeviceDescription& d) {
   auto profile = device.append_child("Profile");
   std::uint32_t profile_no = d.identity.device_type & kProfileMask;
@@ -72,20 +83,40 @@ void append_profile(pugi::xml_node device, const od::DeviceDescription& d) {
     const std::uint32_t add_info = d.identity.device_type >> kProfileShift;
     if (add_info != 0) text(profile, "AddInfo", std::to_string(add_info));
   }
-  append_dictionary(profile, d.dictionary);
+  append_dictionary(profile, device_objects(d));
 }
 
-void append_pdo(pugi::xml_node device, const char* element, const od::Pdo& p) {
+// A module type's PDO (ETG.2000 ModuleType): the index, and every entry that
+// maps one of the module's own objects, depend on the slot.
+struct SlotDependence {
+  bool pdo = false;
+  const od::ModuleType* module = nullptr;
+  bool entry(std::uint16_t index) const {
+    if (module == nullptr) return false;
+    for (const auto& o : module->objects) {
+      if (o.index == index) return true;
+    }
+    return false;
+  }
+};
+
+void index_text(pugi::xml_node parent, const std::string& value, bool depend_on_slot) {
+  auto n = parent.append_child("Index");
+  if (depend_on_slot) attr(n, "DependOnSlot", "true");
+  n.text().set(value.c_str());
+}
+
+void append_pdo(pugi::xml_node device, const char* element, const od::Pdo& p, SlotDependence slot = {}) {
   auto pdo = device.append_child(element);
   if (p.fixed) attr(pdo, "Fixed", "true");
   if (p.mandatory) attr(pdo, "Mandatory", "true");
   if (p.sm) attr(pdo, "Sm", std::to_string(*p.sm));
-  text(pdo, "Index", esi_hex(p.index, kIndexDigits));
+  index_text(pdo, esi_hex(p.index, kIndexDigits), slot.pdo);
   name(pdo, "Name", p.name);
   for (auto x : p.excludes) text(pdo, "Exclude", esi_hex(x, kIndexDigits));
   for (const auto& e : p.entries) {
     auto entry = pdo.append_child("Entry");
-    text(entry, "Index", esi_hex(e.index, e.index == 0 ? 1 : kIndexDigits));
+    index_text(entry, esi_hex(e.index, e.index == 0 ? 1 : kIndexDigits), e.index != 0 && slot.entry(e.index));
     if (e.index != 0) text(entry, "SubIndex", std::to_string(e.subindex));
     text(entry, "BitLen", std::to_string(e.bit_length));
     if (e.index == 0) continue;  // a gap has no name or type
@@ -152,6 +183,26 @@ void append_eeprom(pugi::xml_node device, const od::DeviceDescription& d) {
   }
 }
 
+// ETG.2000 Device/Slots: the index increments and one Slot per slot rule,
+// its modules and default module (the configured modules an ESI can carry).
+void append_slots(pugi::xml_node device, const od::ModularDevice& m) {
+  auto slots = device.append_child("Slots");
+  attr(slots, "DownloadModuleIdentList", boolean(m.download_ident_list));
+  attr(slots, "SlotPdoIncrement", std::to_string(m.pdo_increment));
+  attr(slots, "SlotIndexIncrement", esi_hex(m.index_increment, kIndexDigits));
+  for (const od::SlotRule& r : m.slots) {
+    auto slot = slots.append_child("Slot");
+    attr(slot, "MinInstances", std::to_string(r.min_instances));
+    attr(slot, "MaxInstances", std::to_string(r.max_instances));
+    if (!r.name.empty()) name(slot, "Name", r.name);
+    for (std::uint32_t ident : r.idents) {
+      auto n = slot.append_child("ModuleIdent");
+      if (r.default_ident == ident) attr(n, "Default", "1");
+      n.text().set(esi_hex(ident, kIdDigits).c_str());
+    }
+  }
+}
+
 void append_device(pugi::xml_node devices, const od::DeviceDescription& d) {
   const auto& id = d.identity;
   auto device = devices.append_child("Device");
@@ -175,11 +226,40 @@ void append_device(pugi::xml_node devices, const od::DeviceDescription& d) {
     attr(n, "Enable", sm.enable ? "1" : "0");
     n.text().set(sm_text(sm.type));
   }
-  for (const auto& p : d.rx_pdos) append_pdo(device, "RxPdo", p);
-  for (const auto& p : d.tx_pdos) append_pdo(device, "TxPdo", p);
+  for (const auto* list : {&d.rx_pdos, &d.tx_pdos}) {
+    for (const auto& p : *list) {
+      if (d.modular && d.modular->placed_pdo(p.index)) continue;  // described by its module type
+      append_pdo(device, p.is_rx() ? "RxPdo" : "TxPdo", p);
+    }
+  }
   append_mailbox(device, d.mailbox);
   append_dc(device, d.dc_op_modes);
+  if (d.modular) append_slots(device, *d.modular);
   append_eeprom(device, d);
+}
+
+// ETG.2000 Descriptions/Modules: each module type with its PDOs and objects
+// at the slot-0 indices (DependOnSlot) and its profile number (F010h entry).
+void append_modules(pugi::xml_node descriptions, const od::ModularDevice& m) {
+  auto modules = descriptions.append_child("Modules");
+  for (const od::ModuleType& t : m.types) {
+    auto module = modules.append_child("Module");
+    auto type = module.append_child("Type");
+    attr(type, "ModuleIdent", esi_hex(t.ident, kIdDigits));
+    if (!t.module_class.empty()) attr(type, "ModuleClass", t.module_class);
+    type.text().set(t.type.c_str());
+    name(module, "Name", t.name.empty() ? t.type : t.name);
+    for (const auto* list : {&t.rx_pdos, &t.tx_pdos}) {
+      for (const auto& p : *list) append_pdo(module, p.is_rx() ? "RxPdo" : "TxPdo", p, SlotDependence{true, &t});
+    }
+    if (t.profile == 0 && t.objects.empty()) continue;
+    auto profile = module.append_child("Profile");
+    if (t.profile != 0) text(profile, "ProfileNo", std::to_string(t.profile));
+    if (t.objects.empty()) continue;
+    od::Dictionary objects;
+    for (const auto& o : t.objects) (void)objects.put(o);
+    append_dictionary(profile, objects);
+  }
 }
 
 }  // namespace
@@ -204,6 +284,7 @@ std::string write_esi(const od::DeviceDescription& d) {
   name(group, "Name", d.identity.group_name.empty() ? group_type(d.identity)
                                                     : d.identity.group_name);
   append_device(descriptions.append_child("Devices"), d);
+  if (d.modular) append_modules(descriptions, *d.modular);
 
   std::ostringstream out;
   doc.save(out, "  ", pugi::format_indent, pugi::encoding_utf8);

@@ -297,6 +297,41 @@ void append_drive(pugi::xml_node root, const od::DriveProfile& drive) {
   }
 }
 
+// <Modules>: the module types at their slot-0 indices, the slot rules and the
+// configured modules as Plug elements (docs/device-format.md "Modular devices").
+void append_modules(pugi::xml_node root, const od::ModularDevice& m) {
+  auto n = root.append_child("Modules");
+  attr(n, "indexIncrement", hex(m.index_increment, 4));
+  attr(n, "pdoIncrement", std::to_string(m.pdo_increment));
+  attr(n, "downloadIdentList", boolean(m.download_ident_list));
+  for (const od::ModuleType& t : m.types) {
+    auto mod = n.append_child("Module");
+    attr(mod, "ident", hex(t.ident, 8));
+    attr_if(mod, "type", t.type);
+    attr_if(mod, "name", t.name);
+    attr_if(mod, "class", t.module_class);
+    if (t.profile != 0) attr(mod, "profile", hex(t.profile, 8));
+    if (!t.objects.empty()) {
+      auto objects = mod.append_child("Objects");
+      for (const auto& o : t.objects) append_object(objects, o);
+    }
+    for (const auto* list : {&t.rx_pdos, &t.tx_pdos}) {
+      for (const auto& p : *list) append_pdo(mod, p.is_rx() ? "RxPdo" : "TxPdo", p);
+    }
+  }
+  for (const od::SlotRule& r : m.slots) {
+    auto slot = n.append_child("Slot");
+    attr_if(slot, "name", r.name);
+    attr(slot, "min", std::to_string(r.min_instances));
+    attr(slot, "max", std::to_string(r.max_instances));
+    std::string idents;
+    for (std::uint32_t i : r.idents) idents += (idents.empty() ? "" : " ") + hex(i, 8);
+    attr(slot, "modules", idents);
+    if (r.default_ident) attr(slot, "default", hex(*r.default_ident, 8));
+  }
+  for (std::uint32_t ident : m.configured) attr(n.append_child("Plug"), "module", hex(ident, 8));
+}
+
 }  // namespace
 
 std::string write_device_xml(const od::DeviceDescription& d) {
@@ -310,10 +345,18 @@ std::string write_device_xml(const od::DeviceDescription& d) {
   append_header(root, d);
   append_layout(root, d);
   auto objects = root.append_child("Objects");
-  for (const auto& o : d.dictionary.objects()) append_object(objects, o);
-  for (const auto& p : d.rx_pdos) append_pdo(root, "RxPdo", p);
-  for (const auto& p : d.tx_pdos) append_pdo(root, "TxPdo", p);
+  // A configured module's objects and PDOs are written once, in its module type.
+  const od::ModularDevice* m = d.modular ? &*d.modular : nullptr;
+  for (const auto& o : d.dictionary.objects()) {
+    if (!m || !m->placed_object(o.index)) append_object(objects, o);
+  }
+  for (const auto* list : {&d.rx_pdos, &d.tx_pdos}) {
+    for (const auto& p : *list) {
+      if (!m || !m->placed_pdo(p.index)) append_pdo(root, p.is_rx() ? "RxPdo" : "TxPdo", p);
+    }
+  }
   if (d.drive) append_drive(root, *d.drive);
+  if (m) append_modules(root, *m);
   std::ostringstream out;
   doc.save(out, "  ", pugi::format_indent, pugi::encoding_utf8);
   return out.str();

@@ -11,6 +11,7 @@
 
 #include "od/axis_layout.hpp"
 #include "od/dictionary.hpp"
+#include "od/modular_device.hpp"
 
 namespace ecat::od {
 
@@ -162,8 +163,24 @@ struct DeviceDescription {
   std::vector<Pdo> tx_pdos;
   Dictionary dictionary;
   std::optional<DriveProfile> drive;  // set for CiA 402 devices
+  // Set for a modular device (<Modules> in the device file, <Slots> in an ESI):
+  // the dictionary and PDOs above already hold its configured modules.
+  std::optional<ModularDevice> modular;
   bool bootstrap_supported = false;
   std::string source_file;  // where it was loaded from ("" if built in code)
 };
+
+inline bool ModularDevice::placed_pdo(std::uint16_t index) const noexcept {
+  for (std::size_t slot = 0; slot < configured.size(); ++slot) {
+    if (const ModuleType* t = find(configured[slot])) {
+      for (const auto* list : {&t->rx_pdos, &t->tx_pdos}) {
+        for (const Pdo& p : *list) {
+          if (pdo_at(p.index, slot) == index) return true;
+        }
+      }
+    }
+  }
+  return false;
+}
 
 }  // namespace ecat::od

@@ -180,12 +180,13 @@ TEST_F(VendorEsi, WarningsNameElementAndLine) {
       {"InitCmd", 684, "not modelled; ignored"},
       {"CycleTimeSync1", 712, "a fixed cycle time is not modelled; only Factor is kept"},
       {"Sm", 714, "not modelled; ignored"},
-      {"Slots", 719, "not modelled; ignored"},
       {"Category", 724, "not modelled; ignored"},
       {"ImageData16x14", 729, "not modelled; ignored"},
       {"BootStrap", 723,
        "a Bootstrap mailbox layout other than the standard mailbox's is not modelled; the "
        "standard layout is used"},
+      // An empty Slots (issue 15: Slots are read, docs/esi-sii.md "Modular devices").
+      {"Slots", 719, "no module is configured by the slots' defaults; the device is imported without its modules"},
       // The twin policy (docs/twins.md): the RxPdo's gap entry is in the SII, so
       // 1600h's default follows it.
       {"Object", 407,
