@@ -22,9 +22,13 @@ Drive::Drive(DriveConfig config, const PlantParameters& plant)
 
 void Drive::update_scaling(const DriveInputs& in) noexcept {
   const ScalingInputs scaling{in.encoder_increments,     in.motor_revolutions, in.gear_motor_revolutions,
-                              in.gear_shaft_revolutions, in.feed,              in.feed_shaft_revolutions};
+                              in.gear_shaft_revolutions, in.feed,              in.feed_shaft_revolutions,
+                              in.vl_setpoint_numerator,  in.vl_setpoint_denominator, in.vl_dimension_numerator,
+                              in.vl_dimension_denominator};
   if (scaling_set_ && scaling == scaling_inputs_) return;
   units_ = UnitScaling::from(in, plant_.parameters().encoder_resolution);
+  vl_inc_per_unit_ = plant_.rpm_to_increments(VelocityMode::rpm_per_unit(in));
+  vl_inc_per_setpoint_ = vl_inc_per_unit_ * VelocityMode::setpoint_factor(in);
   scaling_inputs_ = scaling;
   scaling_set_ = true;
 }
@@ -121,6 +125,7 @@ void Drive::enter_mode() noexcept {
   position_window_ = velocity_window_ = speed_zero_ = Timer{};
   demand_.position = plant_.position();
   ip_active_ = false;
+  vl_.enter(plant_.velocity() / vl_inc_per_unit_);
 }
 
 }  // namespace ecat::ds402

@@ -20,6 +20,7 @@
 #include "ds402/state_machine.hpp"
 #include "ds402/touch_probe.hpp"
 #include "ds402/units.hpp"
+#include "ds402/velocity_mode.hpp"
 
 namespace ecat::ds402 {
 
@@ -88,6 +89,8 @@ class Drive {
   struct ScalingInputs {
     std::uint32_t encoder_increments, motor_revolutions, gear_motor_revolutions, gear_shaft_revolutions, feed,
         feed_shaft_revolutions;
+    std::int16_t vl_setpoint_numerator, vl_setpoint_denominator;
+    std::int32_t vl_dimension_numerator, vl_dimension_denominator;
     bool operator==(const ScalingInputs&) const = default;
   };
   struct LimitInputs {
@@ -99,13 +102,15 @@ class Drive {
   // error, 60FDh) are computed from; they are recomputed only when it changes
   // (a drive at rest reports the same values every cycle).
   struct OutputSources {
-    double position_demand, velocity_demand, position, velocity, torque_command, torque, home_shift, increments_per_unit;
+    double position_demand, velocity_demand, position, velocity, torque_command, torque, home_shift, increments_per_unit,
+        increments_per_vl_setpoint;
     bool operator==(const OutputSources&) const = default;
   };
   struct NumericOutputs {
     std::int32_t position_demand, position_demand_internal, position_actual_internal, position_actual;
     std::int32_t velocity_demand, velocity_actual, following_error;
     std::int16_t torque_demand, torque_actual;
+    std::int16_t vl_velocity_demand, vl_velocity_actual;
     std::uint32_t digital_inputs;
   };
   void update_numeric_outputs(const OutputSources& from) noexcept;
@@ -121,7 +126,11 @@ class Drive {
   ProfilePosition pp_;
   Homing homing_;
   TouchProbe probe_;
+  VelocityMode vl_;
   UnitScaling units_;
+  // vl mode: increments/s per vl unit (604Ch) and per 6042h unit (604Bh too).
+  double vl_inc_per_unit_ = 1.0;
+  double vl_inc_per_setpoint_ = 1.0;
   EmcyQueue emcy_;
 
   OperationMode mode_ = OperationMode::None;

@@ -48,7 +48,15 @@ constexpr auto kInputs = std::make_tuple(
     f(0x608F, 1, &I::encoder_increments), f(0x608F, 2, &I::motor_revolutions),
     f(0x6091, 1, &I::gear_motor_revolutions), f(0x6091, 2, &I::gear_shaft_revolutions), f(0x6092, 1, &I::feed),
     f(0x6092, 2, &I::feed_shaft_revolutions), f(0x60C1, 1, &I::ip_position), f(0x60C2, 1, &I::ip_period_value),
-    f(0x60C2, 2, &I::ip_period_index));
+    f(0x60C2, 2, &I::ip_period_index), f(0x6042, 0, &I::vl_target_velocity), f(0x6046, 1, &I::vl_min_amount),
+    f(0x6046, 2, &I::vl_max_amount), f(0x6048, 1, &I::vl_acceleration_delta_speed),
+    f(0x6048, 2, &I::vl_acceleration_delta_time), f(0x6049, 1, &I::vl_deceleration_delta_speed),
+    f(0x6049, 2, &I::vl_deceleration_delta_time), f(0x604A, 1, &I::vl_quick_stop_delta_speed),
+    f(0x604A, 2, &I::vl_quick_stop_delta_time), f(0x604B, 1, &I::vl_setpoint_numerator),
+    f(0x604B, 2, &I::vl_setpoint_denominator), f(0x604C, 1, &I::vl_dimension_numerator),
+    f(0x604C, 2, &I::vl_dimension_denominator), f(0x604E, 0, &I::vl_velocity_reference),
+    f(0x604F, 0, &I::vl_ramp_function_time), f(0x6050, 0, &I::vl_slow_down_time),
+    f(0x6051, 0, &I::vl_quick_stop_time));
 
 constexpr auto kOutputs = std::make_tuple(
     f(0x6041, 0, &O::statusword), f(0x6061, 0, &O::modes_of_operation_display), f(0x6062, 0, &O::position_demand),
@@ -58,7 +66,8 @@ constexpr auto kOutputs = std::make_tuple(
     f(0x603F, 0, &O::error_code), f(0x60B9, 0, &O::touch_probe_status), f(0x60BA, 0, &O::touch_probe_1_positive),
     f(0x60BB, 0, &O::touch_probe_1_negative), f(0x60BC, 0, &O::touch_probe_2_positive),
     f(0x60BD, 0, &O::touch_probe_2_negative), f(0x60FD, 0, &O::digital_inputs),
-    f(0x6502, 0, &O::supported_drive_modes));
+    f(0x6502, 0, &O::supported_drive_modes), f(0x6043, 0, &O::vl_velocity_demand),
+    f(0x6044, 0, &O::vl_velocity_actual));
 
 static_assert(std::tuple_size_v<decltype(kInputs)> == DriveBinding::kInputCount);
 static_assert(std::tuple_size_v<decltype(kOutputs)> == DriveBinding::kOutputCount);
@@ -127,6 +136,9 @@ DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency, c
 
 void DriveBinding::publish(const DriveConfig& config) {
   hooks_.install(store_, config, layout_, axis_);
+  if (config.homing_current_threshold_index != 0) {
+    homing_current_threshold_ = store_.slot(layout_.object_index(axis_, config.homing_current_threshold_index), 0);
+  }
   if (auto* s = store_.slot(layout_.object_index(axis_, kSupportedDriveModes), 0)) {
     store_.set(*s, config.supported_modes);
   }
@@ -158,6 +170,7 @@ void DriveBinding::read(DriveInputs& in) const noexcept {
   [&]<std::size_t... N>(std::index_sequence<N...>) {
     (read_input<N>(in), ...);
   }(std::make_index_sequence<kInputCount>{});
+  if (homing_current_threshold_) in.homing_current_threshold = store_.get<std::uint32_t>(*homing_current_threshold_);
 }
 
 // One typed read per input, callable through a table.

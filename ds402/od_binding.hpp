@@ -24,8 +24,8 @@ namespace ecat::ds402 {
 
 class DriveBinding {
  public:
-  static constexpr std::size_t kInputCount = 48;
-  static constexpr std::size_t kOutputCount = 19;
+  static constexpr std::size_t kInputCount = 65;
+  static constexpr std::size_t kOutputCount = 21;
 
   // `emergency` may be null (then 1001h is written from DriveOutputs instead).
   DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency = nullptr) noexcept;
@@ -40,8 +40,8 @@ class DriveBinding {
   DriveBinding& operator=(const DriveBinding&) = delete;
 
   // Writes what the drive offers: 6502h supported modes and 60E3h supported
-  // homing methods (as many as the array has room for), and installs the
-  // SDO checks of DriveObjectHooks on 6060h, 6098h, 605Ah-605Eh. Set-up only.
+  // homing methods (as many as the array has room for), binds the
+  // personality's homing current threshold object, and installs the SDO checks of DriveObjectHooks on 6060h, 6098h, 605Ah-605Eh. Set-up only.
   void publish(const DriveConfig& config);
 
   // Store -> inputs, before Drive::step: every bound entry. `in.sync_lost`
@@ -90,6 +90,8 @@ class DriveBinding {
   std::array<std::uint8_t*, kInputCount> in_bytes_{};
   std::array<std::uint8_t*, kOutputCount> out_bytes_{};
   coe::ObjectStore::Slot* error_register_ = nullptr;
+  // The personality's homing current threshold (Welcon 2402h), bound in publish().
+  coe::ObjectStore::Slot* homing_current_threshold_ = nullptr;
   // read_cycle: the generation the inputs were last read at (kNotRead:
   // never), the RxPDO table they were read for, and the inputs it maps.
   template <std::size_t N>

@@ -209,8 +209,24 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     run_sub_steps(demand, limits, start_ref);
     last_path_ = Path::SubSteps;
   }
+  apply_hard_stops();
   last_was_position_ = position_mode;
   last_position_ref_ = demand.position;
+}
+
+// An end stop ends the cycle's travel: the rotor is put back on it and
+// stops dead (an inelastic stop, resolved once per cycle). NaN: no stop.
+void Plant::apply_hard_stops() noexcept {
+  at_hard_stop_ = false;
+  if (position_ >= p_.positive_hard_stop) {
+    position_ = p_.positive_hard_stop;
+    if (velocity_ > 0) velocity_ = 0;
+    at_hard_stop_ = true;
+  } else if (position_ <= p_.negative_hard_stop) {
+    position_ = p_.negative_hard_stop;
+    if (velocity_ < 0) velocity_ = 0;
+    at_hard_stop_ = true;
+  }
 }
 
 void Plant::step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
@@ -221,6 +237,7 @@ void Plant::step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits
   torque_limited_ = false;
   run_sub_steps(demand, limits, start_ref);
   last_path_ = Path::SubSteps;
+  apply_hard_stops();
   last_was_position_ = position_mode;
   last_position_ref_ = demand.position;
 }
