@@ -12,6 +12,7 @@
 #include "ds402/drive_config.hpp"
 #include "ds402/faults.hpp"
 #include "ds402/homing.hpp"
+#include "ds402/ip_buffer.hpp"
 #include "ds402/modes.hpp"
 #include "ds402/objects.hpp"
 #include "ds402/plant.hpp"
@@ -41,6 +42,7 @@ class Drive {
   const Plant& plant() const noexcept { return plant_; }
   const Axis& axis() const noexcept { return axis_; }
   EmcyQueue& emergencies() noexcept { return emcy_; }
+  const IpBuffer& ip_buffer() const noexcept { return ip_buffer_; }
 
   // Simulation hooks (tests, demos): a load torque against the motor.
   void set_external_torque(double nm) noexcept { plant_.set_external_torque(nm); }
@@ -127,6 +129,8 @@ class Drive {
   Homing homing_;
   TouchProbe probe_;
   VelocityMode vl_;
+  IpBuffer ip_buffer_;
+  bool ip_record_lost_ = false;  // a record did not fit into the buffer this cycle
   UnitScaling units_;
   // vl mode: increments/s per vl unit (604Ch) and per 6042h unit (604Bh too).
   double vl_inc_per_unit_ = 1.0;

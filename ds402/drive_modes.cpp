@@ -168,8 +168,9 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
 }
 
 // Interpolated position (CiA 402-2 §13, sub-mode 0 linear): while bit 4 is
-// set, every interpolation period 60C2h takes 60C1h:01 as the next point and
-// the demand moves to it in a straight line over that period.
+// set, every interpolation period 60C2h takes the next point - 60C1h:01, or
+// with the buffer enabled (60C4h:06 = 1) the next buffered record - and the
+// demand moves to it in a straight line over that period.
 void Drive::run_interpolated(const DriveInputs& in, double dt) noexcept {
   const bool enable = (in.controlword & cw::kEnableIpMode) != 0;
   if (!enable || halted_) {
@@ -187,7 +188,13 @@ void Drive::run_interpolated(const DriveInputs& in, double dt) noexcept {
                             : in.ip_period_value * std::pow(10.0, std::clamp<int>(in.ip_period_index, -9, 0));
   if (!ip_active_ || ip_elapsed_ >= period - 1e-12) {
     ip_from_ = ip_active_ ? ip_to_ : gen_.position();
-    ip_to_ = position_to_inc(in.ip_position);
+    if (!ip_buffer_.enabled()) {
+      ip_to_ = position_to_inc(in.ip_position);
+    } else if (const auto record = ip_buffer_.pop()) {
+      ip_to_ = position_to_inc(*record);  // 60C4h: the next buffered record
+    } else {
+      ip_to_ = ip_from_;  // buffer empty: hold the last point
+    }
     ip_elapsed_ = 0;
     ip_active_ = true;
   }

@@ -95,7 +95,7 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   const PdsState s = sm_.state();
   std::uint16_t status = static_cast<std::uint16_t>(state_bits(s) | sw::kRemote | mode_bits(in, dt));
   if (s != PdsState::NotReadyToSwitchOn) status |= sw::kVoltageEnabled;  // mains assumed present
-  if (warning_ || emcy_.dropped() != 0) status |= sw::kWarning;
+  if (warning_ || emcy_.dropped() != 0 || ip_record_lost_) status |= sw::kWarning;
   if (internal_limit_ || plant_.torque_limited()) status |= sw::kInternalLimitActive;
   if (homed_) status |= config_.home_found_bit;
   out.statusword = status;
@@ -122,6 +122,7 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   out.touch_probe_2_negative = probe_.value(3);
   out.digital_inputs = numeric_.digital_inputs;
   out.supported_drive_modes = config_.supported_modes;
+  out.ip_buffer_position = ip_buffer_.ring() ? ip_buffer_.position() : in.ip_buffer_position;
   out.vl_velocity_demand = numeric_.vl_velocity_demand;
   out.vl_velocity_actual = numeric_.vl_velocity_actual;
 }

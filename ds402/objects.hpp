@@ -65,6 +65,14 @@ struct DriveInputs {
   std::int32_t ip_position = 0;        // 60C1h:01 interpolation data record, position
   std::uint8_t ip_period_value = 0;    // 60C2h:01 (0: one drive cycle)
   std::int8_t ip_period_index = -3;    // 60C2h:02, period = value · 10^index s
+  // Interpolation data configuration 60C4h (ds402/ip_buffer.hpp).
+  std::uint32_t ip_buffer_actual_size = 16;  // 60C4h:02
+  std::uint8_t ip_buffer_organisation = 0;   // 60C4h:03 (0 FIFO, 1 ring)
+  std::uint16_t ip_buffer_position = 0;      // 60C4h:04
+  std::uint8_t ip_buffer_access = 0;         // 60C4h:06 (0 clear/disabled, 1 enabled)
+  // Not an object: 60C1h:01 was written since the last cycle (by SDO, or by
+  // the RxPDO that maps it), so ip_position is a new record for the buffer.
+  bool ip_record_new = false;
 
   // Velocity mode vl (CiA 402-2 vl objects; ds402/velocity_mode.hpp). Velocities
   // in vl units (rpm scaled by 604Ch), times in s (6048h-604Ah:02) or ms.
@@ -121,6 +129,7 @@ struct DriveOutputs {
   std::int32_t touch_probe_2_negative = 0;  // 60BDh
   std::uint32_t digital_inputs = 0;         // 60FDh
   std::uint32_t supported_drive_modes = 0;  // 6502h
+  std::uint16_t ip_buffer_position = 0;     // 60C4h:04 (ring buffer: the next write position)
   std::int16_t vl_velocity_demand = 0;      // 6043h, vl units
   std::int16_t vl_velocity_actual = 0;      // 6044h, vl units
 };

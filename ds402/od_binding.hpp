@@ -22,10 +22,26 @@
 
 namespace ecat::ds402 {
 
+// Notes SDO writes of 60C1h:01: each is a record for the interpolation
+// buffer (60C4h). PDO writes do not pass the hooks; DriveBinding counts a
+// record per cycle for an RxPDO that maps 60C1h:01.
+class IpRecordHook final : public coe::ObjectHooks {
+ public:
+  Expected<void, coe::SdoAbort> on_write(coe::ObjectStore& store, const coe::WriteRequest& request) noexcept override;
+  bool take() noexcept {
+    const bool w = written_;
+    written_ = false;
+    return w;
+  }
+
+ private:
+  bool written_ = false;
+};
+
 class DriveBinding {
  public:
-  static constexpr std::size_t kInputCount = 65;
-  static constexpr std::size_t kOutputCount = 21;
+  static constexpr std::size_t kInputCount = 69;
+  static constexpr std::size_t kOutputCount = 22;
 
   // `emergency` may be null (then 1001h is written from DriveOutputs instead).
   DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency = nullptr) noexcept;
@@ -45,14 +61,15 @@ class DriveBinding {
   void publish(const DriveConfig& config);
 
   // Store -> inputs, before Drive::step: every bound entry. `in.sync_lost`
-  // is not touched.
+  // and `in.ip_record_new` are not touched (read_cycle sets the latter).
   void read(DriveInputs& in) const noexcept;
   // The same for a cycle (issue 8): every bound entry when the store was
   // written through anything but storage() since the last call or write()
   // (ObjectStore::generation: SDO downloads, parameters, the application)
   // or when `rx_pdo` changed, else only the entries mapped in `rx_pdo` - the
   // ones the RxPDO copy (coe::ProcessData::read_outputs) writes each cycle.
-  // `in` must hold what the last call left in it.
+  // `in` must hold what the last call left in it. Sets `in.ip_record_new`
+  // when 60C1h:01 was written by SDO since the last call or `rx_pdo` maps it.
   void read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept;
   // The next read_cycle() copies every entry (the caller changed `in`).
   void invalidate() noexcept { seen_ = kNotRead; }
@@ -116,6 +133,9 @@ class DriveBinding {
   std::array<Mapped, kInputCount> mapped_{};
   std::size_t mapped_count_ = 0;
   DriveObjectHooks hooks_;
+  IpRecordHook ip_record_hook_;
+  const coe::ObjectStore::Slot* ip_record_ = nullptr;  // 60C1h:01 of this axis
+  bool ip_record_mapped_ = false;                       // rx_pdo_ maps it
   od::AxisLayout layout_;  // set-up only (publish)
   unsigned axis_ = 1;
   bool multi_axis_ = false;
