@@ -58,11 +58,16 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
   update_scaling(in);
   // The interpolation buffer (60C4h) takes records whatever the mode, so a
   // master can fill it before it enables interpolation.
-  ip_buffer_.configure(IpBuffer::Config{in.ip_buffer_actual_size, in.ip_buffer_organisation, in.ip_buffer_position,
-                                        in.ip_buffer_access});
-  const std::uint32_t lost_before = ip_buffer_.lost();
-  if (in.ip_record_new) ip_buffer_.push(in.ip_position);
-  ip_record_lost_ = ip_buffer_.lost() != lost_before;
+  // A buffer without access is empty and takes nothing: its other settings
+  // matter only once 60C4h:06 enables it (the common case: no 60C4h at all).
+  ip_record_lost_ = false;
+  if (in.ip_buffer_access != IpBuffer::kClear || ip_buffer_.enabled()) {
+    ip_buffer_.configure(IpBuffer::Config{in.ip_buffer_actual_size, in.ip_buffer_organisation,
+                                          in.ip_buffer_position, in.ip_buffer_access});
+    const std::uint32_t lost_before = ip_buffer_.lost();
+    if (in.ip_record_new) ip_buffer_.push(in.ip_position);
+    ip_record_lost_ = ip_buffer_.lost() != lost_before;
+  }
   controlword_ = in.controlword;
   halted_ = (in.controlword & cw::kHalt) != 0;
   internal_limit_ = false;

@@ -43,6 +43,7 @@ Plant::Plant(const PlantParameters& p) noexcept
   kv_ = p_.total_inertia() * wc * rad_per_inc_;
   ki_ = kv_ * wc * kIntegralZeroRatio;
   position_ = previous_position_ = last_position_ref_ = p_.initial_position;
+  has_hard_stops_ = !std::isnan(p_.negative_hard_stop) || !std::isnan(p_.positive_hard_stop);
 }
 
 // Per new cycle length: the sub-step count and length and the current-loop
@@ -218,6 +219,7 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
 // stops dead (an inelastic stop, resolved once per cycle). NaN: no stop.
 void Plant::apply_hard_stops() noexcept {
   at_hard_stop_ = false;
+  if (!has_hard_stops_) return;
   if (position_ >= p_.positive_hard_stop) {
     position_ = p_.positive_hard_stop;
     if (velocity_ > 0) velocity_ = 0;

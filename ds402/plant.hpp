@@ -195,6 +195,7 @@ class Plant {
   bool last_was_position_ = false;
   bool torque_limited_ = false;
   bool at_hard_stop_ = false;
+  bool has_hard_stops_ = false;  // either end stop is set (not NaN)
   void apply_hard_stops() noexcept;
   Path last_path_ = Path::SubSteps;
   // Set by configure() for the cycle length dt_ it was last called with (the
