@@ -22,9 +22,13 @@ Drive::Drive(DriveConfig config, const PlantParameters& plant)
 
 void Drive::update_scaling(const DriveInputs& in) noexcept {
   const ScalingInputs scaling{in.encoder_increments,     in.motor_revolutions, in.gear_motor_revolutions,
-                              in.gear_shaft_revolutions, in.feed,              in.feed_shaft_revolutions};
+                              in.gear_shaft_revolutions, in.feed,              in.feed_shaft_revolutions,
+                              in.vl_setpoint_numerator,  in.vl_setpoint_denominator, in.vl_dimension_numerator,
+                              in.vl_dimension_denominator};
   if (scaling_set_ && scaling == scaling_inputs_) return;
   units_ = UnitScaling::from(in, plant_.parameters().encoder_resolution);
+  vl_inc_per_unit_ = plant_.rpm_to_increments(VelocityMode::rpm_per_unit(in));
+  vl_inc_per_setpoint_ = vl_inc_per_unit_ * VelocityMode::setpoint_factor(in);
   scaling_inputs_ = scaling;
   scaling_set_ = true;
 }
@@ -52,6 +56,18 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
     return;
   }
   update_scaling(in);
+  // The interpolation buffer (60C4h) takes records whatever the mode, so a
+  // master can fill it before it enables interpolation.
+  // A buffer without access is empty and takes nothing: its other settings
+  // matter only once 60C4h:06 enables it (the common case: no 60C4h at all).
+  ip_record_lost_ = false;
+  if (in.ip_buffer_access != IpBuffer::kClear || ip_buffer_.enabled()) {
+    ip_buffer_.configure(IpBuffer::Config{in.ip_buffer_actual_size, in.ip_buffer_organisation,
+                                          in.ip_buffer_position, in.ip_buffer_access});
+    const std::uint32_t lost_before = ip_buffer_.lost();
+    if (in.ip_record_new) ip_buffer_.push(in.ip_position);
+    ip_record_lost_ = ip_buffer_.lost() != lost_before;
+  }
   controlword_ = in.controlword;
   halted_ = (in.controlword & cw::kHalt) != 0;
   internal_limit_ = false;
@@ -121,6 +137,7 @@ void Drive::enter_mode() noexcept {
   position_window_ = velocity_window_ = speed_zero_ = Timer{};
   demand_.position = plant_.position();
   ip_active_ = false;
+  vl_.enter(plant_.velocity() / vl_inc_per_unit_);
 }
 
 }  // namespace ecat::ds402

@@ -12,6 +12,7 @@
 #include "ds402/drive_config.hpp"
 #include "ds402/faults.hpp"
 #include "ds402/homing.hpp"
+#include "ds402/ip_buffer.hpp"
 #include "ds402/modes.hpp"
 #include "ds402/objects.hpp"
 #include "ds402/plant.hpp"
@@ -20,6 +21,7 @@
 #include "ds402/state_machine.hpp"
 #include "ds402/touch_probe.hpp"
 #include "ds402/units.hpp"
+#include "ds402/velocity_mode.hpp"
 
 namespace ecat::ds402 {
 
@@ -40,6 +42,7 @@ class Drive {
   const Plant& plant() const noexcept { return plant_; }
   const Axis& axis() const noexcept { return axis_; }
   EmcyQueue& emergencies() noexcept { return emcy_; }
+  const IpBuffer& ip_buffer() const noexcept { return ip_buffer_; }
 
   // Simulation hooks (tests, demos): a load torque against the motor.
   void set_external_torque(double nm) noexcept { plant_.set_external_torque(nm); }
@@ -88,6 +91,8 @@ class Drive {
   struct ScalingInputs {
     std::uint32_t encoder_increments, motor_revolutions, gear_motor_revolutions, gear_shaft_revolutions, feed,
         feed_shaft_revolutions;
+    std::int16_t vl_setpoint_numerator, vl_setpoint_denominator;
+    std::int32_t vl_dimension_numerator, vl_dimension_denominator;
     bool operator==(const ScalingInputs&) const = default;
   };
   struct LimitInputs {
@@ -99,13 +104,15 @@ class Drive {
   // error, 60FDh) are computed from; they are recomputed only when it changes
   // (a drive at rest reports the same values every cycle).
   struct OutputSources {
-    double position_demand, velocity_demand, position, velocity, torque_command, torque, home_shift, increments_per_unit;
+    double position_demand, velocity_demand, position, velocity, torque_command, torque, home_shift, increments_per_unit,
+        increments_per_vl_setpoint;
     bool operator==(const OutputSources&) const = default;
   };
   struct NumericOutputs {
     std::int32_t position_demand, position_demand_internal, position_actual_internal, position_actual;
     std::int32_t velocity_demand, velocity_actual, following_error;
     std::int16_t torque_demand, torque_actual;
+    std::int16_t vl_velocity_demand, vl_velocity_actual;
     std::uint32_t digital_inputs;
   };
   void update_numeric_outputs(const OutputSources& from) noexcept;
@@ -121,7 +128,13 @@ class Drive {
   ProfilePosition pp_;
   Homing homing_;
   TouchProbe probe_;
+  VelocityMode vl_;
+  IpBuffer ip_buffer_;
+  bool ip_record_lost_ = false;  // a record did not fit into the buffer this cycle
   UnitScaling units_;
+  // vl mode: increments/s per vl unit (604Ch) and per 6042h unit (604Bh too).
+  double vl_inc_per_unit_ = 1.0;
+  double vl_inc_per_setpoint_ = 1.0;
   EmcyQueue emcy_;
 
   OperationMode mode_ = OperationMode::None;

@@ -71,19 +71,21 @@ DriveConfig yaskawa() {
   return c;
 }
 
-// Welcon (seed 000): 6502h = 0x3AF (vl advertised, not simulated); homing
-// 1-14, 17-30, 33-35, 37; 605Ah {0,1,2,5,6} default 6; 605Dh 0-2 default 1;
+// Welcon (seed 000): 6502h = 0x3AF (vl advertised and simulated, ds402/velocity_mode.hpp); homing
+// -4, -3, 1-14, 17-30, 33-35, 37; 605Ah {0,1,2,5,6} default 6; 605Dh 0-2 default 1;
 // 605Eh 0 only. Codes from its error table: 8611h following error, FF03h/FF04h
 // limit switches, 7310h speed error, FF02h overload, 7500h communication.
 DriveConfig welcon() {
   DriveConfig c;
   c.name = "welcon";
+  c.homing_current_threshold_index = 0x2402;
   c.supported_modes = kPp | kVl | kPv | kTq | kHm | kCsp | kCsv | kCst;
   c.homing_methods.reset();
   allow(c, 1, 14);
   allow(c, 17, 30);
   allow(c, 33, 35);
   c.allow_homing(37);
+  allow(c, -4, -3);  // current threshold on a mechanical stop (§5.4.3.33/34)
   c.quick_stop = values({0, 1, 2, 5, 6}, 6);
   c.shutdown = OptionCode::range(0, 1, 0);
   c.disable_operation = OptionCode::range(0, 1, 1);

@@ -48,6 +48,9 @@ struct DriveConfig {
   // Manufacturer statusword bit (14/15) that reads 1 once homing succeeded
   // ("home found"/"origin found" of SIMTACH and Leadshine); 0 = none.
   std::uint16_t home_found_bit = 0;
+  // Manufacturer object holding the current threshold of homing methods
+  // -3/-4 (Welcon: 2402h, UNSIGNED32 mA); 0 = none.
+  std::uint16_t homing_current_threshold_index = 0;
 
   bool supports_mode(std::int8_t mode) const noexcept {
     const std::uint32_t bit = supported_bit(mode);

@@ -7,6 +7,7 @@ namespace ecat::ds402::detail {
 
 inline constexpr std::uint32_t kFollowingErrorOff = 0xFFFFFFFF;  // 6065h all ones: no monitoring
 inline constexpr double kMsPerS = 1000.0;
+inline constexpr double kMaPerA = 1000.0;
 inline constexpr double kTorqueWindowPerMille = 10.0;  // torque "target reached" band (no object in CiA 402)
 inline constexpr double kMovingRpm = 0.1;              // slower counts as standing still
 // 60FDh bits (CiA 402-2 §8.4.12): 0 negative limit, 1 positive limit, 2 home

@@ -20,9 +20,14 @@ double Drive::decel_for(StopKind stop, const DriveInputs& in) const noexcept {
   const double at_limit = std::min(limits_.torque_positive, limits_.torque_negative) / p.total_inertia() *
                           p.encoder_resolution / (2.0 * 3.14159265358979323846);
   double d = 0;
+  const bool vl = mode_ == OperationMode::Velocity;  // vl has its own ramps (6049h, 604Ah)
   switch (stop) {
-    case StopKind::SlowDownRamp: d = to_inc(in.profile_deceleration); break;
-    case StopKind::QuickStopRamp: d = to_inc(in.quick_stop_deceleration); break;
+    case StopKind::SlowDownRamp:
+      d = vl ? VelocityMode::deceleration(in) * vl_inc_per_unit_ : to_inc(in.profile_deceleration);
+      break;
+    case StopKind::QuickStopRamp:
+      d = vl ? VelocityMode::quick_stop(in) * vl_inc_per_unit_ : to_inc(in.quick_stop_deceleration);
+      break;
     default: d = at_limit; break;
   }
   return d > 0 ? d : at_limit;  // a zero ramp would never stop
@@ -97,12 +102,22 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
       }
       const Homing::Speeds speeds{to_inc(in.homing_speed_switch), to_inc(in.homing_speed_zero),
                                   to_inc(in.homing_acceleration)};
+      const Homing::Current current{plant_.torque() / plant_.parameters().torque_constant * kMaPerA,
+                                    static_cast<double>(in.homing_current_threshold)};
       if (const auto shift = homing_.cycle(gen_, axis_, plant_.previous_position(), actual, speeds,
-                                           to_inc(in.home_offset), dt)) {
+                                           to_inc(in.home_offset), dt, current)) {
         home_shift_ = *shift;
         homed_ = true;
       }
       demand_ = LoopDemand{Kind::Position, gen_.position(), gen_.velocity(), 0, 0};
+      return;
+    }
+    case OperationMode::Velocity: {
+      const double halt_slope = halted_ ? halt_decel() / vl_inc_per_unit_ : 0.0;
+      const double v = vl_.cycle(in, halted_, halt_slope, dt) * vl_inc_per_unit_;
+      internal_limit_ = vl_.limited();
+      gen_.reset(actual, v);
+      demand_ = LoopDemand{Kind::Velocity, actual, v, 0, 0};
       return;
     }
     case OperationMode::InterpolatedPosition:
@@ -147,14 +162,15 @@ void Drive::run_mode(const DriveInputs& in, double dt) noexcept {
       return;
     }
     default:
-      hold();  // no mode, or one this simulator does not run (vl)
+      hold();  // no mode
       return;
   }
 }
 
 // Interpolated position (CiA 402-2 §13, sub-mode 0 linear): while bit 4 is
-// set, every interpolation period 60C2h takes 60C1h:01 as the next point and
-// the demand moves to it in a straight line over that period.
+// set, every interpolation period 60C2h takes the next point - 60C1h:01, or
+// with the buffer enabled (60C4h:06 = 1) the next buffered record - and the
+// demand moves to it in a straight line over that period.
 void Drive::run_interpolated(const DriveInputs& in, double dt) noexcept {
   const bool enable = (in.controlword & cw::kEnableIpMode) != 0;
   if (!enable || halted_) {
@@ -172,7 +188,13 @@ void Drive::run_interpolated(const DriveInputs& in, double dt) noexcept {
                             : in.ip_period_value * std::pow(10.0, std::clamp<int>(in.ip_period_index, -9, 0));
   if (!ip_active_ || ip_elapsed_ >= period - 1e-12) {
     ip_from_ = ip_active_ ? ip_to_ : gen_.position();
-    ip_to_ = position_to_inc(in.ip_position);
+    if (!ip_buffer_.enabled()) {
+      ip_to_ = position_to_inc(in.ip_position);
+    } else if (const auto record = ip_buffer_.pop()) {
+      ip_to_ = position_to_inc(*record);  // 60C4h: the next buffered record
+    } else {
+      ip_to_ = ip_from_;  // buffer empty: hold the last point
+    }
     ip_elapsed_ = 0;
     ip_active_ = true;
   }

@@ -65,6 +65,9 @@ std::uint16_t Drive::mode_bits(const DriveInputs& in, double dt) noexcept {
           break;
       }
       break;
+    case OperationMode::Velocity:
+      if (vl_.reached()) b |= sw::kTargetReached;  // ramp output = ramp input (0 while halted)
+      break;
     case OperationMode::InterpolatedPosition:
       if (ip_active_) b |= sw::kIpModeActive;
       if (following_error_) b |= sw::kFollowingError;
@@ -92,13 +95,14 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   const PdsState s = sm_.state();
   std::uint16_t status = static_cast<std::uint16_t>(state_bits(s) | sw::kRemote | mode_bits(in, dt));
   if (s != PdsState::NotReadyToSwitchOn) status |= sw::kVoltageEnabled;  // mains assumed present
-  if (warning_ || emcy_.dropped() != 0) status |= sw::kWarning;
+  if (warning_ || emcy_.dropped() != 0 || ip_record_lost_) status |= sw::kWarning;
   if (internal_limit_ || plant_.torque_limited()) status |= sw::kInternalLimitActive;
   if (homed_) status |= config_.home_found_bit;
   out.statusword = status;
   out.modes_of_operation_display = static_cast<std::int8_t>(mode_);
   const OutputSources from{demand_.position, demand_.velocity,       plant_.position(), plant_.velocity(),
-                           plant_.torque_command(), plant_.torque(), home_shift_, units_.increments_per_unit()};
+                           plant_.torque_command(), plant_.torque(), home_shift_, units_.increments_per_unit(),
+                           vl_inc_per_setpoint_};
   if (!numeric_set_ || !(from == output_sources_)) update_numeric_outputs(from);
   out.position_demand = numeric_.position_demand;
   out.position_demand_internal = numeric_.position_demand_internal;
@@ -118,6 +122,9 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   out.touch_probe_2_negative = probe_.value(3);
   out.digital_inputs = numeric_.digital_inputs;
   out.supported_drive_modes = config_.supported_modes;
+  out.ip_buffer_position = ip_buffer_.ring() ? ip_buffer_.position() : in.ip_buffer_position;
+  out.vl_velocity_demand = numeric_.vl_velocity_demand;
+  out.vl_velocity_actual = numeric_.vl_velocity_actual;
 }
 
 void Drive::update_numeric_outputs(const OutputSources& from) noexcept {
@@ -129,6 +136,8 @@ void Drive::update_numeric_outputs(const OutputSources& from) noexcept {
   n.position_actual = UnitScaling::to_i32(position_to_user(pos));
   n.velocity_demand = UnitScaling::to_i32(to_user(from.velocity_demand));
   n.velocity_actual = UnitScaling::to_i32(to_user(from.velocity));
+  n.vl_velocity_demand = UnitScaling::to_i16(from.velocity_demand / from.increments_per_vl_setpoint);
+  n.vl_velocity_actual = UnitScaling::to_i16(from.velocity / from.increments_per_vl_setpoint);
   n.torque_demand = UnitScaling::to_i16(torque_per_mille(from.torque_command));
   n.torque_actual = UnitScaling::to_i16(torque_per_mille(from.torque));
   n.following_error = UnitScaling::to_i32(to_user(from.position_demand - pos));

@@ -1,5 +1,7 @@
 #include "ds402/homing.hpp"
 
+#include <cmath>
+
 namespace ecat::ds402 {
 
 namespace {
@@ -13,6 +15,11 @@ constexpr std::int8_t kIndexNegative = 33;
 constexpr std::int8_t kIndexPositive = 34;
 constexpr std::int8_t kCurrentPosition = 35;
 constexpr std::int8_t kCurrentPositionNew = 37;
+// Welcon manufacturer methods (seed 000 §5.4.3.33/34): move at 6099h:01 until
+// the motor current rises above 2402h, i.e. the axis presses on a mechanical
+// stop; that point is home.
+constexpr std::int8_t kCurrentThresholdPositive = -3;
+constexpr std::int8_t kCurrentThresholdNegative = -4;
 
 HomingMethod edge(AxisSignal s, int final_direction, bool active_before) {
   HomingMethod m;
@@ -36,6 +43,12 @@ HomingMethod window(int final_direction, bool active_before, int initial_directi
 // switch ahead (7-10 start positive, 11-14 negative).
 std::optional<HomingMethod> homing_method(std::int8_t number) noexcept {
   if (number == kCurrentPosition || number == kCurrentPositionNew) return HomingMethod{};
+  if (number == kCurrentThresholdPositive || number == kCurrentThresholdNegative) {
+    HomingMethod m;
+    m.kind = Kind::CurrentThreshold;
+    m.final_direction = number == kCurrentThresholdPositive ? 1 : -1;
+    return m;
+  }
   if (number == kIndexNegative || number == kIndexPositive) {
     HomingMethod m;
     m.kind = Kind::IndexOnly;
@@ -106,6 +119,7 @@ bool Homing::start(std::int8_t method, const Axis& axis, double actual_position)
       phase_ = Phase::Done;
       break;
     case Kind::IndexOnly: phase_ = Phase::Index; break;
+    case Kind::CurrentThreshold: phase_ = Phase::SearchStop; break;
     case Kind::Edge:
     case Kind::Window: {
       const bool now = axis.active(m_.signal, actual_position);
@@ -125,7 +139,8 @@ bool Homing::start(std::int8_t method, const Axis& axis, double actual_position)
 }
 
 std::optional<double> Homing::cycle(ProfileGenerator& gen, const Axis& axis, double previous, double actual,
-                                    const Speeds& sp, double home_offset, double dt) noexcept {
+                                    const Speeds& sp, double home_offset, double dt,
+                                    const Current& current) noexcept {
   if (status_ != HomingStatus::InProgress) {
     if (stopping_ && gen.stop(sp.acceleration, dt)) stopping_ = false;
     if (!stopping_) gen.reset(gen.position(), 0.0);
@@ -182,6 +197,18 @@ std::optional<double> Homing::cycle(ProfileGenerator& gen, const Axis& axis, dou
         return fail(), std::nullopt;
       }
       break;
+    case Phase::SearchStop:
+      // The stop is found when the current exceeds the threshold; the
+      // reference, which ran on past the stop, goes back to it.
+      if (std::abs(current.actual_ma) > current.threshold_ma) {
+        event_position_ = actual;
+        gen.reset(gen.position(), 0.0);
+        phase_ = Phase::Return;
+        return std::nullopt;
+      }
+      if (limit_ahead(axis, actual, search_direction_)) return fail(), std::nullopt;
+      gen.ramp_velocity(search_direction_ * sp.switch_search, sp.acceleration, sp.acceleration, dt);
+      return std::nullopt;
     case Phase::Stop:
       if (gen.stop(sp.acceleration, dt)) phase_ = Phase::Return;
       return std::nullopt;

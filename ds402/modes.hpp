@@ -9,7 +9,7 @@ namespace ecat::ds402 {
 enum class OperationMode : std::int8_t {
   None = 0,
   ProfilePosition = 1,
-  Velocity = 2,  // vl (not simulated)
+  Velocity = 2,  // vl (ds402/velocity_mode.hpp)
   ProfileVelocity = 3,
   ProfileTorque = 4,
   Homing = 6,
@@ -48,7 +48,8 @@ constexpr std::uint32_t supported_bit(std::int8_t mode) noexcept {
   }
 }
 
-// Modes this simulator implements.
+// Modes the generic drive advertises (vl is simulated too, but only the
+// personalities whose manual lists it advertise it).
 inline constexpr std::uint32_t kSimulatedModes = supported::kPp | supported::kPv | supported::kTq |
                                                 supported::kHm | supported::kIp | supported::kCsp |
                                                 supported::kCsv | supported::kCst;

@@ -34,6 +34,9 @@ struct DriveInputs {
   std::uint32_t homing_speed_zero = 10000;      // 6099h:02
   std::uint32_t homing_acceleration = 1000000;  // 609Ah
   std::int32_t home_offset = 0;                 // 607Ch
+  // Current threshold of the current-threshold homing methods, mA (Welcon
+  // 2402h, bound where the personality names it: DriveConfig).
+  std::uint32_t homing_current_threshold = 100;
 
   std::int32_t software_limit_min = 0;  // 607Dh:01 (min >= max: no limits)
   std::int32_t software_limit_max = 0;  // 607Dh:02
@@ -62,6 +65,34 @@ struct DriveInputs {
   std::int32_t ip_position = 0;        // 60C1h:01 interpolation data record, position
   std::uint8_t ip_period_value = 0;    // 60C2h:01 (0: one drive cycle)
   std::int8_t ip_period_index = -3;    // 60C2h:02, period = value · 10^index s
+  // Interpolation data configuration 60C4h (ds402/ip_buffer.hpp).
+  std::uint32_t ip_buffer_actual_size = 16;  // 60C4h:02
+  std::uint8_t ip_buffer_organisation = 0;   // 60C4h:03 (0 FIFO, 1 ring)
+  std::uint16_t ip_buffer_position = 0;      // 60C4h:04
+  std::uint8_t ip_buffer_access = 0;         // 60C4h:06 (0 clear/disabled, 1 enabled)
+  // Not an object: 60C1h:01 was written since the last cycle (by SDO, or by
+  // the RxPDO that maps it), so ip_position is a new record for the buffer.
+  bool ip_record_new = false;
+
+  // Velocity mode vl (CiA 402-2 vl objects; ds402/velocity_mode.hpp). Velocities
+  // in vl units (rpm scaled by 604Ch), times in s (6048h-604Ah:02) or ms.
+  std::int16_t vl_target_velocity = 0;             // 6042h
+  std::uint32_t vl_min_amount = 0;                 // 6046h:01
+  std::uint32_t vl_max_amount = 0xFFFFFFFF;        // 6046h:02
+  std::uint32_t vl_acceleration_delta_speed = 0;   // 6048h:01
+  std::uint16_t vl_acceleration_delta_time = 1;    // 6048h:02, s
+  std::uint32_t vl_deceleration_delta_speed = 0;   // 6049h:01
+  std::uint16_t vl_deceleration_delta_time = 1;    // 6049h:02, s
+  std::uint32_t vl_quick_stop_delta_speed = 0;     // 604Ah:01
+  std::uint16_t vl_quick_stop_delta_time = 1;      // 604Ah:02, s
+  std::int16_t vl_setpoint_numerator = 1;          // 604Bh:01
+  std::int16_t vl_setpoint_denominator = 1;        // 604Bh:02
+  std::int32_t vl_dimension_numerator = 1;         // 604Ch:01
+  std::int32_t vl_dimension_denominator = 1;       // 604Ch:02
+  std::uint32_t vl_velocity_reference = 0;         // 604Eh
+  std::uint32_t vl_ramp_function_time = 0;         // 604Fh, ms
+  std::uint32_t vl_slow_down_time = 0;             // 6050h, ms
+  std::uint32_t vl_quick_stop_time = 0;            // 6051h, ms
 
   // Factor group (CiA 402-2 §6.3). 0 in a feed/encoder field means "one
   // position unit per encoder increment".
@@ -98,6 +129,9 @@ struct DriveOutputs {
   std::int32_t touch_probe_2_negative = 0;  // 60BDh
   std::uint32_t digital_inputs = 0;         // 60FDh
   std::uint32_t supported_drive_modes = 0;  // 6502h
+  std::uint16_t ip_buffer_position = 0;     // 60C4h:04 (ring buffer: the next write position)
+  std::int16_t vl_velocity_demand = 0;      // 6043h, vl units
+  std::int16_t vl_velocity_actual = 0;      // 6044h, vl units
 };
 
 }  // namespace ecat::ds402

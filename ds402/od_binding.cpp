@@ -48,7 +48,17 @@ constexpr auto kInputs = std::make_tuple(
     f(0x608F, 1, &I::encoder_increments), f(0x608F, 2, &I::motor_revolutions),
     f(0x6091, 1, &I::gear_motor_revolutions), f(0x6091, 2, &I::gear_shaft_revolutions), f(0x6092, 1, &I::feed),
     f(0x6092, 2, &I::feed_shaft_revolutions), f(0x60C1, 1, &I::ip_position), f(0x60C2, 1, &I::ip_period_value),
-    f(0x60C2, 2, &I::ip_period_index));
+    f(0x60C2, 2, &I::ip_period_index), f(0x6042, 0, &I::vl_target_velocity), f(0x6046, 1, &I::vl_min_amount),
+    f(0x6046, 2, &I::vl_max_amount), f(0x6048, 1, &I::vl_acceleration_delta_speed),
+    f(0x6048, 2, &I::vl_acceleration_delta_time), f(0x6049, 1, &I::vl_deceleration_delta_speed),
+    f(0x6049, 2, &I::vl_deceleration_delta_time), f(0x604A, 1, &I::vl_quick_stop_delta_speed),
+    f(0x604A, 2, &I::vl_quick_stop_delta_time), f(0x604B, 1, &I::vl_setpoint_numerator),
+    f(0x604B, 2, &I::vl_setpoint_denominator), f(0x604C, 1, &I::vl_dimension_numerator),
+    f(0x604C, 2, &I::vl_dimension_denominator), f(0x604E, 0, &I::vl_velocity_reference),
+    f(0x604F, 0, &I::vl_ramp_function_time), f(0x6050, 0, &I::vl_slow_down_time),
+    f(0x6051, 0, &I::vl_quick_stop_time), f(0x60C4, 2, &I::ip_buffer_actual_size),
+    f(0x60C4, 3, &I::ip_buffer_organisation), f(0x60C4, 4, &I::ip_buffer_position),
+    f(0x60C4, 6, &I::ip_buffer_access));
 
 constexpr auto kOutputs = std::make_tuple(
     f(0x6041, 0, &O::statusword), f(0x6061, 0, &O::modes_of_operation_display), f(0x6062, 0, &O::position_demand),
@@ -58,7 +68,8 @@ constexpr auto kOutputs = std::make_tuple(
     f(0x603F, 0, &O::error_code), f(0x60B9, 0, &O::touch_probe_status), f(0x60BA, 0, &O::touch_probe_1_positive),
     f(0x60BB, 0, &O::touch_probe_1_negative), f(0x60BC, 0, &O::touch_probe_2_positive),
     f(0x60BD, 0, &O::touch_probe_2_negative), f(0x60FD, 0, &O::digital_inputs),
-    f(0x6502, 0, &O::supported_drive_modes));
+    f(0x6502, 0, &O::supported_drive_modes), f(0x60C4, 4, &O::ip_buffer_position), f(0x6043, 0, &O::vl_velocity_demand),
+    f(0x6044, 0, &O::vl_velocity_actual));
 
 static_assert(std::tuple_size_v<decltype(kInputs)> == DriveBinding::kInputCount);
 static_assert(std::tuple_size_v<decltype(kOutputs)> == DriveBinding::kOutputCount);
@@ -98,6 +109,8 @@ void copy_value(std::uint8_t* field, const std::uint8_t* bytes, std::uint8_t siz
 }
 
 constexpr std::uint16_t kErrorRegister = 0x1001;
+constexpr std::uint16_t kIpDataRecord = 0x60C1;  // sub 1: the position record
+constexpr std::uint8_t kIpDataRecordPosition = 1;
 constexpr std::uint16_t kSupportedHomingMethods = 0x60E3;
 constexpr std::uint16_t kSupportedDriveModes = 0x6502;
 // EMCY byte 3 (the first manufacturer-specific byte) of a multi-axis device:
@@ -123,10 +136,22 @@ DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency, c
     out_bytes_[i] = same_width<T>(store_, out_[i]);
   });
   error_register_ = store_.slot(kErrorRegister, 0);
+  ip_record_ = store_.slot(layout_.object_index(axis_, kIpDataRecord), kIpDataRecordPosition);
+}
+
+Expected<void, coe::SdoAbort> IpRecordHook::on_write(coe::ObjectStore& store,
+                                                     const coe::WriteRequest& request) noexcept {
+  (void)store;
+  if (request.subindex == kIpDataRecordPosition) written_ = true;
+  return {};
 }
 
 void DriveBinding::publish(const DriveConfig& config) {
   hooks_.install(store_, config, layout_, axis_);
+  if (ip_record_ != nullptr) store_.set_hooks(layout_.object_index(axis_, kIpDataRecord), &ip_record_hook_);
+  if (config.homing_current_threshold_index != 0) {
+    homing_current_threshold_ = store_.slot(layout_.object_index(axis_, config.homing_current_threshold_index), 0);
+  }
   if (auto* s = store_.slot(layout_.object_index(axis_, kSupportedDriveModes), 0)) {
     store_.set(*s, config.supported_modes);
   }
@@ -158,6 +183,7 @@ void DriveBinding::read(DriveInputs& in) const noexcept {
   [&]<std::size_t... N>(std::index_sequence<N...>) {
     (read_input<N>(in), ...);
   }(std::make_index_sequence<kInputCount>{});
+  if (homing_current_threshold_) in.homing_current_threshold = store_.get<std::uint32_t>(*homing_current_threshold_);
 }
 
 // One typed read per input, callable through a table.
@@ -169,8 +195,10 @@ void DriveBinding::read_one(const DriveBinding& b, DriveInputs& in) noexcept {
 void DriveBinding::read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept {
   if (store_.generation() != seen_ || rx_pdo.data() != rx_pdo_.data() || rx_pdo.size() != rx_pdo_.size()) {
     read_all(in, rx_pdo);
+    in.ip_record_new = ip_record_hook_.take() || ip_record_mapped_;
     return;
   }
+  in.ip_record_new = ip_record_hook_.take() || ip_record_mapped_;
   auto* base = reinterpret_cast<std::uint8_t*>(&in);
   for (std::size_t k = 0; k < mapped_count_; ++k) {
     const Mapped& m = mapped_[k];
@@ -197,6 +225,8 @@ void DriveBinding::read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pd
   seen_ = store_.generation();
   rx_pdo_ = rx_pdo;
   mapped_count_ = 0;
+  ip_record_mapped_ = false;
+  for (const coe::PdoItem& item : rx_pdo) ip_record_mapped_ = ip_record_mapped_ || (ip_record_ && item.entry == ip_record_);
   const DriveInputs layout{};
   const auto* base = reinterpret_cast<const std::uint8_t*>(&layout);
   each(kInputs, [&](const auto& fld, std::size_t i) {

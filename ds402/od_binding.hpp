@@ -22,10 +22,26 @@
 
 namespace ecat::ds402 {
 
+// Notes SDO writes of 60C1h:01: each is a record for the interpolation
+// buffer (60C4h). PDO writes do not pass the hooks; DriveBinding counts a
+// record per cycle for an RxPDO that maps 60C1h:01.
+class IpRecordHook final : public coe::ObjectHooks {
+ public:
+  Expected<void, coe::SdoAbort> on_write(coe::ObjectStore& store, const coe::WriteRequest& request) noexcept override;
+  bool take() noexcept {
+    const bool w = written_;
+    written_ = false;
+    return w;
+  }
+
+ private:
+  bool written_ = false;
+};
+
 class DriveBinding {
  public:
-  static constexpr std::size_t kInputCount = 48;
-  static constexpr std::size_t kOutputCount = 19;
+  static constexpr std::size_t kInputCount = 69;
+  static constexpr std::size_t kOutputCount = 22;
 
   // `emergency` may be null (then 1001h is written from DriveOutputs instead).
   DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency = nullptr) noexcept;
@@ -40,19 +56,20 @@ class DriveBinding {
   DriveBinding& operator=(const DriveBinding&) = delete;
 
   // Writes what the drive offers: 6502h supported modes and 60E3h supported
-  // homing methods (as many as the array has room for), and installs the
-  // SDO checks of DriveObjectHooks on 6060h, 6098h, 605Ah-605Eh. Set-up only.
+  // homing methods (as many as the array has room for), binds the
+  // personality's homing current threshold object, and installs the SDO checks of DriveObjectHooks on 6060h, 6098h, 605Ah-605Eh. Set-up only.
   void publish(const DriveConfig& config);
 
   // Store -> inputs, before Drive::step: every bound entry. `in.sync_lost`
-  // is not touched.
+  // and `in.ip_record_new` are not touched (read_cycle sets the latter).
   void read(DriveInputs& in) const noexcept;
   // The same for a cycle (issue 8): every bound entry when the store was
   // written through anything but storage() since the last call or write()
   // (ObjectStore::generation: SDO downloads, parameters, the application)
   // or when `rx_pdo` changed, else only the entries mapped in `rx_pdo` - the
   // ones the RxPDO copy (coe::ProcessData::read_outputs) writes each cycle.
-  // `in` must hold what the last call left in it.
+  // `in` must hold what the last call left in it. Sets `in.ip_record_new`
+  // when 60C1h:01 was written by SDO since the last call or `rx_pdo` maps it.
   void read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept;
   // The next read_cycle() copies every entry (the caller changed `in`).
   void invalidate() noexcept { seen_ = kNotRead; }
@@ -90,6 +107,8 @@ class DriveBinding {
   std::array<std::uint8_t*, kInputCount> in_bytes_{};
   std::array<std::uint8_t*, kOutputCount> out_bytes_{};
   coe::ObjectStore::Slot* error_register_ = nullptr;
+  // The personality's homing current threshold (Welcon 2402h), bound in publish().
+  coe::ObjectStore::Slot* homing_current_threshold_ = nullptr;
   // read_cycle: the generation the inputs were last read at (kNotRead:
   // never), the RxPDO table they were read for, and the inputs it maps.
   template <std::size_t N>
@@ -114,6 +133,9 @@ class DriveBinding {
   std::array<Mapped, kInputCount> mapped_{};
   std::size_t mapped_count_ = 0;
   DriveObjectHooks hooks_;
+  IpRecordHook ip_record_hook_;
+  const coe::ObjectStore::Slot* ip_record_ = nullptr;  // 60C1h:01 of this axis
+  bool ip_record_mapped_ = false;                       // rx_pdo_ maps it
   od::AxisLayout layout_;  // set-up only (publish)
   unsigned axis_ = 1;
   bool multi_axis_ = false;

@@ -43,6 +43,7 @@ Plant::Plant(const PlantParameters& p) noexcept
   kv_ = p_.total_inertia() * wc * rad_per_inc_;
   ki_ = kv_ * wc * kIntegralZeroRatio;
   position_ = previous_position_ = last_position_ref_ = p_.initial_position;
+  has_hard_stops_ = !std::isnan(p_.negative_hard_stop) || !std::isnan(p_.positive_hard_stop);
 }
 
 // Per new cycle length: the sub-step count and length and the current-loop
@@ -209,8 +210,25 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     run_sub_steps(demand, limits, start_ref);
     last_path_ = Path::SubSteps;
   }
+  apply_hard_stops();
   last_was_position_ = position_mode;
   last_position_ref_ = demand.position;
+}
+
+// An end stop ends the cycle's travel: the rotor is put back on it and
+// stops dead (an inelastic stop, resolved once per cycle). NaN: no stop.
+void Plant::apply_hard_stops() noexcept {
+  at_hard_stop_ = false;
+  if (!has_hard_stops_) return;
+  if (position_ >= p_.positive_hard_stop) {
+    position_ = p_.positive_hard_stop;
+    if (velocity_ > 0) velocity_ = 0;
+    at_hard_stop_ = true;
+  } else if (position_ <= p_.negative_hard_stop) {
+    position_ = p_.negative_hard_stop;
+    if (velocity_ < 0) velocity_ = 0;
+    at_hard_stop_ = true;
+  }
 }
 
 void Plant::step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
@@ -221,6 +239,7 @@ void Plant::step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits
   torque_limited_ = false;
   run_sub_steps(demand, limits, start_ref);
   last_path_ = Path::SubSteps;
+  apply_hard_stops();
   last_was_position_ = position_mode;
   last_position_ref_ = demand.position;
 }

@@ -59,6 +59,11 @@ struct PlantParameters {
   double probe2_low = kUnset;             // "probe2_low"
   double probe2_high = kUnset;            // "probe2_high"
   double initial_position = 0;            // increments at power-on "initial_position"
+  // Mechanical end stops (increments; NaN: none): the rotor cannot pass them
+  // and stops dead there (velocity 0), the controller then pushes against
+  // them. Used by the current-threshold homing methods (Welcon -3/-4).
+  double negative_hard_stop = kUnset;     // "negative_hard_stop"
+  double positive_hard_stop = kUnset;     // "positive_hard_stop"
 
   double total_inertia() const noexcept { return rotor_inertia + load_inertia; }
 };
@@ -104,6 +109,8 @@ class Plant {
   // The same, always one sub-step after the other: the reference the
   // closed-form and rest paths are tested against.
   void step_by_sub_steps(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept;
+  // Whether the last step ended on an end stop (clamped there).
+  bool at_hard_stop() const noexcept { return at_hard_stop_; }
   Path last_path() const noexcept { return last_path_; }
 
   // A load torque acting against the motor (N·m), e.g. a stall or collision.
@@ -187,6 +194,9 @@ class Plant {
   double last_position_ref_ = 0;
   bool last_was_position_ = false;
   bool torque_limited_ = false;
+  bool at_hard_stop_ = false;
+  bool has_hard_stops_ = false;  // either end stop is set (not NaN)
+  void apply_hard_stops() noexcept;
   Path last_path_ = Path::SubSteps;
   // Set by configure() for the cycle length dt_ it was last called with (the
   // cycle time rarely changes, so exp() and the divisions run once per new

@@ -14,7 +14,7 @@ struct Field {
   int sign;  // 1: must be > 0, 0: must be >= 0, -1: any value
 };
 
-constexpr std::array<Field, 26> kFields{{
+constexpr std::array<Field, 28> kFields{{
     {"rotor_inertia", &PlantParameters::rotor_inertia, 1},
     {"load_inertia", &PlantParameters::load_inertia, 0},
     {"viscous_friction", &PlantParameters::viscous_friction, 0},
@@ -41,6 +41,8 @@ constexpr std::array<Field, 26> kFields{{
     {"probe2_low", &PlantParameters::probe2_low, -1},
     {"probe2_high", &PlantParameters::probe2_high, -1},
     {"initial_position", &PlantParameters::initial_position, -1},
+    {"negative_hard_stop", &PlantParameters::negative_hard_stop, -1},
+    {"positive_hard_stop", &PlantParameters::positive_hard_stop, -1},
 }};
 constexpr double kLimitRevolutions = 100;
 constexpr double kHomeSwitchRevolutions[2] = {3, 4};
@@ -89,6 +91,8 @@ Expected<PlantParameters, std::string> plant_parameters_from(
   if (base.home_switch_low > base.home_switch_high) return fail(std::string("plant: home_switch_low above home_switch_high"));
   if (base.negative_limit_switch >= base.positive_limit_switch)
     return fail(std::string("plant: negative_limit_switch not below positive_limit_switch"));
+  if (base.negative_hard_stop >= base.positive_hard_stop)
+    return fail(std::string("plant: negative_hard_stop not below positive_hard_stop"));
   return base;
 }
 

@@ -85,7 +85,8 @@ TEST(DriveAxes, EachBindingUsesItsAxisObjects) {
   EXPECT_EQ(rig.store.get<std::uint32_t>(0x6502, 0), 0x3AFu);
   EXPECT_EQ(rig.store.get<std::uint32_t>(0x6D02, 0), 0x3EDu);
   EXPECT_EQ(rig.store.get<std::int16_t>(0x68E3, 3), 7);  // Yaskawa: 1, 2, 7, 8
-  EXPECT_EQ(rig.store.get<std::int16_t>(0x60E3, 3), 3);  // Welcon personality: 1, 2, 3, ...
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x60E3, 1), -4);  // Welcon personality: -4, -3, 1, 2, 3, ...
+  EXPECT_EQ(rig.store.get<std::int16_t>(0x60E3, 4), 2);
   ASSERT_TRUE(rig.store.set<std::uint16_t>(0x6840, 0, 0x000F));
   ASSERT_TRUE(rig.store.set<std::int32_t>(0x687A, 0, -4321));
   DriveInputs in1, in2;

@@ -187,9 +187,9 @@ TEST(DualAxisWelcon, ReachesOpWithBothAxesInTheProcessImage) {
   EXPECT_EQ(r.status(1), kSwitchOnDisabled);
   EXPECT_EQ(r.status(2), kSwitchOnDisabled);
   // Each axis answers its own 6502h (the file's Drive/modes, published per
-  // axis: PP PV HM CSP CSV CST) and commands only itself.
-  EXPECT_EQ(r.get(1, 0x6502, 4), 0x03A5);
-  EXPECT_EQ(r.get(2, 0x6502, 4), 0x03A5);
+  // axis: PP VL PV HM CSP CSV CST) and commands only itself.
+  EXPECT_EQ(r.get(1, 0x6502, 4), 0x03A7);
+  EXPECT_EQ(r.get(2, 0x6502, 4), 0x03A7);
   r.command(2, kShutdown);
   ASSERT_TRUE(r.cycles(3));
   EXPECT_EQ(r.status(1), kSwitchOnDisabled);
