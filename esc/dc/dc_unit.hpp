@@ -124,14 +124,16 @@ class DcUnit : private SyncUnit::Sink {
   std::array<bool, kSyncSignals> sync_level_{};
   std::array<std::uint64_t, kSyncSignals> pulse_end_{};  // system time, pulse mode
   DcObserver* observer_ = nullptr;
+  // Arrivals before the processing unit (on_arrival_before_processing):
+  // only frames of a port walk write them, so they stay off the per-frame lines.
+  std::array<Nanoseconds, kPorts> early_{};
+  std::uint8_t early_mask_ = 0;  // bit n: early_[n] holds this frame's arrival at port n
   // What every frame reads or writes (on_frame_arrival, the Esc's IRQ
   // field), last: the Esc keeps its own per-frame members right behind.
   std::uint32_t al_events_ = 0;
   std::uint16_t ecat_events_ = 0;
   bool receive_latch_armed_ = false;
-  std::uint8_t early_mask_ = 0;  // bit n: early_[n] holds this frame's arrival at port n
   Nanoseconds last_t_{0};  // latest time the unit has seen
-  std::array<Nanoseconds, kPorts> early_{};
 };
 
 }  // namespace ecat::esc
