@@ -29,6 +29,10 @@ Esc::Esc(EscConfig config, const Clock& clock)
   config_.fmmu_count = std::min(config_.fmmu_count, kMaxFmmus);
   config_.sync_manager_count = std::min(config_.sync_manager_count, kMaxSyncManagers);
   config_.port_count = std::min(config_.port_count, kMaxPorts);
+  for (unsigned p = 0; p < kMaxPorts; ++p) {
+    present_[p] = config_.port_descriptor != 0 ? ((config_.port_descriptor >> (2 * p)) & kPortTypeMask) != 0
+                                               : p < config_.port_count;
+  }
   config_.process_ram_size = std::min(config_.process_ram_size, kMaxProcessRam);
   // Registers and the configured RAM only (issue 16): every access beyond
   // ram_end() is clipped before it reaches memory (mem_read/mem_write, the
@@ -70,9 +74,11 @@ void Esc::reset() noexcept {
   m[reg::kFmmusSupported] = config_.fmmu_count;
   m[reg::kSyncManagersSupported] = config_.sync_manager_count;
   m[reg::kRamSize] = static_cast<std::uint8_t>(config_.process_ram_size / kKiB);
-  std::uint8_t ports = 0;
-  for (unsigned p = 0; p < config_.port_count; ++p) {
-    ports = static_cast<std::uint8_t>(ports | (static_cast<unsigned>(config_.port_type) << (2 * p)));
+  std::uint8_t ports = config_.port_descriptor;
+  if (ports == 0) {
+    for (unsigned p = 0; p < config_.port_count; ++p) {
+      ports = static_cast<std::uint8_t>(ports | (static_cast<unsigned>(config_.port_type) << (2 * p)));
+    }
   }
   m[reg::kPortDescriptor] = ports;
   std::uint16_t features = 0;
@@ -100,6 +106,7 @@ void Esc::reset() noexcept {
   reset_step_ = {};
   reset_requested_ = false;
   al_control_pending_ = false;
+  closed_wait_ = {};
   load_eeprom(true);
   refresh_timers();
   update_ports();
@@ -340,24 +347,67 @@ void Esc::sii_action(SiiInterface::Action a) noexcept {
 
 // --- Ports and DL status ------------------------------------------------------------
 
+std::uint32_t Esc::loop_control(unsigned port) const noexcept {
+  return (dl_control() >> (bits::kDlLoopShift + 2 * port)) & bits::kDlLoopMask;
+}
+
+// A link lost on a port in Auto or Auto-close counts in 0x0310+port
+// (saturating; Section II 0x0310, Section I §14 error counters); Auto-close
+// keeps the port closed until the master writes the loop control again or a
+// valid frame arrives at it (Section I §3.4 Figure 4, "closed wait").
 void Esc::set_link(unsigned port, bool l) noexcept {
   if (port >= kMaxPorts) return;
-  link_[port] = l && port < config_.port_count;
+  const bool was = link_[port];
+  link_[port] = l && present_[port];
+  if (was && !link_[port]) {
+    const std::uint32_t loop = loop_control(port);
+    if (loop == bits::kLoopAuto || loop == bits::kLoopAutoClose) {
+      std::uint8_t& c = mem_[reg::kLostLinkCounter + port];
+      if (c < bits::kCounterMax) ++c;
+    }
+    if (loop == bits::kLoopAutoClose) closed_wait_[port] = true;
+  }
   update_ports();
   update_dl_status();
 }
 
-// Loop control per port (0x0100 bits 8+2n, Section I §3.5): Auto and
-// Auto-close follow the link; open/closed are forced.
+void Esc::frame_at_closed_port(unsigned port) noexcept {
+  if (port >= kMaxPorts || !closed_wait_[port] || !link_[port]) return;
+  closed_wait_[port] = false;
+  update_ports();
+  update_dl_status();
+}
+
+// Writing the loop configuration again (0x0101) opens Auto-close ports in
+// "closed wait" that have a link (Section I §3.4).
+void Esc::loop_control_written() noexcept {
+  for (unsigned p = 0; p < kMaxPorts; ++p) {
+    if (loop_control(p) == bits::kLoopAutoClose) closed_wait_[p] = false;
+  }
+}
+
+// Loop control per port (0x0100 bits 8+2n, Section I §3.4): Auto follows the
+// link; Auto-close too, except in "closed wait"; open/closed are forced.
+// A port that does not exist is closed.
 void Esc::update_ports() noexcept {
-  const std::uint32_t dl = dl_control();
   for (unsigned p = 0; p < kMaxPorts; ++p) {
     bool open = false;
-    if (p < config_.port_count) {
-      const std::uint32_t loop = (dl >> (bits::kDlLoopShift + 2 * p)) & bits::kDlLoopMask;
-      open = loop == bits::kLoopOpen || (loop != bits::kLoopClosed && link_[p]);
+    if (present_[p]) {
+      const std::uint32_t loop = loop_control(p);
+      open = loop == bits::kLoopOpen || (loop == bits::kLoopAuto && link_[p]) ||
+             (loop == bits::kLoopAutoClose && link_[p] && !closed_wait_[p]);
     }
     port_open_[p] = open;
+  }
+  // The line path (Section I §3.2 order 0 -> PU -> 3 -> 1 -> 2 -> 0): with
+  // ports 2 and 3 closed the frame goes out of port 1 when it is open, and
+  // otherwise back; an open port 2/3 has no neighbour in a line.
+  if (port_open_[2] || port_open_[3]) {
+    line_route_ = LineRoute::Lost;
+  } else if (port_open_[1]) {
+    line_route_ = link_[1] ? LineRoute::Down : LineRoute::Lost;
+  } else {
+    line_route_ = LineRoute::Back;
   }
 }
 

@@ -88,8 +88,17 @@ class Esc final : public Pdi {
   // --- Ports (set by esc::Segment) ---
   // Physical link on `port` (0..3): a neighbour is connected. Unconnected
   // ports are closed (looped back) as an ET1100 in Auto loop mode does.
+  // Losing a link counts in the lost-link counter 0x0310+port when the
+  // port's loop control is Auto or Auto-close, and puts an Auto-close port
+  // into "closed wait" (Section I §3.4, Figure 4; Section II 0x0310).
   void set_link(unsigned port, bool link) noexcept;
   bool link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
+  // Whether `port` exists on this ESC (0x0007 bits 2n+1:2n not 00).
+  bool port_present(unsigned port) const noexcept { return port < kMaxPorts && present_[port]; }
+  // A valid frame arrived from the wire at `port` while it is closed: an
+  // Auto-close port in "closed wait" opens (Section I §3.4, Figure 4).
+  // The frame itself is not taken in (a closed port does not receive).
+  void frame_at_closed_port(unsigned port) noexcept;
   // Whether a frame leaving the processing unit toward `port` goes out
   // (open) or is looped back (closed), per link and DL control loop bits
   // (cached; recomputed when the link or DL control changes).
@@ -195,6 +204,9 @@ class Esc final : public Pdi {
     return static_cast<std::uint16_t>(ecat_event() & load_le<std::uint16_t>(mem_.get() + reg::kEcatEventMask));
   }
   void update_dl_status() noexcept;
+  // DL control 0x0101 written: Auto-close ports leave "closed wait".
+  void loop_control_written() noexcept;
+  std::uint32_t loop_control(unsigned port) const noexcept;
   // Caches (see "Speed" above).
   void update_ports() noexcept;
   void update_sm_guards() noexcept;
@@ -281,6 +293,14 @@ class Esc final : public Pdi {
   std::uint64_t logical_end_ = 0;
   std::array<bool, kMaxPorts> link_{};
   std::array<bool, kMaxPorts> port_open_{};
+  // What a line of ESCs (esc::Segment's line path) does after the processing
+  // unit, from port_open_ and link_ (update_ports): on to port 1's
+  // neighbour, back toward port 0 (ports 3, 1, 2 closed), or lost (an open
+  // port 2/3, or port 1 open with no link).
+  enum class LineRoute : std::uint8_t { Down, Back, Lost };
+  LineRoute line_route_ = LineRoute::Back;
+  std::array<bool, kMaxPorts> present_{};      // the port exists (0x0007)
+  std::array<bool, kMaxPorts> closed_wait_{};  // Auto-close port closed after a link loss
   // pdi_in_place_sm's last answers: [0] reads, [1] writes; sm -1 = none kept.
   struct PdiBufferHint {
     std::uint32_t address = 0;

@@ -21,6 +21,10 @@ inline constexpr std::uint32_t kMaxProcessRam = 0x10000 - 0x1000;  // 60 KiB
 
 // Port descriptor 0x0007, two bits per port.
 enum class PortType : std::uint8_t { NotImplemented = 0b00, NotConfigured = 0b01, Ebus = 0b10, Mii = 0b11 };
+inline constexpr unsigned kPortTypeMask = 0b11;
+inline constexpr std::uint8_t port_descriptor_bits(unsigned port, PortType t) {
+  return static_cast<std::uint8_t>(static_cast<unsigned>(t) << (2 * port));
+}
 
 // Called when the master writes an SII word through 0x0502 (write command),
 // so the owner can persist it. Set-up only; never called on the cyclic path
@@ -36,6 +40,11 @@ struct EscConfig {
   std::uint32_t process_ram_size = 8 * 1024;  // bytes at 0x1000.., <= kMaxProcessRam, multiple of 1 KiB
   std::uint8_t port_count = 2;           // ports 0..port_count-1 exist, <= kMaxPorts
   PortType port_type = PortType::Mii;    // type reported for each existing port in 0x0007
+  // Port descriptor 0x0007 given per port (two bits each, port 0 = bits 1:0):
+  // when not 0 it replaces port_count/port_type, and a port exists when its
+  // bits are not 00 ("not implemented") - e.g. 0x3B for a coupler with port 0
+  // MII, port 1 E-bus, port 2 MII and no port 3 (Section II 0x0007).
+  std::uint8_t port_descriptor = 0;
 
   // Features 0x0008.
   bool dc = true;               // bit 2: DC available (0x0900-0x09FF routed to DcUnit)

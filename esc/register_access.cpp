@@ -231,6 +231,7 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
     }
     m[a] = step;  // reads show the progress of the sequence
   } else if (in(a, reg::kDlControl, reg::kDlControl + 4)) {
+    if (a == reg::kDlControl + 1) loop_control_written();
     update_ports();
     update_dl_status();
   } else if (ecat && a == reg::kAlControl) {

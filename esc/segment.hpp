@@ -1,15 +1,24 @@
-// A line of ESCs in one process, wired as real slaves are: each slave's
-// port 1 to the next slave's port 0, the master on the first slave's port 0,
-// unconnected ports closed (looped back) as an ET1100 in Auto loop mode
-// (Section I §3.5). process_frame() carries an Ethernet frame through the
-// line in place, as the wire would (ETG.1000.4 §5; shared/spec/esc-registers.md §1.4).
+// ESCs wired into a network in one process, as real slaves are: a line
+// (each slave's port 1 to the next slave's port 0, the master on the first
+// slave's port 0), or any tree of 4-port ESCs (couplers, junctions), or a
+// ring whose far end comes back to a second master port (cable redundancy).
+// Unconnected ports are closed (looped back) as an ET1100 in Auto loop mode
+// (Section I §3.4). A frame is carried in place, port by port, in the order
+// of the silicon (Section I §3.2 Table 9: 0 -> processing unit -> 3 -> 1 ->
+// 2 -> 0; a frame entering at port 1, 2 or 3 is forwarded without processing
+// until a closed port 0 turns it into the processing unit), as the wire would
+// (ETG.1000.4 §5; shared/spec/esc-registers.md §1.4). docs/esc.md "Ports and
+// topology" lists the behaviour and its sources.
 //
-// Speed: the frame is parsed once (fixed-capacity datagram table, no heap);
-// every slave then walks the table, so a slave's cost follows the datagrams
-// and the bytes it maps, not the frame length. The time is read once.
+// Speed: the frame is parsed once (no heap); every slave then walks the
+// datagrams in place, so a slave's cost follows the datagrams and the bytes
+// it maps, not the frame length. A segment built only with add(Esc&) is a
+// line and takes a loop of its own (no port walk); the time is read once.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -21,29 +30,82 @@ namespace ecat::esc {
 
 inline constexpr unsigned kUpstreamPort = 0;
 inline constexpr unsigned kDownstreamPort = 1;
+// The master's ports: 0 the main one, 1 the redundant one (the ring's far end).
+inline constexpr unsigned kMasterPorts = 2;
+
+// Where a frame sent with Segment::send went.
+struct Delivery {
+  enum class Outcome : std::uint8_t {
+    Returned,   // came back to the master on `master_port`
+    Lost,       // sent out of an open port without a link, or into a closed one
+    Destroyed,  // circulating frame (Section I §3.5.1), or no way through
+    Malformed,  // rejected before any ESC (Segment::last_error says why)
+  };
+  Outcome outcome = Outcome::Lost;
+  unsigned master_port = 0;  // valid when Returned
+  Nanoseconds at{0};         // when it reached the master port (when Returned)
+  unsigned processed = 0;    // processing units the frame passed
+  bool returned() const noexcept { return outcome == Outcome::Returned; }
+};
 
 class Segment {
  public:
-  // Wire-plus-processing delay from one slave's port 0 to the next's,
-  // used for the port arrival times handed to each DC unit.
+  // Wire-plus-forwarding delay of a link from one slave's port to the
+  // neighbour's, used for the port arrival times handed to each DC unit.
   static constexpr Nanoseconds kDefaultHopDelay{1000};
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
 
   Segment() = default;
   explicit Segment(Nanoseconds hop_delay) : hop_delay_(hop_delay) {}
 
-  // Appends `esc` at the end of the line (set-up only; the Esc must outlive
-  // the Segment). Updates the port links of it and its predecessor.
-  void add(Esc& esc);
+  // --- Set-up (the Escs must outlive the Segment) ---
+  // Appends `esc` at the end of the line: its port 0 to the previous slave's
+  // port 1 (the master's port 0 for the first). Returns its index.
+  std::size_t add(Esc& esc);
+  // Adds `esc` with its port `port` cabled to port `parent_port` of slave
+  // `parent` (an index returned earlier), with that link's delay (default:
+  // the segment's hop delay). Returns its index.
+  std::size_t add(Esc& esc, std::size_t parent, unsigned parent_port, unsigned port = kUpstreamPort,
+                  std::optional<Nanoseconds> delay = std::nullopt);
+  // Cables port `port` of slave `slave` to the master's port `master_port`
+  // (1: the redundant port closing a ring; 0 is where add() puts the first slave).
+  void connect_master(unsigned master_port, std::size_t slave, unsigned port,
+                      std::optional<Nanoseconds> delay = std::nullopt);
+
+  // --- Run time ---
+  // Cuts (up = false) or restores the cable on port `port` of slave `slave`:
+  // both ends lose or regain their link (a master port end has no ESC), and
+  // each ESC reacts as silicon does (Esc::set_link: DL status, loop closed in
+  // Auto, lost-link counter). Returns false if nothing is cabled there.
+  bool set_link(std::size_t slave, unsigned port, bool up) noexcept;
+  // Whether the cable on that port is connected and up.
+  bool link_up(std::size_t slave, unsigned port) const noexcept;
+  // The slave and port cabled to `port` of `slave`, or {kNone, master port} for the master.
+  struct Peer {
+    std::size_t slave = kNone;
+    unsigned port = 0;
+    bool master = false;
+  };
+  std::optional<Peer> peer(std::size_t slave, unsigned port) const noexcept;
+  // True while the segment is a line built by add(Esc&) alone.
+  bool is_line() const noexcept { return line_; }
+
   std::size_t size() const noexcept { return escs_.size(); }
   Esc& operator[](std::size_t i) noexcept { return *escs_[i]; }
 
-  // Carries `frame` (a whole Ethernet frame) through the line at time `now`:
-  // every reached ESC processes it in order, then the source MAC gets the
-  // "processed" bit. Returns false, and leaves every ESC unchanged except
-  // its error counters, if the frame is malformed; false also when the
-  // frame is lost (destroyed as circulating, or sent out of an open port
-  // with no link). Non-EtherCAT frames return false and count nothing.
-  bool process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept;
+  // Carries `frame` (a whole Ethernet frame) sent by the master on port 0
+  // at time `now`: every reached ESC processes it in the silicon's order,
+  // then the source MAC gets the "processed" bit. Returns true when the
+  // frame comes back to the master (on either port). Returns false, and
+  // leaves every ESC unchanged except its error counters, if the frame is
+  // malformed; false also when it is lost (destroyed as circulating, or
+  // sent out of an open port with no link). Non-EtherCAT frames return
+  // false and count nothing.
+  bool process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+    return send(frame, now, 0).returned();
+  }
+  // The same, sent on master port `master_port`; says where it came back.
+  Delivery send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port = 0) noexcept;
 
   // Runs every ESC's timers; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
@@ -53,8 +115,30 @@ class Segment {
   FrameError last_error() const noexcept { return last_error_; }
 
  private:
+  // One end of a cable: the slave (or master port) at the other end.
+  struct Link {
+    std::uint32_t slave = kNoSlave;  // kMasterSlave: a master port
+    std::uint8_t port = 0;
+    bool up = false;
+    Nanoseconds delay{0};
+  };
+  static constexpr std::uint32_t kNoSlave = 0xFFFFFFFFu;
+  static constexpr std::uint32_t kMasterSlave = 0xFFFFFFFEu;
+
+  std::size_t append(Esc& esc);
+  void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
+  Delivery carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  Delivery carry_ports(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
+
   std::vector<Esc*> escs_;
+  std::vector<std::array<Link, kMaxPorts>> links_;
+  // Per slave: the frame number at which it was last touched / processed
+  // (early receive times before the processing unit, carry_ports).
+  std::vector<std::uint64_t> touched_;
+  std::array<Link, kMasterPorts> master_{};
+  std::uint64_t frame_number_ = 0;
   Nanoseconds hop_delay_ = kDefaultHopDelay;
+  bool line_ = true;
   std::uint64_t processed_ = 0;
   std::uint64_t dropped_ = 0;
   FrameError last_error_ = FrameError::TooShort;

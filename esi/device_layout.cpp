@@ -22,7 +22,8 @@ constexpr std::int64_t kI32Max = std::numeric_limits<std::int32_t>::max();
 // The ESC address space is 64 KiB and process RAM starts at 0x1000
 // (ESC datasheet section II, "Process data RAM").
 constexpr std::uint64_t kMaxRamSize = 0x10000 - 0x1000;
-constexpr std::uint64_t kMaxUnits = 16;  // FMMUs / SMs an ESC can have (0x0004/0x0005)
+constexpr std::uint64_t kMaxUnits = 16;
+constexpr std::size_t kMaxPorts = 4;  // ports 0..3 (0x0007)  // FMMUs / SMs an ESC can have (0x0004/0x0005)
 
 // CiA 402 6502h "supported drive modes" bits.
 constexpr std::array<std::pair<std::string_view, unsigned>, 10> kDriveModeBits = {{
@@ -64,6 +65,15 @@ void build_esc(const ElementSpec& e, od::DeviceDescription& dev) {
   esc.pdi_configuration2 = static_cast<std::uint16_t>(attr_unsigned(e, "pdiConfiguration2", kU16, esc.pdi_configuration2));
   esc.sync_impulse_length = static_cast<std::uint16_t>(attr_unsigned(e, "syncImpulseLength", kU16, esc.sync_impulse_length));
   esc.configured_station_alias = static_cast<std::uint16_t>(attr_unsigned(e, "alias", kU16, esc.configured_station_alias));
+  // ESI PhysicsType: [Y,K,H, ]{0,4}; port 0 carries the master's frames, so it must exist.
+  const std::string physics = attr_text(e, "physics", esc.physics);
+  if (physics.empty() || physics.size() > kMaxPorts || physics.find_first_not_of("YKH ") != std::string::npos ||
+      physics[0] == ' ') {
+    fail_at(where_of(e, "physics"),
+            fmt::format("Esc physics '{}': one letter per port 0..3 (Y or H MII, K E-bus, space unused), port 0 used",
+                        physics));
+  }
+  esc.physics = physics;
   dev.bootstrap_supported = attr_bool(e, "bootstrap", dev.bootstrap_supported);
 }
 

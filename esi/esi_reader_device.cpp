@@ -147,6 +147,13 @@ class DeviceReader {
     id.name = esi_name(dev);
     id.group_type = dev.child_value("GroupType");
     d_.esc.no_lrw = esi_bool(type.attribute("UseLrdLwr"));
+    // Device@Physics (ETG.2000 PhysicsType [Y,K,H, ]{0,4}): the ports; kept
+    // when it names a used port 0, else the two MII ports of the default.
+    const std::string physics = dev.attribute("Physics").value();
+    if (!physics.empty() && physics.size() <= 4 && physics.find_first_not_of("YKH ") == std::string::npos &&
+        physics[0] != ' ') {
+      d_.esc.physics = physics;
+    }
     for (auto g : info.child("Descriptions").child("Groups").children("Group")) {
       if (id.group_type == g.child_value("Type")) id.group_name = esi_name(g);
     }

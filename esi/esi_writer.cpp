@@ -206,7 +206,7 @@ void append_slots(pugi::xml_node device, const od::ModularDevice& m) {
 void append_device(pugi::xml_node devices, const od::DeviceDescription& d) {
   const auto& id = d.identity;
   auto device = devices.append_child("Device");
-  attr(device, "Physics", kPhysicsTwoMiiPorts);
+  attr(device, "Physics", d.esc.physics.empty() ? kPhysicsTwoMiiPorts : d.esc.physics.c_str());
   auto type = device.append_child("Type");
   attr(type, "ProductCode", esi_hex(id.product_code, kIdDigits));
   attr(type, "RevisionNo", esi_hex(id.revision, kIdDigits));

@@ -229,6 +229,7 @@ void append_header(pugi::xml_node root, const od::DeviceDescription& d) {
   attr(esc, "syncImpulseLength", std::to_string(e.sync_impulse_length));
   attr(esc, "alias", std::to_string(e.configured_station_alias));
   attr(esc, "bootstrap", boolean(d.bootstrap_supported));
+  if (e.physics != "YY") attr(esc, "physics", e.physics);  // two MII ports: the default
 
   const auto& m = d.mailbox;
   auto mb = root.append_child("Mailbox");

@@ -11,8 +11,20 @@
 namespace ecat::esi {
 namespace {
 
-// Two MII ports (ESI Physics="YY"): port 0 and port 1 nibbles = 1.
-constexpr std::uint16_t kDefaultPhysicalPorts = sii::kPortMii | (sii::kPortMii << 4);
+// GENERAL physical ports (0x10): 4 bits per port from ESI Physics letters
+// (sii-eeprom.md: Y or H -> 1 MII, K -> 3 EBUS, blank -> 0); "YY" = 0x0011,
+// an EK1100-like "YKY" = 0x0131.
+constexpr unsigned kPortNibbleBits = 4;
+std::uint16_t physical_ports(const std::string& physics) {
+  std::uint16_t v = 0;
+  for (std::size_t p = 0; p < physics.size() && p < 4; ++p) {
+    std::uint16_t nibble = sii::kPortNotUsed;
+    if (physics[p] == 'Y' || physics[p] == 'H') nibble = sii::kPortMii;
+    if (physics[p] == 'K') nibble = sii::kPortEbus;
+    v = static_cast<std::uint16_t>(v | (nibble << (kPortNibbleBits * p)));
+  }
+  return v;
+}
 
 std::uint8_t fmmu_code(od::FmmuUsage u) {
   switch (u) {
@@ -123,7 +135,7 @@ SiiImage sii_from_device(const od::DeviceDescription& d, SiiDetail detail) {
   g.foe_details = mb.foe ? sii::kFoeEnable : 0;
   g.eoe_details = mb.eoe ? sii::kEoeEnable : 0;
   g.flags = d.esc.no_lrw ? sii::kFlagNotLrw : 0;
-  g.physical_ports = kDefaultPhysicalPorts;
+  g.physical_ports = physical_ports(d.esc.physics);
   img.general = g;
 
   for (auto u : d.fmmus) img.fmmus.push_back(fmmu_code(u));

@@ -137,6 +137,11 @@ struct EscProperties {
   std::uint16_t sync_impulse_length = 100;  // SII word 2, in 10 ns
   std::uint16_t pdi_configuration2 = 0;     // 0x0152/0x0153 (SII word 3)
   std::uint16_t configured_station_alias = 0;  // SII word 4
+  // The ESC's ports as ESI Device@Physics writes them (ETG.2000): one letter
+  // per port from port 0, 'Y' (or 'H') MII, 'K' E-bus, ' ' not used; ports
+  // past the text are not used. "YY": two MII ports (a line slave); "YKY":
+  // a coupler (port 1 to its E-bus terminals); "KKYY": a junction.
+  std::string physics = "YY";
 };
 
 // CiA 402 facts a drive needs beyond the dictionary.

@@ -32,19 +32,40 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
   return returned;
 }
 
-bool Chain::pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+Expected<void, std::string> Chain::attach(od::DeviceDescription device, const SlaveOptions& options,
+                                          std::size_t parent, unsigned parent_port, unsigned port) {
+  if (parent >= slaves_.size()) return fail(fmt::format("no slave {} to attach to", parent + 1));
+  if (parent_port >= esc::kMaxPorts || port >= esc::kMaxPorts) return fail(std::string("ports are 0..3"));
+  if (segment_.peer(parent, parent_port)) {
+    return fail(fmt::format("port {} of slave {} is already cabled", parent_port, parent + 1));
+  }
+  auto s = VirtualSlave::create(std::move(device), clock_, options);
+  if (!s) return fail(s.error());
+  segment_.add((*s)->esc(), parent, parent_port, port);
+  slaves_.push_back(std::move(*s));
+  return {};
+}
+
+Expected<void, std::string> Chain::connect_redundant(std::size_t slave, unsigned port) {
+  if (slave >= slaves_.size() || port >= esc::kMaxPorts) return fail(std::string("no such slave port"));
+  if (segment_.peer(slave, port)) return fail(fmt::format("port {} of slave {} is already cabled", port, slave + 1));
+  segment_.connect_master(1, slave, port);
+  return {};
+}
+
+esc::Delivery Chain::pass_frame_on(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept {
   seen_ = std::max(seen_, now);
   ++stats_.frames_received;
-  const bool returned = segment_.process_frame(frame, now);
-  if (returned) {
+  const esc::Delivery d = segment_.send(frame, now, master_port);
+  if (d.returned()) {
     ++stats_.frames_returned;
     count_returned(frame);
-  } else if (!parse_frame(frame)) {
-    ++stats_.frames_malformed;  // rare path: parse again only to tell why
+  } else if (d.outcome == esc::Delivery::Outcome::Malformed) {
+    ++stats_.frames_malformed;
   } else {
     ++stats_.frames_lost;
   }
-  return returned;
+  return d;
 }
 
 void Chain::run_firmware(Nanoseconds now) noexcept {

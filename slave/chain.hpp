@@ -31,6 +31,14 @@ class Chain {
   // The same with a description shared by several slaves (issue 16: one
   // copy of the dictionary, names and SII for a thousand drives of a type).
   Expected<void, std::string> add(std::shared_ptr<const od::DeviceDescription> device, const SlaveOptions& options);
+  // Adds a slave whose port `port` is cabled to port `parent_port` of slave
+  // `parent` (an earlier index): trees of couplers and junctions (set-up
+  // only; esc::Segment::add).
+  Expected<void, std::string> attach(od::DeviceDescription device, const SlaveOptions& options, std::size_t parent,
+                                     unsigned parent_port, unsigned port = esc::kUpstreamPort);
+  // Cables the master's redundant port (1) to port `port` of slave `slave`:
+  // the far end of a ring (set-up only).
+  Expected<void, std::string> connect_redundant(std::size_t slave, unsigned port);
 
   // Carries `frame` (a whole Ethernet frame) through the line at `now`, in
   // place, then lets each slave's firmware react. Returns true when the frame
@@ -40,7 +48,12 @@ class Chain {
   // ESCs do while the frame streams through (send the frame as soon as it
   // returns true), run_firmware() is each slave's interrupt handler that
   // runs afterwards on the µC, off the frame's round trip.
-  bool pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept;
+  bool pass_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+    return pass_frame_on(frame, now, 0).returned();
+  }
+  // pass_frame for a frame that arrived on master port `master_port` (0, or
+  // 1 for the redundant one); says on which master port it leaves.
+  esc::Delivery pass_frame_on(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept;
   void run_firmware(Nanoseconds now) noexcept;
 
   // Timers and firmware of every slave; returns the earliest next deadline.

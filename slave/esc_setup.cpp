@@ -30,6 +30,16 @@ Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription
   c.dc_64bit = p.dc_supported && p.dc_64bit;
   c.lrw = !p.no_lrw;
   c.read_write_commands = !p.no_read_write;
+  // Port descriptor 0x0007 from the ESI Physics letters (Section II 0x0007:
+  // 11 MII, 10 E-bus, 00 not implemented).
+  std::uint8_t ports = 0;
+  for (std::size_t n = 0; n < p.physics.size() && n < esc::kMaxPorts; ++n) {
+    esc::PortType t = esc::PortType::NotImplemented;
+    if (p.physics[n] == 'Y' || p.physics[n] == 'H') t = esc::PortType::Mii;
+    if (p.physics[n] == 'K') t = esc::PortType::Ebus;
+    ports = static_cast<std::uint8_t>(ports | esc::port_descriptor_bits(static_cast<unsigned>(n), t));
+  }
+  c.port_descriptor = ports;
   c.sii = std::move(*sii);
   return c;
 }

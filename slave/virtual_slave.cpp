@@ -40,6 +40,8 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   }
   if (s->spi_pdi_) pdi = s->spi_pdi_.get();
   s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
+  constexpr std::uint16_t kPdiTypeMask = 0x00FF;  // 0x0140 PDI type; 0 = no PDI (Section II 0x0140)
+  s->has_firmware_ = (s->device_->esc.pdi_control & kPdiTypeMask) != 0;
   return s;
 }
 
@@ -50,6 +52,7 @@ std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   esc_next_ = next;
   esc_wake_ = next.value_or(Nanoseconds::max());
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
+  if (!has_firmware_) return next;
   const std::optional<Nanoseconds> fw =
       firmware_->wants_poll(now, lines()) ? firmware_->poll(now, lines()) : firmware_->next_deadline();
   if (fw && (!next || *fw < *next)) next = fw;
@@ -61,7 +64,7 @@ void VirtualSlave::after_frame(Nanoseconds now) noexcept {
   // firmware looks: silicon raises them in time, the emulation on demand.
   if (esc_next_ && *esc_next_ <= now) {
     (void)poll(now);
-  } else if (firmware_->wants_poll(now, lines())) {
+  } else if (has_firmware_ && firmware_->wants_poll(now, lines())) {
     (void)firmware_->poll(now, lines());
   }
 }
@@ -73,6 +76,10 @@ void VirtualSlave::attach_trace(esc::VcdProbe& probe) noexcept {
 
 SlaveStatus VirtualSlave::status() const noexcept {
   SlaveStatus s = firmware_->status();
+  if (!has_firmware_) {
+    // No µC: the state is what the ESC shows (device emulation).
+    s.state = static_cast<esc::AlState>(esc_->memory()[esc::reg::kAlStatus] & esc::bits::kAlStateMask);
+  }
   // The ESC counts process-data watchdog expiries itself (0x0442, saturating).
   s.watchdog_expiries = esc_->memory()[esc::reg::kWatchdogCounterProcessData];
   return s;

@@ -66,7 +66,7 @@ class VirtualSlave {
   // Whether after_frame(now) may have anything to do: a few loads, so a
   // chain asks every slave after every frame cheaply (issue 8).
   bool after_frame_due(Nanoseconds now) const noexcept {
-    return now >= esc_wake_ || firmware_->may_want_poll(now, lines());
+    return now >= esc_wake_ || (has_firmware_ && firmware_->may_want_poll(now, lines()));
   }
 
   SlaveStatus status() const noexcept;
@@ -85,6 +85,10 @@ class VirtualSlave {
   std::unique_ptr<Firmware> firmware_;
   std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
   Nanoseconds esc_wake_ = Nanoseconds::max();  // the same, max when none
+  // False for an ESC without PDI (SII word 0 PDI type 0, e.g. a coupler or
+  // junction): no µC, the firmware never runs; with device emulation
+  // (0x0141 bit 0) the ESC itself copies AL control into AL status.
+  bool has_firmware_ = true;
 };
 
 }  // namespace ecat::slave

@@ -31,6 +31,9 @@ class RawSocketTransport final : public Transport {
   Expected<Received, TransportError> receive_stamped(Bytes buffer, Nanoseconds timeout) override;
 
   const std::string& interface_name() const noexcept { return name_; }
+  // The socket, to wait on several transports with one poll() (a slave
+  // segment with a redundant port serves two interfaces).
+  int fd() const noexcept { return fd_.get(); }
   int interface_index() const noexcept { return ifindex_; }
   // False on kernels without PACKET_IGNORE_OUTGOING: then our own frames are
   // filtered in receive() by comparing with the last frame sent.

@@ -24,8 +24,20 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
     so.name = fmt::format("slave-{}", i + 1);
     if (i < options.ppm.size()) so.clock_ppm = options.ppm[i];
     so.motion_trace = i == 0 && !options.plot_svg.empty();
-    if (auto ok = chain->add(std::move(devices[i]), so); !ok) {
-      return fail(fmt::format("slave {}: {}", i + 1, ok.error()));
+    const TopologySlave* placed = options.topology && i < options.topology->slaves.size()
+                                      ? &options.topology->slaves[i] : nullptr;
+    if (placed) so.name = placed->name;
+    auto ok = placed && placed->parent
+                  ? chain->attach(std::move(devices[i]), so, *placed->parent, placed->parent_port, placed->port)
+                  : chain->add(std::move(devices[i]), so);
+    if (!ok) return fail(fmt::format("slave {}: {}", i + 1, ok.error()));
+  }
+  if (!options.redundant_iface.empty()) {
+    // The ring's far end: the topology's `redundant` port, else the last slave's port 1.
+    SlavePort end{chain->size() - 1, esc::kDownstreamPort};
+    if (options.topology && options.topology->redundant) end = *options.topology->redundant;
+    if (auto ok = chain->connect_redundant(end.slave, end.port); !ok) {
+      return fail(fmt::format("--redundant-iface: {}", ok.error()));
     }
   }
   if (!options.trace_vcd.empty()) {

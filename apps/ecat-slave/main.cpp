@@ -35,7 +35,7 @@ std::vector<std::string> split_commas(const std::string& text) {
 int main(int argc, char** argv) {
   using ecat::app::SlaveProgramOptions;
   SlaveProgramOptions o;
-  std::string chain, product_code, revision, type_name, ppm;
+  std::string chain, product_code, revision, type_name, ppm, topology;
 
   CLI::App cli{
       "ecat-slave: virtual EtherCAT CoE slaves (a software ESC with mailbox, CoE and a CiA402 drive).\n"
@@ -58,7 +58,17 @@ int main(int argc, char** argv) {
   cli.add_option("--chain", chain, "Comma-separated device files, in line order (port 0 -> port 1)");
   cli.add_option("--count", o.count, "Number of slaves: the listed devices, then copies of the last")
       ->check(CLI::Range(1u, 4096u));
+  auto* topo = cli.add_option("--topology", topology,
+                              "Slaves and cables of a tree or ring: which device hangs on which port of which "
+                              "slave (docs/topology.md)")
+                   ->check(CLI::ExistingFile);
   auto* iface = cli.add_option("--iface", o.iface, "Network interface to answer on (raw Ethernet, needs CAP_NET_RAW)");
+  auto* red = cli.add_option("--redundant-iface", o.redundant_iface,
+                             "Second interface, on the ring's far end (cable redundancy: the topology's 'redundant' "
+                             "port, or the last slave's port 1)");
+  cli.add_option("--toggle-link", o.toggle_links,
+                 "NAME:PORT[,NAME:PORT...]: SIGUSR2 cuts these cables, the next SIGUSR2 restores them "
+                 "(NAME from --topology, or the slave number 1.. of a chain)");
   auto* pin = cli.add_option("--pcap-in", o.pcap_in, "Replay the master frames of this capture")->check(CLI::ExistingFile);
   auto* pout = cli.add_option("--pcap-out", o.pcap_out, "Write the frames as the segment returns them");
   auto* udp = cli.add_option("--udp", o.udp,
@@ -106,6 +116,8 @@ int main(int argc, char** argv) {
   udp->excludes(pin);
   allow->needs(udp);
   pdi->excludes(iface)->excludes(pin)->excludes(udp);
+  red->needs(iface);
+  topo->excludes(esi)->excludes(eni)->excludes(pdi);
 
   try {
     cli.parse(argc, argv);
@@ -124,6 +136,19 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   for (auto& f : split_commas(chain)) o.device_files.push_back(f);
+  if (!topology.empty()) {
+    if (!o.device_files.empty() || o.count != 1) {
+      std::fprintf(stderr, "ecat-slave: --topology names every device; it takes no --device, --chain or --count\n");
+      return kExitUsage;
+    }
+    auto t = ecat::app::load_topology(topology);
+    if (!t) {
+      std::fprintf(stderr, "ecat-slave: %s\n", t.error().c_str());
+      return kExitFailure;
+    }
+    for (const auto& s : t->slaves) o.device_files.push_back(s.device_file);
+    o.topology = std::move(*t);
+  }
   if (!product_code.empty()) {
     o.product_code = ecat::esi::parse_esi_number(product_code);
     if (!o.product_code) {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "apps/ecat-slave/topology.hpp"
+
 namespace ecat::app {
 
 // What a master may write into --state-dir (docs/security.md): FoE files and
@@ -24,6 +26,16 @@ struct SlaveProgramOptions {
   std::string esi_dir;                    // --esi-dir: ESI files for the ENI's slaves
   bool strict = false;  // --strict: ESI import warnings are errors
   unsigned count = 1;                     // --count: copies of the (last) device
+
+  // --topology: the slaves and their cables (docs/topology.md); its device
+  // files are also in device_files, in slave order.
+  std::optional<Topology> topology;
+  // --redundant-iface: the master's second port, on the ring's far end
+  // (the topology's `redundant` port, or the last slave's port 1).
+  std::string redundant_iface;
+  // --toggle-link NAME:PORT,...: SIGUSR2 cuts these cables, the next SIGUSR2
+  // restores them (NAME from the topology, or the slave number 1.. of a chain).
+  std::string toggle_links;
 
   // Exactly one medium.
   std::string iface;

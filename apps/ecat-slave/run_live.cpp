@@ -1,3 +1,5 @@
+#include <poll.h>
+
 #include <csignal>
 #include <cstdio>
 #include <memory>
@@ -16,9 +18,11 @@ namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
 volatile std::sig_atomic_t g_print_stats = 0;
+volatile std::sig_atomic_t g_toggle_links = 0;
 
 void on_stop(int) { g_stop = 1; }
 void on_stats(int) { g_print_stats = 1; }
+void on_toggle(int) { g_toggle_links = 1; }
 
 void install_signal_handlers() {
   struct sigaction sa {};
@@ -28,6 +32,37 @@ void install_signal_handlers() {
   sigaction(SIGTERM, &sa, nullptr);
   sa.sa_handler = on_stats;
   sigaction(SIGUSR1, &sa, nullptr);
+  sa.sa_handler = on_toggle;
+  sigaction(SIGUSR2, &sa, nullptr);
+}
+
+// --toggle-link: the cables SIGUSR2 cuts and restores (docs/topology.md).
+Expected<std::vector<SlavePort>, std::string> toggled_links(const SlaveProgramOptions& o, std::size_t slaves) {
+  std::vector<SlavePort> out;
+  std::size_t start = 0;
+  const std::string& text = o.toggle_links;
+  while (start < text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    start = comma + 1;
+    if (item.empty()) continue;
+    if (o.topology) {
+      auto p = o.topology->parse_port(item);
+      if (!p) return fail(fmt::format("--toggle-link {}", p.error()));
+      out.push_back(*p);
+      continue;
+    }
+    // A chain: slave number 1.. and port.
+    unsigned number = 0;
+    unsigned port = 0;
+    char tail = 0;
+    if (std::sscanf(item.c_str(), "%u:%u%c", &number, &port, &tail) != 2 || number == 0 || number > slaves ||
+        port > 3) {
+      return fail(fmt::format("--toggle-link {}: expected SLAVE:PORT with SLAVE 1..{} and PORT 0..3", item, slaves));
+    }
+    out.push_back(SlavePort{number - 1, port});
+  }
+  return out;
 }
 
 // Longest wait for a frame, so signals and timers are seen promptly even
@@ -37,6 +72,9 @@ constexpr Nanoseconds kMaxWait = std::chrono::milliseconds(50);
 struct Medium {
   std::unique_ptr<transport::Transport> transport;
   const transport::UdpTransport* udp = nullptr;  // for its drop counters
+  // --redundant-iface: the second master port's interface and both sockets.
+  std::unique_ptr<transport::RawSocketTransport> redundant;
+  int fd = -1;
 };
 
 Expected<Medium, std::string> open_raw(const SlaveProgramOptions& o) {
@@ -45,12 +83,21 @@ Expected<Medium, std::string> open_raw(const SlaveProgramOptions& o) {
     return fail(fmt::format("cannot open raw socket on {}: {}", o.iface, transport::describe(t.error())));
   }
   auto owned = std::make_unique<transport::RawSocketTransport>(std::move(*t));
+  std::unique_ptr<transport::RawSocketTransport> redundant;
+  if (!o.redundant_iface.empty()) {
+    auto r = transport::RawSocketTransport::open(o.redundant_iface);
+    if (!r) {
+      return fail(fmt::format("cannot open raw socket on {}: {}", o.redundant_iface, transport::describe(r.error())));
+    }
+    redundant = std::make_unique<transport::RawSocketTransport>(std::move(*r));
+  }
+  const int fd = owned->fd();
   if (!o.keep_privileges) {
     if (auto d = transport::drop_privileges(); !d) {
       return fail(fmt::format("cannot drop privileges: {}", transport::describe(d.error())));
     }
   }
-  return Medium{std::move(owned), nullptr};
+  return Medium{std::move(owned), nullptr, std::move(redundant), fd};
 }
 
 // "--udp PORT" serves 127.0.0.1 and ::1 only; any other reach takes an
@@ -85,7 +132,7 @@ Expected<Medium, std::string> open_udp(const SlaveProgramOptions& o) {
   }
   auto owned = std::make_unique<transport::UdpTransport>(std::move(*t));
   const transport::UdpTransport* udp = owned.get();
-  return Medium{std::move(owned), udp};
+  return Medium{std::move(owned), udp, nullptr, -1};
 }
 
 Expected<Medium, std::string> open_medium(const SlaveProgramOptions& o) {
@@ -155,6 +202,13 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   // kernel stamped them, after the timers due before them (Chain::catch_up),
   // so a late wake-up does not reorder SYNC0 events and frames, and the DC
   // latches and watchdogs see when a frame arrived (docs/e2e.md "Live timing").
+  auto toggled = toggled_links(o, line.size());
+  if (!toggled) {
+    std::fprintf(stderr, "ecat-slave: %s\n", toggled.error().c_str());
+    return 1;
+  }
+  bool links_cut = false;
+  unsigned next_port = 0;
   std::optional<Nanoseconds> deadline = line.poll(clock.now());
   bool drained = true;
   while (!g_stop) {
@@ -164,14 +218,37 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     } else if (deadline) {
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
     }
-    auto r = t.receive_stamped(buffer, wait);
+    if (g_toggle_links) {
+      g_toggle_links = 0;
+      links_cut = !links_cut;
+      for (const SlavePort& p : *toggled) line.segment().set_link(p.slave, p.port, !links_cut);
+      if (!o.quiet) std::fprintf(stderr, "ecat-slave: %zu link(s) %s\n", toggled->size(), links_cut ? "cut" : "restored");
+    }
+    // With a redundant port: wait on both sockets, then take a frame from
+    // the one that has it (the master port it arrived on).
+    unsigned port = 0;
+    if (medium->redundant) {
+      std::array<pollfd, esc::kMasterPorts> fds{{{medium->fd, POLLIN, 0}, {medium->redundant->fd(), POLLIN, 0}}};
+      const auto ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(wait).count());
+      if (::poll(fds.data(), fds.size(), ms) > 0) {
+        port = (fds[0].revents & POLLIN) != 0 ? 0 : 1;
+        if ((fds[0].revents & POLLIN) != 0 && (fds[1].revents & POLLIN) != 0) port = next_port;
+        next_port = 1 - next_port;  // both ready: take them in turn
+      }
+      wait = Nanoseconds{0};
+    }
+    transport::Transport& in = port == 0 ? t : *medium->redundant;
+    auto r = in.receive_stamped(buffer, wait);
     if (r) {
       const Nanoseconds at = line.catch_up(r->arrival, clock.now());
       std::span<std::uint8_t> frame(buffer.data(), r->length);
-      // The frame goes back as soon as the ESCs are done with it; the
-      // firmware reacts afterwards, as a µC behind a real ESC does.
-      if (line.pass_frame(frame, at)) {
-        if (auto s = t.send(frame); !s && !o.quiet) {
+      // The frame goes back as soon as the ESCs are done with it, on the
+      // master port it comes out at; the firmware reacts afterwards, as a
+      // µC behind a real ESC does.
+      const esc::Delivery d = line.pass_frame_on(frame, at, port);
+      if (d.returned()) {
+        transport::Transport& out = d.master_port == 0 ? t : *medium->redundant;
+        if (auto s = out.send(frame); !s && !o.quiet) {
           std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
         }
       }

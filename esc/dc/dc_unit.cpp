@@ -159,6 +159,10 @@ void DcUnit::latch_receive_times(Nanoseconds t) noexcept {
   store_le(&regs_[kReceiveTimePort0], static_cast<std::uint32_t>(local));
   store_le(&regs_[kReceiveTimeProcessingUnit], local);
   receive_latch_armed_ = true;
+  for (unsigned p = 1; p < kPorts; ++p) {
+    if (early_mask_ & (1u << p)) latch_return_time(static_cast<int>(p), early_[p]);
+  }
+  early_mask_ = 0;
 }
 
 void DcUnit::latch_return_time(int port, Nanoseconds t) noexcept {

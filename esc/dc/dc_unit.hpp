@@ -57,6 +57,18 @@ class DcUnit : private SyncUnit::Sink {
     }
     if (receive_latch_armed_ && port < static_cast<int>(kPorts)) latch_return_time(port, t);
   }
+  // A frame reached `port` (1..3) before this ESC's processing unit (it
+  // entered from port 1..3 and a closed port turned it into the processing
+  // unit: the far end of a ring). Kept so that a 0x0900 write later in the
+  // same frame latches it (Section II 0x0900: the receive time at every
+  // port of the latching frame). begin_frame() forgets the last frame's.
+  void on_arrival_before_processing(int port, Nanoseconds t) noexcept {
+    if (t > last_t_) last_t_ = t;
+    if (port <= 0 || port >= static_cast<int>(kPorts)) return;
+    early_[static_cast<unsigned>(port)] = t;
+    early_mask_ = static_cast<std::uint8_t>(early_mask_ | (1u << port));
+  }
+  void begin_frame() noexcept { early_mask_ = 0; }
   // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
@@ -112,6 +124,10 @@ class DcUnit : private SyncUnit::Sink {
   std::array<bool, kSyncSignals> sync_level_{};
   std::array<std::uint64_t, kSyncSignals> pulse_end_{};  // system time, pulse mode
   DcObserver* observer_ = nullptr;
+  // Arrivals before the processing unit (on_arrival_before_processing):
+  // only frames of a port walk write them, so they stay off the per-frame lines.
+  std::array<Nanoseconds, kPorts> early_{};
+  std::uint8_t early_mask_ = 0;  // bit n: early_[n] holds this frame's arrival at port n
   // What every frame reads or writes (on_frame_arrival, the Esc's IRQ
   // field), last: the Esc keeps its own per-frame members right behind.
   std::uint32_t al_events_ = 0;
