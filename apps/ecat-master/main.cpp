@@ -75,6 +75,9 @@ int main(int argc, char** argv) {
   cli.add_option("--cycles", o.session.cycles, "Cyclic exchanges to run");
   cli.add_option("--period-us", o.period_us, "Cycle period in microseconds")->check(CLI::Range(50.0, 1e6));
   cli.add_option("--expect-slaves", o.session.expect_slaves, "Fail unless the scan finds this many slaves");
+  cli.add_flag("--topology", o.session.topology,
+               "Print each slave's parent, the parent's port, active and entry ports (and DC delays with --dc)");
+  cli.add_flag("--scan", o.session.scan_only, "Scan and print the topology only, change no state");
   cli.add_flag("--dc", o.session.dc, "Set up distributed clocks and DC Sync0 mode (1C32h/1C33h = 2)");
   cli.add_flag("--move", o.session.move, "Enable every CiA402 drive and move it in CSP mode");
   cli.add_option("--move-distance", o.session.move_distance, "Move distance in increments");
@@ -188,6 +191,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ecat-master: %s\n", ok.error().c_str());
     return kExitFailure;
   }
+  if (o.session.scan_only) return 0;
   auto r = session.run();
   if (!r) {
     std::fprintf(stderr, "ecat-master: %s\n", r.error().c_str());

@@ -7,6 +7,7 @@
 
 #include "apps/ecat-master/cia402_motion.hpp"
 #include "apps/ecat-master/error_text.hpp"
+#include "apps/ecat-master/topology_report.hpp"
 
 namespace ecat::app {
 namespace {
@@ -101,6 +102,8 @@ Expected<void, std::string> Session::bring_up() {
     return fail(fmt::format("scan found {} slave(s), expected {}", *n, o_.expect_slaves));
   }
   report_.slaves = *n;
+  if (o_.topology || o_.scan_only) std::fputs(topology_report(master_, false).c_str(), stdout);
+  if (o_.scan_only) return {};
   pdos_.assign(*n, {});
   has_coe_.assign(*n, false);
   csp_.assign(*n, false);
@@ -122,6 +125,7 @@ Expected<void, std::string> Session::bring_up() {
     if (auto ok = master_.dc_static_drift_compensation(kDcDriftIterations); !ok) {
       return fail(fmt::format("DC drift compensation: {}", error_text(ok.error())));
     }
+    if (o_.topology) std::fputs(topology_report(master_, true).c_str(), stdout);
     for (std::size_t i = 0; i < *n; ++i) {
       if (master_.slave(i).esc.has_dc()) {
         auto start = master_.configure_sync0(i, static_cast<std::uint32_t>(o_.period.count()), 0, kSync0StartDelay);

@@ -25,6 +25,8 @@ struct SessionOptions {
   bool move = false;
   std::int32_t move_distance = 100000;  // increments, CSP ramp
   bool verbose = true;
+  bool topology = false;   // print each slave's parent, port and (with dc) delay (topology_report.hpp)
+  bool scan_only = false;  // stop after the scan (and the topology print); no state change
 };
 
 struct SessionReport {
