@@ -145,9 +145,19 @@ Expected<std::size_t, transport::TransportError> RedundantTransport::receive(Byt
     return v && v->size() > 0 ? (*v)[0].wkc() : std::uint16_t{0};
   };
   while (budget.next()) {
+    // Block only on the port the reply is expected on (the other is polled):
+    // the secondary while the ring was intact, else the primary; once one
+    // port has answered, the other.
     const Nanoseconds wait = std::clamp(deadline - clock_.now(), Nanoseconds{0}, kPollSlice);
-    if (on_primary == Seen::Nothing) on_primary = poll(primary_, rx_primary_, primary_length, wait);
-    if (on_secondary == Seen::Nothing) on_secondary = poll(secondary_, rx_secondary_, secondary_length, wait);
+    const bool expect_secondary = on_primary != Seen::Nothing ||
+                                  (on_secondary == Seen::Nothing && (state_ == RingState::Intact ||
+                                                                     state_ == RingState::PrimaryLinkDown));
+    if (on_primary == Seen::Nothing) {
+      on_primary = poll(primary_, rx_primary_, primary_length, expect_secondary ? Nanoseconds{0} : wait);
+    }
+    if (on_secondary == Seen::Nothing) {
+      on_secondary = poll(secondary_, rx_secondary_, secondary_length, expect_secondary ? wait : Nanoseconds{0});
+    }
     if (on_secondary == Seen::PrimaryFrame) {
       // Intact: the frame went round. Take the dummy off the primary port if it is there.
       if (on_primary == Seen::Nothing) (void)poll(primary_, rx_primary_, primary_length, Nanoseconds{0});
