@@ -1,9 +1,10 @@
 // Where each slave sits in the segment: its parent slave, the parent's port
 // it hangs on, its active ports and its entry port, computed from DL status
 // 0x0110 (and, when DC is there, the port receive times 0x0900-0x090F) the
-// way SOEM (ecx_config_init, ecx_configdc) and IgH (ec_master_calc_topology_rec, 0 -> 3 -> 1 -> 2 since its upstream-port patch)
-// do it. Pure functions over values: the master calls them after the scan and
-// in configure_dc, and a test can call them on register values it read itself
+// way SOEM (ecx_config_init, ecx_configdc) and IgH (ec_master_calc_topology_rec,
+// ports 0 -> 3 -> 1 -> 2 since its upstream-port patch) do it. Pure
+// functions over values: the master calls them after the scan and in
+// configure_dc, and a test can call them on register values it read itself
 // (docs/master.md "Topology and DC delays in trees").
 #pragma once
 
