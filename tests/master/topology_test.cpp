@@ -170,6 +170,25 @@ TEST(DcDelay, LineOfFour) {
   for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(d[k], std::optional<std::uint32_t>(250 * k)) << k;
 }
 
+TEST(DcDelay, SlaveEnteredOnPort1) {
+  // Slave 1 is wired in on port 1 and out on port 2 (0 and 3 unused). With
+  // 200 ns per hop and 50 ns cables: slave 1 reached at 250 on port 1, out on
+  // port 2 at 450, slave 2 at 500 and back out at 700, slave 1 port 2 at 750,
+  // out on port 1 at 950, slave 0 port 1 at 1000. Unused ports hold garbage.
+  constexpr std::uint32_t kJunk = 0xDEADBEEF;
+  const std::uint16_t dl_ports12 = FakeTree::dl_status(0x06);
+  std::vector<std::optional<PortTimes>> times{PortTimes{0, 1000, kJunk, kJunk}, PortTimes{kJunk, 250, 750, 1},
+                                              PortTimes{500, kJunk, kJunk, kJunk}};
+  std::vector<TopologyInput> in{{kDlPorts01, times[0]}, {dl_ports12, times[1]}, {kDlPort0, times[2]}};
+  const auto t = compute_topology(in);
+  EXPECT_EQ(t[1].entry_port, 1u);
+  EXPECT_EQ(t[2].parent, std::optional<std::size_t>(1));
+  EXPECT_EQ(t[2].parent_port, 2u);  // after entry port 1 comes port 2
+  const auto d = compute_dc_delays(t, times);
+  EXPECT_EQ(d[1], std::optional<std::uint32_t>(250));
+  EXPECT_EQ(d[2], std::optional<std::uint32_t>(500));
+}
+
 // The master scans a FakeTree and computes the same.
 struct TreeRig {
   explicit TreeRig(std::vector<TreeNode> nodes)
