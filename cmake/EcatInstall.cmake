@@ -138,6 +138,7 @@ ecat_install_library(transport transport HEADERS
 ecat_install_library(master master HEADERS
   master/master.hpp master/coe_client.hpp master/master_error.hpp master/sdo_abort.hpp
   master/sii.hpp master/slave_info.hpp master/mailbox.hpp master/datagram_link.hpp
+  master/topology.hpp master/dc_delay.hpp master/redundant_transport.hpp
   master/conformance/suite.hpp)
 ecat_install_library(pdi_spi pdi_spi HEADERS
   # public

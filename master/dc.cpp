@@ -1,21 +1,20 @@
 // Distributed clocks set-up (esc-registers.md §10, masters.md §1.3 DC, §4.3):
 // BWR 0x0900 latches the port receive times in every ESC; per DC slave the
 // master reads 0x0900-0x090F and 0x0918, computes the propagation delay from
-// the reference clock (first DC slave) along a line, writes the offset
+// the reference clock (first DC slave) through the tree (dc_delay.hpp), writes the offset
 // 0x0920 = master time - 0x0918 and the delay 0x0928. Drift compensation is
 // FRMW 0x0910 from the reference clock; Sync0 via 0x0981/0x09A0/0x0990.
 #include <algorithm>
 #include <vector>
 
+#include "master/dc_delay.hpp"
 #include "master/master.hpp"
 #include "master/registers.hpp"
 
 namespace ecat::master {
 
 namespace {
-constexpr std::size_t kPorts = 4;
-constexpr unsigned kPort0 = 0;
-constexpr unsigned kPort1 = 1;
+constexpr std::size_t kPorts = kEscPortCount;
 }  // namespace
 
 Expected<std::size_t, MasterError> Master::configure_dc(Nanoseconds master_time) {
@@ -38,20 +37,21 @@ Expected<std::size_t, MasterError> Master::configure_dc(Nanoseconds master_time)
     return std::size_t{0};
   }
   reference_clock_ = dc.front();
-  // Line topology, frame enters port 0 and leaves on port 1: the time a frame
-  // spends behind slave k is t1 - t0 (0 for the last slave, port 1 closed).
-  // Delay from the reference to slave k = (behind(ref) - behind(k)) / 2.
-  auto behind = [&](const SlaveInfo& s) -> std::int64_t {
-    const std::uint32_t t0 = s.dc.port_receive_time[kPort0];
-    const std::uint32_t t1 = s.dc.port_receive_time[kPort1];
-    if (t1 == 0 || t1 == t0) return 0;
-    return static_cast<std::int64_t>(static_cast<std::uint32_t>(t1 - t0));  // 32-bit wrap safe
-  };
-  const std::int64_t behind_ref = behind(slaves_[dc.front()]);
+  // Entry ports from the port times, parents and parent ports from DL status
+  // (topology.hpp), then the delays of the tree (dc_delay.hpp).
+  std::vector<TopologyInput> in(slaves_.size());
+  std::vector<std::optional<PortTimes>> times(slaves_.size());
+  for (std::size_t i = 0; i < slaves_.size(); ++i) {
+    in[i].dl_status = slaves_[i].dl_status;
+    if (slaves_[i].esc.has_dc()) times[i] = slaves_[i].dc.port_receive_time;
+    in[i].port_times = times[i];
+  }
+  const std::vector<SlaveTopology> topology = compute_topology(in);
+  const std::vector<std::optional<std::uint32_t>> delays = compute_dc_delays(topology, times);
+  for (std::size_t i = 0; i < slaves_.size(); ++i) slaves_[i].topology = topology[i];
   for (std::size_t i : dc) {
     SlaveInfo& s = slaves_[i];
-    const std::int64_t d = i == dc.front() ? 0 : (behind_ref - behind(s)) / 2;
-    s.dc.delay_ns = static_cast<std::uint32_t>(d < 0 ? 0 : d);
+    s.dc.delay_ns = delays[i].value_or(0);
     s.dc.offset_ns = master_time.count() - static_cast<std::int64_t>(s.dc.processing_unit_time);
     std::uint8_t off[8];
     store_le(off, static_cast<std::uint64_t>(s.dc.offset_ns));

@@ -195,6 +195,10 @@ Expected<std::size_t, MasterError> Master::scan() {
     s.sii = std::move(*parsed);
     if (s.esc.has_dc() && !reference_clock_) reference_clock_ = p;
   }
+  std::vector<TopologyInput> in(slaves_.size());
+  for (std::size_t p = 0; p < slaves_.size(); ++p) in[p].dl_status = slaves_[p].dl_status;
+  const std::vector<SlaveTopology> topology = compute_topology(in);
+  for (std::size_t p = 0; p < slaves_.size(); ++p) slaves_[p].topology = topology[p];
   return slaves_.size();
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "master/sii.hpp"
+#include "master/topology.hpp"
 
 namespace ecat::master {
 
@@ -77,6 +78,9 @@ struct SlaveInfo {
   std::uint16_t station_address = 0;
   EscInfo esc;
   std::uint16_t dl_status = 0;
+  // Parent, parent port, active and entry ports: from DL status after scan(),
+  // entry ports from the port receive times after configure_dc() (topology.hpp).
+  SlaveTopology topology;
   AlStatus al;
   std::vector<std::uint8_t> sii_image;
   SiiInfo sii;

@@ -15,6 +15,7 @@
 
 #include "apps/ecat-master/session.hpp"
 #include "apps/ecat-slave/realtime.hpp"
+#include "master/redundant_transport.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
 #include "transport/in_memory_transport.hpp"
@@ -29,6 +30,7 @@ constexpr int kExitFailure = 1;
 
 struct Options {
   std::string iface, udp;
+  std::string redundant_iface;  // second master port of a ring (cable redundancy)
   bool in_process = false;
   std::vector<std::string> devices;
   unsigned count = 1;
@@ -82,6 +84,20 @@ int report(const ecat::app::SessionReport& r, const Options& o) {
   return ok ? 0 : kExitFailure;
 }
 
+// One line on the ring after the run: its last state, where it is broken,
+// and how many exchanges found it in each state.
+void report_ring(const ecat::master::RedundantTransport& ring, std::size_t slaves) {
+  const auto& st = ring.stats();
+  std::printf("redundancy: %s", std::string(ecat::master::describe(ring.state())).c_str());
+  if (auto b = ring.ring_break(slaves)) {
+    std::printf(" between slave %zu and slave %zu", b->last_primary_side + 1, b->first_secondary_side + 1);
+  }
+  std::printf(" (exchanges: intact %llu broken %llu primary-down %llu secondary-down %llu no-reply %llu)\n",
+              static_cast<unsigned long long>(st.intact), static_cast<unsigned long long>(st.broken),
+              static_cast<unsigned long long>(st.primary_down), static_cast<unsigned long long>(st.secondary_down),
+              static_cast<unsigned long long>(st.no_reply));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -90,6 +106,9 @@ int main(int argc, char** argv) {
   cli.set_version_flag("--version", "ecat-master (ecatslave) " ECAT_VERSION);
   auto* iface = cli.add_option("--iface", o.iface, "Network interface of the segment (raw Ethernet)");
   auto* udp = cli.add_option("--udp", o.udp, "Slave(s) served as EtherCAT-in-UDP at ADDR[:PORT]");
+  cli.add_option("--redundant-iface", o.redundant_iface,
+                 "Second master port: the segment is a ring from --iface back to this interface (cable redundancy)")
+      ->needs(iface);
   auto* inproc = cli.add_flag("--in-process", o.in_process, "Run against virtual slaves in this process");
   cli.add_option("--device", o.devices, "Device file of an in-process slave (repeat for a chain; default: generic servo)")
       ->check(CLI::ExistingFile);
@@ -97,6 +116,9 @@ int main(int argc, char** argv) {
   cli.add_option("--cycles", o.session.cycles, "Cyclic exchanges to run");
   cli.add_option("--period-us", o.period_us, "Cycle period in microseconds")->check(CLI::Range(50.0, 1e6));
   cli.add_option("--expect-slaves", o.session.expect_slaves, "Fail unless the scan finds this many slaves");
+  cli.add_flag("--topology", o.session.topology,
+               "Print each slave's parent, the parent's port, active and entry ports (and DC delays with --dc)");
+  cli.add_flag("--scan", o.session.scan_only, "Scan and print the topology only, change no state");
   cli.add_flag("--dc", o.session.dc, "Set up distributed clocks and DC Sync0 mode (1C32h/1C33h = 2)");
   cli.add_flag("--move", o.session.move, "Enable every CiA402 drive and move it in CSP mode");
   cli.add_option("--move-distance", o.session.move_distance, "Move distance in increments");
@@ -155,6 +177,8 @@ int main(int argc, char** argv) {
   const ecat::Clock& clock = o.in_process ? static_cast<const ecat::Clock&>(simulated) : steady;
   std::unique_ptr<ecat::transport::Transport> medium;
   std::unique_ptr<ecat::slave::Chain> chain;
+  std::unique_ptr<ecat::transport::Transport> secondary;
+  std::unique_ptr<ecat::master::RedundantTransport> ring;
 
   if (o.in_process) {
     chain = std::make_unique<ecat::slave::Chain>(simulated);
@@ -198,6 +222,16 @@ int main(int argc, char** argv) {
       return kExitFailure;
     }
     medium = std::make_unique<ecat::transport::RawSocketTransport>(std::move(*t));
+    if (!o.redundant_iface.empty()) {
+      auto t2 = ecat::transport::RawSocketTransport::open(o.redundant_iface);
+      if (!t2) {
+        std::fprintf(stderr, "ecat-master: cannot open %s: %s\n", o.redundant_iface.c_str(),
+                     std::string(ecat::transport::describe(t2.error())).c_str());
+        return kExitFailure;
+      }
+      secondary = std::make_unique<ecat::transport::RawSocketTransport>(std::move(*t2));
+      ring = std::make_unique<ecat::master::RedundantTransport>(*medium, *secondary, clock);
+    }
   } else {
     auto ep = ecat::transport::parse_udp_endpoint(o.udp);
     auto t = ep ? ecat::transport::UdpTransport::connect(*ep)
@@ -213,7 +247,7 @@ int main(int argc, char** argv) {
 
   std::optional<ecat::transport::PcapWriter> writer;
   std::unique_ptr<ecat::transport::RecordingTransport> recorder;
-  ecat::transport::Transport* used = medium.get();
+  ecat::transport::Transport* used = ring ? static_cast<ecat::transport::Transport*>(ring.get()) : medium.get();
   if (!o.record.empty()) {
     auto w = ecat::transport::PcapWriter::create(o.record);
     if (!w) {
@@ -222,7 +256,7 @@ int main(int argc, char** argv) {
       return kExitFailure;
     }
     writer.emplace(std::move(*w));
-    recorder = std::make_unique<ecat::transport::RecordingTransport>(*medium, *writer, clock);
+    recorder = std::make_unique<ecat::transport::RecordingTransport>(*used, *writer, clock);
     used = recorder.get();
   }
 
@@ -240,7 +274,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ecat-master: %s\n", ok.error().c_str());
     return kExitFailure;
   }
+  if (o.session.scan_only) {
+    if (ring) report_ring(*ring, master.slave_count());
+    return 0;
+  }
   auto r = session.run();
+  if (ring) report_ring(*ring, master.slave_count());
   if (!r) {
     std::fprintf(stderr, "ecat-master: %s\n", r.error().c_str());
     return kExitFailure;

@@ -11,6 +11,7 @@
 #include "common/frame.hpp"
 #include "common/le.hpp"
 #include "master/registers.hpp"
+#include "apps/ecat-master/topology_report.hpp"
 
 namespace ecat::app {
 namespace {
@@ -116,6 +117,8 @@ Expected<void, std::string> Session::bring_up() {
     return fail(fmt::format("scan found {} slave(s), expected {}", *n, o_.expect_slaves));
   }
   report_.slaves = *n;
+  if (o_.topology || o_.scan_only) std::fputs(topology_report(master_, false).c_str(), stdout);
+  if (o_.scan_only) return {};
   pdos_.assign(*n, {});
   has_coe_.assign(*n, false);
   csp_.assign(*n, false);
@@ -138,6 +141,7 @@ Expected<void, std::string> Session::bring_up() {
       return fail(fmt::format("DC drift compensation: {}", error_text(ok.error())));
     }
     std::optional<std::uint64_t> sync0_start;
+    if (o_.topology) std::fputs(topology_report(master_, true).c_str(), stdout);
     for (std::size_t i = 0; i < *n; ++i) {
       if (master_.slave(i).esc.has_dc()) {
         auto start = master_.configure_sync0(i, static_cast<std::uint32_t>(o_.period.count()), 0, kSync0StartDelay);

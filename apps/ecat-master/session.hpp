@@ -35,6 +35,8 @@ struct SessionOptions {
   // Acknowledge a slave that left Op with an error and bring it back (as
   // SOEM's ec_sample does), checking every 100 cycles instead of 500.
   bool recover = false;
+  bool topology = false;   // print each slave's parent, port and (with dc) delay (topology_report.hpp)
+  bool scan_only = false;  // stop after the scan (and the topology print); no state change
 };
 
 struct SessionReport {
