@@ -95,7 +95,8 @@ ecat_install_library(ecat_common common HEADERS
   common/clock.hpp common/command.hpp common/expected.hpp common/frame.hpp
   common/frame_builder.hpp common/frame_parser.hpp common/le.hpp)
 ecat_install_library(od od HEADERS
-  od/access.hpp od/axis_layout.hpp od/data_type.hpp od/device.hpp od/dictionary.hpp od/object.hpp)
+  od/access.hpp od/axis_layout.hpp od/data_type.hpp od/device.hpp od/dictionary.hpp od/object.hpp
+  od/modular_device.hpp)
 ecat_install_library(esc esc HEADERS
   # public
   esc/esc.hpp esc/segment.hpp esc/pdi.hpp esc/esc_config.hpp esc/registers.hpp
@@ -111,7 +112,7 @@ ecat_install_library(coe coe HEADERS
   coe/coe_protocol.hpp coe/mailbox_server.hpp coe/mailbox_service.hpp coe/emergency.hpp
   coe/foe_server.hpp coe/process_data.hpp coe/pdo_config.hpp coe/parameter_store.hpp
   coe/sdo_abort.hpp coe/object_hooks.hpp coe/value.hpp coe/sync_controller.hpp
-  coe/mailbox_header.hpp coe/storage_quota.hpp
+  coe/mailbox_header.hpp coe/storage_quota.hpp coe/module_ident_check.hpp
   # internal
   coe/mailbox_queue.hpp coe/pdo_mapping.hpp coe/process_data_image.hpp coe/sm_bits.hpp
   coe/sync_checks.hpp coe/sync_mode.hpp)
@@ -122,7 +123,8 @@ ecat_install_library(ds402 ds402 HEADERS
   ds402/svg_plot.hpp ds402/motion_trace.hpp ds402/od_binding.hpp
   # internal
   ds402/axis.hpp ds402/faults.hpp ds402/homing.hpp ds402/od_hooks.hpp ds402/option_codes.hpp
-  ds402/profile.hpp ds402/profile_position.hpp ds402/state_machine.hpp ds402/touch_probe.hpp)
+  ds402/profile.hpp ds402/profile_position.hpp ds402/state_machine.hpp ds402/touch_probe.hpp
+  ds402/ip_buffer.hpp ds402/velocity_mode.hpp)
 ecat_install_library(esi esi HEADERS
   # public
   esi/device_loader.hpp esi/esi_reader.hpp esi/esi_writer.hpp esi/sii_writer.hpp
@@ -138,7 +140,7 @@ ecat_install_library(transport transport HEADERS
 ecat_install_library(master master HEADERS
   master/master.hpp master/coe_client.hpp master/master_error.hpp master/sdo_abort.hpp
   master/sii.hpp master/slave_info.hpp master/mailbox.hpp master/datagram_link.hpp
-  master/topology.hpp master/dc_delay.hpp master/redundant_transport.hpp
+  master/topology.hpp master/dc_delay.hpp master/redundant_transport.hpp master/dc_phase.hpp
   master/conformance/suite.hpp)
 ecat_install_library(pdi_spi pdi_spi HEADERS
   # public

@@ -28,6 +28,12 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   if (!config) return fail(config.error());
   s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);
   s->esc_->dc().set_clock(options.clock_ppm, options.clock_start);
+  constexpr std::uint16_t kPdiTypeMask = 0x00FF;  // 0x0140 PDI type; 0 = no PDI (Section II 0x0140)
+  s->has_firmware_ = (s->device_->esc.pdi_control & kPdiTypeMask) != 0;
+  if (!s->has_firmware_ && options.pdi != PdiKind::Direct) {
+    return fail(std::string("the device has no PDI (0x0140 PDI type 0, an ESC that only forwards): "
+                            "there is no firmware to run over SPI"));
+  }
   esc::Pdi* pdi = s->esc_.get();
   if (options.pdi == PdiKind::Lan9252) {
     s->chip_ = std::make_unique<pdi_spi::EmulatedLan9252>(*s->esc_);
@@ -40,8 +46,6 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   }
   if (s->spi_pdi_) pdi = s->spi_pdi_.get();
   s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
-  constexpr std::uint16_t kPdiTypeMask = 0x00FF;  // 0x0140 PDI type; 0 = no PDI (Section II 0x0140)
-  s->has_firmware_ = (s->device_->esc.pdi_control & kPdiTypeMask) != 0;
   return s;
 }
 

@@ -18,6 +18,8 @@ for device in "$src"/xml/devices/*.xml; do
   for chip in lan9252 et1100-spi; do
     name="$(basename "$device" .xml)-$chip"
     if ! "$conform" --device "$device" --pdi "$chip" --junit "$out/$name.xml" > "$out/$name.txt" 2>&1; then
+      # Couplers and junctions have no PDI: there is no firmware to put behind SPI.
+      if grep -q "the device has no PDI" "$out/$name.txt"; then echo "skip: $name: no PDI"; continue; fi
       fail "$name: $(grep -E 'FAIL|tests,' "$out/$name.txt" | head -5)"
       continue
     fi

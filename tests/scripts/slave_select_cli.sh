@@ -57,7 +57,7 @@ has "sample chain" "  slave   2 Sample device B " "$out/stderr"
 sed 's|<Ccs>1</Ccs>|<Ccs>4</Ccs>|' "$eni" > "$out/bad.xml"
 run 1 "bad ENI" --eni "$out/bad.xml"
 line=$(grep -n '<Ccs>4</Ccs>' "$out/bad.xml" | cut -d: -f1)
-[ "$(cat "$out/stderr")" = "ecat-slave: $out/bad.xml:$line: Ccs 4 is neither 1 (upload) nor 2 (download)" ] \
+[ "$(cat "$out/stderr")" = "ecat-slave: $out/bad.xml:$line: Ccs 4 is neither 1 nor 2" ] \
   || fail "bad ENI: $(cat "$out/stderr")"
 run 2 "--eni with --esi" --eni "$eni" --esi "$vendor"
 run 2 "--esi-dir without --eni" --esi-dir "$out/esi"
