@@ -14,6 +14,16 @@ constexpr std::uint16_t kBootstrapNotSupported = 0x0013;
 constexpr std::uint16_t kUnknownStateCode = 0x0005;  // not 1/2/3/4/8
 constexpr std::uint16_t kPdiControlDeviceEmulation = 0x0100;  // SII word 0 high byte bit 0 = 0x0141 bit 0
 
+// Device emulation (SII word 0 bit 8 -> 0x0141 bit 0): a slave without a µC
+// (EK1100, EL1xxx) has the ESC copy AL control to AL status itself, so no
+// application refuses a state, flags ErrInd or answers an acknowledge (ESC
+// Section II 0x0140/0x0120): the cases built on a refusal do not apply.
+bool device_emulation(Context& ctx) {
+  return (ctx.info().sii.pdi_control & kPdiControlDeviceEmulation) != 0;
+}
+constexpr const char* kDeviceEmulationSkip =
+    "device emulation: the ESC copies AL control to AL status, no application refuses a state";
+
 std::string name_of(AlState s) {
   switch (s) {
     case AlState::Init: return "init";
@@ -78,6 +88,7 @@ Case forbidden(AlState from, AlState to, std::uint16_t code) {
   return Case{"esm." + name_of(from) + "_to_" + name_of(to) + "_refused",
               "ETG.1000.6 §6.4.1, Table 11: AL status code " + hex(code, 4) + ", current state + ErrInd (esm-al-codes.md §2)",
               [from, to, code](Context& ctx) {
+                if (device_emulation(ctx)) return CaseResult::skip(kDeviceEmulationSkip);
                 std::string setup;
                 std::string seen = transition(ctx, from, to, setup);
                 if (!setup.empty()) return CaseResult::failed("reach " + expect_state(from), setup);
@@ -105,6 +116,7 @@ std::vector<Case> esm_cases() {
 
   cases.push_back({"esm.init_to_boot", "ETG.1000.6 §6.4.1 IB, Table 11 0x0013 when Boot is not supported (esm-al-codes.md §2/§4)",
                    [](Context& ctx) {
+                     if (device_emulation(ctx)) return CaseResult::skip(kDeviceEmulationSkip);
                      const auto& sii = ctx.info().sii;
                      if (sii.boot_rx_size != 0 && sii.boot_tx_size != 0) {
                        return CaseResult::skip("device supports Bootstrap (boot mailbox in SII)");
@@ -116,6 +128,7 @@ std::vector<Case> esm_cases() {
 
   cases.push_back({"esm.unknown_state", "ETG.1000.6 Table 11: 0x0012 unknown requested state, current + ErrInd (esm-al-codes.md §1)",
                    [](Context& ctx) {
+                     if (device_emulation(ctx)) return CaseResult::skip(kDeviceEmulationSkip);
                      if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
                      auto st = ctx.master().write_al_control(ctx.slave(), kUnknownStateCode);
                      return CaseResult::compare(expect_refused(AlState::PreOp, kUnknownState),
@@ -124,6 +137,7 @@ std::vector<Case> esm_cases() {
 
   cases.push_back({"esm.error_acknowledge", "ETG.1000.6 §6.4.1: AL control bit 4 acknowledges ErrInd (esm-al-codes.md §5.3)",
                    [](Context& ctx) {
+                     if (device_emulation(ctx)) return CaseResult::skip(kDeviceEmulationSkip);
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::SafeOp);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal to acknowledge");
                      auto st = ctx.master().acknowledge_error(ctx.slave());
@@ -136,9 +150,7 @@ std::vector<Case> esm_cases() {
                      // Device emulation (SII word 0 bit 8 -> 0x0141 bit 0): a slave without a
                      // µC (EK1100, EL1xxx) has the ESC copy AL control to AL status itself, so
                      // nothing holds a request back while ErrInd is set (ESC Section II 0x0140).
-                     if ((ctx.info().sii.pdi_control & kPdiControlDeviceEmulation) != 0) {
-                       return CaseResult::skip("device emulation: the ESC copies AL control to AL status");
-                     }
+                     if (device_emulation(ctx)) return CaseResult::skip(kDeviceEmulationSkip);
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::Op);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal");
                      if (ctx.info().sii.has_mailbox()) (void)ctx.master().configure_mailbox(ctx.slave());
@@ -149,6 +161,7 @@ std::vector<Case> esm_cases() {
 
   cases.push_back({"esm.ack_with_next_state", "ETG.1000.6 §6.4.1: acknowledge with a valid request performs it and clears 0x0134 (esm-al-codes.md §5.3)",
                    [](Context& ctx) {
+                     if (device_emulation(ctx)) return CaseResult::skip(kDeviceEmulationSkip);
                      auto refused = ctx.master().request_state(ctx.slave(), AlState::Op);
                      if (!refused || !refused->error()) return CaseResult::failed("Init+E", "no refusal");
                      if (ctx.info().sii.has_mailbox()) (void)ctx.master().configure_mailbox(ctx.slave());
