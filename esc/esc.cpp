@@ -98,6 +98,7 @@ void Esc::reset() noexcept {
   for (auto& sm : sms_) sm.reset_state();
   for (auto& f : fmmus_) f = Fmmu{};
   sm_enabled_ = 0;
+  sm_watchdog_only_ = 0;
   pdi_buffer_hints_ = {};
   update_fmmus();
   watchdogs_.reset();
@@ -411,12 +412,15 @@ void Esc::update_ports() noexcept {
   }
 }
 
-// Enabled SMs (Section I §8): the ones whose area the memory path guards.
+// Enabled SMs (Section I §8): the ones whose area the memory path guards;
+// and the 1-byte SMs that only trigger the process-data watchdog (0x0802).
 void Esc::update_sm_guards() noexcept {
   sm_enabled_ = 0;
+  sm_watchdog_only_ = 0;
   pdi_buffer_hints_ = {};  // an SM register changed (pdi_in_place_sm)
   for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
     if (sms_[n].enabled()) sm_enabled_ |= 1u << n;
+    if (sms_[n].watchdog_trigger_only()) sm_watchdog_only_ |= 1u << n;
   }
   update_fmmus();  // their routes depend on the SMs
 }

@@ -65,7 +65,13 @@ void Esc::update_fmmus() noexcept {
       }
     }
     if (f.read) routes_[route_reads_++] = whole_route(r, f.length, false);
-    if (f.write) routes_[kMaxFmmus + route_writes_++] = whole_route(r, f.length, true);
+    if (f.write) {
+      // A write over the byte of a 1-byte SM (watchdog trigger only,
+      // Section II 0x0802) goes through mem_write, which restarts the watchdog.
+      FmmuRoute w = r;
+      if (w.target == kRouteRam && touches_watchdog_only_sm(w.physical, p1)) w.target = kRouteGeneral;
+      routes_[kMaxFmmus + route_writes_++] = whole_route(w, f.length, true);
+    }
   }
   for (unsigned a = 0; a < route_reads_; ++a) {
     for (unsigned b = 0; b < route_writes_; ++b) {

@@ -65,6 +65,11 @@ bool Esc::mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
 
 bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept {
   const std::uint32_t end = std::min<std::uint32_t>(address + static_cast<std::uint32_t>(in.size()), kAddressSpace);
+  // Section II 0x0802: an ECAT write to the byte of a 1-byte SM (in RAM or
+  // e.g. the digital outputs 0x0F00) restarts the process-data watchdog.
+  if (side == Side::Ecat && sm_watchdog_only_ != 0 && touches_watchdog_only_sm(address, end)) {
+    restart_process_data_watchdog();
+  }
   if (end <= reg::kProcessRam) return reg_write(address, in, side);  // registers only
   std::uint32_t pos = address;
   bool any = false;
@@ -92,6 +97,14 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
     pos = g.end;
   }
   return any;
+}
+
+bool Esc::touches_watchdog_only_sm(std::uint32_t first, std::uint32_t end) const noexcept {
+  for (std::uint32_t left = sm_watchdog_only_; left != 0; left &= left - 1) {
+    const std::uint32_t at = sms_[static_cast<unsigned>(std::countr_zero(left))].start();
+    if (at >= first && at < end) return true;
+  }
+  return false;
 }
 
 void Esc::peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept {

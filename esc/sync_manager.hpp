@@ -46,6 +46,7 @@ inline constexpr std::uint8_t kPdiRepeatAck = 0x02;
 inline constexpr std::uint8_t kPdiControlWritable = 0x03;
 inline constexpr std::uint8_t kNoBufferWritten = 3;  // status bits 5:4 before the first write
 inline constexpr std::uint16_t kMinActiveLength = 2;
+inline constexpr std::uint16_t kWatchdogOnlyLength = 1;  // 0x0802 = 1: watchdog trigger only
 }  // namespace sm_bits
 
 // What an access did that the ESC must turn into event register bits.
@@ -77,6 +78,15 @@ class SyncManager {
   // Enabled by ECAT (0x0806 bit 0), length >= 2: guards its buffer area.
   bool enabled() const noexcept {
     return (regs_[reg::sm::kActivate] & sm_bits::kActivateEnable) != 0 && length() >= sm_bits::kMinActiveLength;
+  }
+  // ESC datasheet Section II 0x0802: "shall be greater 1, otherwise SyncManager
+  // is not activated. If set to 1, only Watchdog Trigger is generated if
+  // available". Enabled with length 1, ECAT writes its byte and control bit 6
+  // is set: the byte stays plain RAM, but an ECAT write to it restarts the
+  // process-data watchdog (e.g. a device with one byte of outputs).
+  bool watchdog_trigger_only() const noexcept {
+    return (regs_[reg::sm::kActivate] & sm_bits::kActivateEnable) != 0 && length() == sm_bits::kWatchdogOnlyLength &&
+           ecat_writes() && (control() & sm_bits::kWatchdogTrigger) != 0;
   }
   bool pdi_deactivated() const noexcept { return (regs_[reg::sm::kPdiControl] & sm_bits::kPdiDeactivate) != 0; }
   bool covers(std::uint32_t address) const noexcept { return enabled() && address >= start() && address < end(); }

@@ -97,5 +97,72 @@ TEST_F(WdTest, PdiWatchdog) {
   EXPECT_EQ(esc().register_u16(reg::kDlStatus) & bits::kDlPdiWatchdogOk, bits::kDlPdiWatchdogOk);
 }
 
+// Section II 0x0802: an SM of length 1 is not activated ("shall be greater
+// 1"), but an ECAT write to its byte still triggers the watchdog if control
+// bit 6 is set - by FPWR, through a byte FMMU (routed LWR) and through a
+// bit-granular FMMU (general path); also at the digital outputs 0x0F00.
+struct OneByteWdTest : ::testing::Test {
+  static constexpr std::uint16_t kOneByte = 0x1100;
+  static constexpr std::uint32_t kLogical = 0x00020000;
+  static constexpr std::uint8_t kFmmuWrite = 2;
+  OneByteWdTest() : line(1) {
+    assign_stations(line);
+    transact(seg(), Command::Fpwr, fp(kStation, reg::kWatchdogTimeProcessData), le16(10));  // 1 ms
+  }
+  Line line;
+  Esc& esc() { return line[0]; }
+  Segment& seg() { return line.segment; }
+  // Triggered at `t`: status 1 until t + 1 ms - 1 ns, 0 (counter 1) at t + 1 ms.
+  void expect_expiry_after(Nanoseconds t) {
+    EXPECT_EQ(esc().poll(t), t + 1ms);
+    EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+    esc().poll(t + 1ms - 1ns);
+    EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+    esc().poll(t + 1ms);
+    EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 0);
+    EXPECT_EQ(esc().memory()[reg::kWatchdogCounterProcessData], 1);
+    EXPECT_EQ(esc().memory()[reg::kAlEventRequest] & bits::kAlEventWatchdog, bits::kAlEventWatchdog);
+  }
+};
+
+TEST_F(OneByteWdTest, FpwrTriggers) {
+  config_sm(seg(), kStation, 2, kOneByte, 1, 0x64);
+  EXPECT_EQ(esc().poll(0ms), std::nullopt);
+  EXPECT_EQ(transact(seg(), Command::Fpwr, fp(kStation, kOneByte), Data{0x5A}, 2ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[kOneByte], 0x5A);  // not buffered: written in place
+  expect_expiry_after(2ms);
+}
+
+TEST_F(OneByteWdTest, RoutedLwrTriggers) {
+  config_sm(seg(), kStation, 2, kOneByte, 1, 0x64);
+  config_fmmu(seg(), kStation, 0, kLogical, 1, 0, 7, kOneByte, 0, kFmmuWrite);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical, Data{0x11}, 3ms).wkc, 1);
+  expect_expiry_after(3ms);
+}
+
+TEST_F(OneByteWdTest, BitGranularLwrTriggers) {
+  config_sm(seg(), kStation, 2, kOneByte, 1, 0x64);
+  config_fmmu(seg(), kStation, 0, kLogical, 1, 0, 3, kOneByte, 0, kFmmuWrite);  // 4 bits
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical, Data{0xFF}, 4ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[kOneByte], 0x0F);
+  expect_expiry_after(4ms);
+}
+
+TEST_F(OneByteWdTest, DigitalOutputRegisterTriggers) {
+  config_sm(seg(), kStation, 0, reg::kDigitalIoOutput, 1, 0x44);  // EL2004-style: 0x0F00, length 1
+  EXPECT_EQ(transact(seg(), Command::Fpwr, fp(kStation, reg::kDigitalIoOutput), Data{0x03}, 5ms).wkc, 1);
+  expect_expiry_after(5ms);
+  EXPECT_EQ(esc().memory()[reg::kDigitalIoOutput], 0x00);  // outputs to 0 on expiry
+}
+
+TEST_F(OneByteWdTest, NoTriggerWithoutBit6OrEnableOrWhenReadDirection) {
+  config_sm(seg(), kStation, 2, kOneByte, 1, 0x24);  // no trigger bit
+  config_sm(seg(), kStation, 3, 0x1101, 1, 0x64, 0);  // not enabled
+  config_sm(seg(), kStation, 4, 0x1102, 1, 0x60);  // ECAT reads
+  transact(seg(), Command::Fpwr, fp(kStation, kOneByte), Data{1, 2, 3}, 1ms);
+  EXPECT_EQ(esc().poll(1ms), std::nullopt);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+}
+
 }  // namespace
 }  // namespace ecat::esc::test

@@ -151,5 +151,43 @@ TEST_F(EsmOverEscTest, ProcessDataWatchdogDropsOpToSafeOp) {
   EXPECT_EQ(al_status(), status(0x0014, 0x001B));
 }
 
+// A device with one byte of outputs: SM2 of length 1 is not activated as a
+// buffer, "only Watchdog Trigger is generated" (Section II 0x0802). The
+// master's LWR through the FMMU restarts the watchdog; without it the slave
+// stays in Op with no outputs (ecat-conform config.watchdog_expiry).
+TEST_F(EsmOverEscTest, OneByteOutputsWatchdogDropsOpToSafeOp) {
+  constexpr std::uint32_t kLogical = 0x00010000;
+  constexpr std::uint8_t kFmmuWrite = 2;
+  transact(line.segment, Command::Fpwr, fp(kStation, reg::kWatchdogTimeProcessData), le16(10), now());  // 1 ms
+  mailbox();
+  request(0x0002);
+  config_sm(line.segment, kStation, 2, kOutStart, 1, kOutControl);
+  config_sm(line.segment, kStation, 3, kInStart, 6, kInControl);
+  config_fmmu(line.segment, kStation, 0, kLogical, 1, 0, 7, kOutStart, 0, kFmmuWrite);
+  request(0x0004);
+  const auto outputs = [&](std::uint8_t v) {
+    EXPECT_EQ(transact(line.segment, Command::Lwr, kLogical, Data{v}, now()).wkc, 1);
+  };
+  const auto pd_status = [&] {
+    return transact(line.segment, Command::Fprd, fp(kStation, reg::kWatchdogStatusProcessData), 2, now()).data;
+  };
+  outputs(0x01);
+  EXPECT_EQ(request(0x0008), status(0x0008, 0));
+  line.clock.advance(std::chrono::microseconds(500));
+  outputs(0x02);  // restarts: expiry now due 1 ms after this write
+  const Nanoseconds last = now();
+  line.clock.set(last + std::chrono::microseconds(999));
+  line.segment.poll(now());
+  poll_slaves();
+  EXPECT_EQ(pd_status(), (Data{0x01, 0x00}));
+  EXPECT_EQ(al_status(), status(0x0008, 0));
+  line.clock.set(last + std::chrono::milliseconds(1));  // no outputs any more
+  line.segment.poll(now());
+  poll_slaves();
+  EXPECT_EQ(pd_status(), (Data{0x00, 0x00}));
+  EXPECT_EQ(al_status(), status(0x0014, 0x001B));
+  EXPECT_EQ(line[0].memory()[kOutStart], 0x02);  // the byte itself is plain RAM
+}
+
 }  // namespace
 }  // namespace ecat::esc::test

@@ -31,6 +31,28 @@ TEST(ConformanceSuite, GenericServoPassesEveryCase) {
   EXPECT_EQ(conformance::failures(reports), 0u);
 }
 
+// A device with one byte of outputs (SM2 length 1, which only triggers the
+// watchdog, ESC Section II 0x0802): the suite passes and
+// config.watchdog_expiry sees SafeOp + ErrInd 0x001B, not Op.
+TEST(ConformanceSuite, OneByteOutputsDevicePassesWatchdogExpiry) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(std::string(ECAT_SOURCE_DIR) + "/tests/data/devices/io-8out.xml"));
+  Master master(bus.transport, bus.clock);
+  conformance::SuiteOptions options;
+  options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
+  const auto reports = conformance::run_suite(master, options);
+  bool seen = false;
+  for (const auto& r : reports) {
+    EXPECT_NE(r.result.verdict, Verdict::Fail) << r.name << ": expected " << r.result.expected << ", seen "
+                                               << r.result.seen;
+    if (r.name == "config.watchdog_expiry") {
+      seen = true;
+      EXPECT_EQ(r.result.verdict, Verdict::Pass) << r.result.seen;
+    }
+  }
+  EXPECT_TRUE(seen);
+}
+
 // Issue 18: the same suite with the firmware reaching the ESC over SPI
 // framing to an emulated LAN9252 / ET1100 SPI slave (pdi_spi/), every
 // transaction within the chip's framing rules.
