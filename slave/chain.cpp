@@ -33,7 +33,8 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
 }
 
 Expected<void, std::string> Chain::attach(od::DeviceDescription device, const SlaveOptions& options,
-                                          std::size_t parent, unsigned parent_port, unsigned port) {
+                                          std::size_t parent, unsigned parent_port, unsigned port,
+                                          std::optional<Nanoseconds> delay) {
   if (parent >= slaves_.size()) return fail(fmt::format("no slave {} to attach to", parent + 1));
   if (parent_port >= esc::kMaxPorts || port >= esc::kMaxPorts) return fail(std::string("ports are 0..3"));
   if (segment_.peer(parent, parent_port)) {
@@ -41,7 +42,7 @@ Expected<void, std::string> Chain::attach(od::DeviceDescription device, const Sl
   }
   auto s = VirtualSlave::create(std::move(device), clock_, options);
   if (!s) return fail(s.error());
-  segment_.add((*s)->esc(), parent, parent_port, port);
+  segment_.add((*s)->esc(), parent, parent_port, port, delay);
   slaves_.push_back(std::move(*s));
   return {};
 }

@@ -33,9 +33,11 @@ class Chain {
   Expected<void, std::string> add(std::shared_ptr<const od::DeviceDescription> device, const SlaveOptions& options);
   // Adds a slave whose port `port` is cabled to port `parent_port` of slave
   // `parent` (an earlier index): trees of couplers and junctions (set-up
-  // only; esc::Segment::add).
+  // only; esc::Segment::add). `delay`: that cable's delay (default: the
+  // segment's hop delay), as the DC receive times see it.
   Expected<void, std::string> attach(od::DeviceDescription device, const SlaveOptions& options, std::size_t parent,
-                                     unsigned parent_port, unsigned port = esc::kUpstreamPort);
+                                     unsigned parent_port, unsigned port = esc::kUpstreamPort,
+                                     std::optional<Nanoseconds> delay = std::nullopt);
   // Cables the master's redundant port (1) to port `port` of slave `slave`:
   // the far end of a ring (set-up only).
   Expected<void, std::string> connect_redundant(std::size_t slave, unsigned port);

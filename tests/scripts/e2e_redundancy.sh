@@ -9,6 +9,10 @@
 #      when ecat-slave has --redundant-iface (the ring of the emulated segment)
 #      the ring must be found intact; without it nothing comes back on m1 and
 #      the master must find "secondary link down" and still lose no cycle.
+#  (c) with --redundant-iface on the slave side: a ring of 4, 3000 cycles at
+#      1 ms; after ~1 s SIGUSR2 makes ecat-slave cut the cable on slave 2's
+#      port 1 (--toggle-link 2:1); the master must lose no cycle, see no WKC
+#      error, and end with "ring broken between slave 2 and slave 3".
 # Usage: e2e_redundancy.sh SRCDIR BUILDDIR   (exit 77 = skipped: not root / no netns)
 set -uo pipefail
 src=${1:?srcdir}
@@ -51,6 +55,28 @@ if e2e_start_slave ring --count 3 "${ring_args[@]}"; then
   e2e_stop "$E2E_SLAVE_PID"
 else
   e2e_fail "(b) slave did not start"
+fi
+
+# (c) a cut in the ring during the cyclic run.
+if [ ${#ring_args[@]} -eq 0 ]; then
+  echo "(c) skipped: ecat-slave has no --redundant-iface"
+elif e2e_start_slave cut --count 4 "${ring_args[@]}" --toggle-link 2:1; then
+  pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
+  timeout -s KILL 60 ip netns exec "$E2E_NS_M" "$build/bin/ecat-master" --iface m0 --redundant-iface m1 \
+    --cycles 3000 --period-us 1000 --expect-slaves 4 > "$E2E_TMP/cutm.log" 2>&1 &
+  mpid=$!
+  sleep 1.5
+  kill -USR2 "$pid" || e2e_fail "(c) SIGUSR2"
+  wait "$mpid"; rc=$?
+  sed 's/^/  [cut] /' "$E2E_TMP/cutm.log"
+  [ "$rc" -eq 0 ] || e2e_fail "(c) ecat-master exit $rc"
+  grep -q 'link(s) cut' "$E2E_TMP/cut.log" || e2e_fail "(c) ecat-slave did not cut the link"
+  grep -Eq '^cycles 3000 lost 0 wkc-errors 0 ' "$E2E_TMP/cutm.log" || e2e_fail "(c) lost cycles or WKC errors"
+  grep -Eq '^redundancy: ring broken between slave 2 and slave 3 \(exchanges: intact [1-9][0-9]* broken [1-9]' \
+    "$E2E_TMP/cutm.log" || e2e_fail "(c) break not reported between slave 2 and slave 3"
+  e2e_stop "$E2E_SLAVE_PID"
+else
+  e2e_fail "(c) slave did not start"
 fi
 
 exit $e2e_status
