@@ -55,7 +55,31 @@ Expected<AlStatus, MasterError> Master::acknowledge_error(std::size_t slave) {
   return fail(MasterError::StateTimeout);
 }
 
+// Broadcast first (SOEM ecx_writestate(0), IgH): one BWR of AL control to
+// every slave, then BRDs of AL status until every slave shows the state.
+// The ORed status byte equals the state code only if every slave is in it
+// without ErrInd (the codes are single bits; Boot = 3 is not, so it goes
+// slave by slave), and the WKC says all answered. A refusal or a timeout
+// falls back to slave by slave, which names the slave and its 0x0134 code.
+// 1000 slaves: a few frames per state instead of 4 per slave (issue 16 item 5).
 Expected<void, MasterError> Master::request_state_all(AlState state) {
+  const auto code = static_cast<std::uint8_t>(state);
+  if (state != AlState::Boot && !slaves_.empty()) {
+    const std::uint8_t control[2]{code, 0};
+    auto w = bwr(reg::kAlControl, control);
+    if (w && *w == slaves_.size()) {
+      for (PollBudget budget(clock_, config_.state_timeout, config_.max_polls); budget.next();) {
+        std::uint8_t status[2]{};
+        auto wkc = link_.exchange(Command::Brd, device_address(0, reg::kAlStatus), Bytes(status, sizeof status));
+        if (!wkc) return fail(wkc.error());
+        if ((status[0] & kAlErrorBit) != 0) break;  // someone refused: find who
+        if (*wkc == slaves_.size() && (status[0] & kAlStateMask) == code) {
+          for (auto& s : slaves_) s.al = AlStatus{code, 0};
+          return {};
+        }
+      }
+    }
+  }
   for (std::size_t i = 0; i < slaves_.size(); ++i) {
     auto s = request_state(i, state);
     if (!s) return fail(s.error());

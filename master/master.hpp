@@ -188,6 +188,8 @@ class Master {
  private:
   Expected<AlStatus, MasterError> poll_state(std::size_t slave, std::uint8_t wanted);
   Expected<void, MasterError> sii_wait_idle(std::uint16_t station, std::uint16_t& status);
+  Expected<std::size_t, MasterError> sii_read_word(std::uint16_t station, std::uint16_t word_address, Bytes out,
+                                                   bool idle);
   Expected<void, MasterError> check_slave(std::size_t slave) const;
   Expected<void, MasterError> read_mailbox_area(std::size_t slave, bool& got);
 

@@ -238,3 +238,42 @@ TEST(InProcessNoProcessData, CyclesOnTheAlStatusWithWkcSlaveCount) {
 
 }  // namespace
 }  // namespace ecat::master::test
+
+// request_state_all broadcasts AL control and polls AL status by BRD (SOEM
+// ecx_writestate(0)): the whole chain changes state in a few frames, not 4
+// per slave; a refusal falls back to slave by slave, which records the code.
+namespace ecat::master::test {
+namespace {
+
+TEST(InProcessStateAll, BroadcastTakesTheChainToPreOpInAFewFrames) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 8));
+  Master master(bus.transport, bus.clock);
+  ASSERT_EQ(master.scan().value_or(0), 8u);
+  for (std::size_t i = 0; i < 8; ++i) ASSERT_TRUE(master.configure_mailbox(i).has_value());
+  const auto before = bus.chain().stats().frames_received;
+  ASSERT_TRUE(master.request_state_all(AlState::PreOp).has_value());
+  const auto frames = bus.chain().stats().frames_received - before;
+  EXPECT_GE(frames, 2u);  // BWR 0x0120, then at least one BRD 0x0130
+  EXPECT_LT(frames, 8u);  // slave by slave it was 2 per slave at least
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(bus.chain()[i].esc().register_u16(0x0130) & 0x1F, 0x02) << i;
+    EXPECT_TRUE(master.slave(i).al.is(AlState::PreOp));
+  }
+}
+
+TEST(InProcessStateAll, ARefusalFallsBackToSlaveBySlaveWithItsCode) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 3));
+  Master master(bus.transport, bus.clock);
+  ASSERT_EQ(master.scan().value_or(0), 3u);
+  // No mailbox SMs: every slave refuses PreOp with 0x0016 (ETG.1000.6 Table 11).
+  auto r = master.request_state_all(AlState::PreOp);
+  ASSERT_FALSE(r.has_value());
+  EXPECT_EQ(r.error(), MasterError::StateTimeout);
+  EXPECT_TRUE(master.slave(0).al.error());
+  EXPECT_EQ(master.slave(0).al.code, 0x0016);
+}
+
+}  // namespace
+}  // namespace ecat::master::test
