@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 #include "esi/eni_devices.hpp"
 #include "esi/eni_reader.hpp"
 
@@ -30,7 +32,9 @@ std::uint32_t u32(const od::DeviceDescription& d, std::uint16_t index, std::uint
 class EniDc : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = fs::path(::testing::TempDir()) / "eni-dc-esi";
+    // One directory per process: ctest runs each test of this fixture as its
+    // own process, side by side.
+    dir = fs::path(::testing::TempDir()) / ("eni-dc-esi-" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     fs::copy_file(data("esi-vendor/elmo-gold-ecat.xml"), dir / "elmo-gold-ecat.xml");

@@ -12,6 +12,8 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include "esi/eni_devices.hpp"
 #include "esi/eni_reader.hpp"
 
@@ -42,7 +44,7 @@ std::string esi_with_revision(std::uint32_t revision) {
 class EniRevisionMatch : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = fs::path(::testing::TempDir()) / "eni-revision-match";
+    dir = fs::path(::testing::TempDir()) / ("eni-revision-match-" + std::to_string(::getpid()));  // tests run side by side
     fs::remove_all(dir);
     fs::create_directories(dir);
     for (std::uint32_t r : {0x00110000u, 0x00110005u, 0x00120001u}) {
