@@ -10,6 +10,9 @@ using segment_detail::kNextPort;
 
 std::size_t Segment::append(Esc& esc) {
   escs_.push_back(&esc);
+  const InnerDelay inner{esc.config().processing_delay, esc.config().forwarding_delay};
+  inner_.push_back(inner);
+  if (inner.processing != Nanoseconds{0} || inner.forwarding != Nanoseconds{0}) line_ = false;  // carry_ports adds them
   links_.emplace_back();
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
@@ -198,24 +201,27 @@ Delivery Segment::carry_ports(DatagramView first, std::size_t count, Nanoseconds
     }
     unsigned q = p;
     bool via_unit = false;
+    // Time inside the ESC: forwarding from a port 1..3, processing through the unit.
+    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding;
     for (;;) {
       if (q == kUpstreamPort) {
         if (via_unit) break;  // every port closed: out of port 0
         via_unit = true;
         processed = frame_number_;
         ++d.processed;
-        if (!e.process_datagrams(first, count, t)) {
+        if (!e.process_datagrams(first, count, t + inside)) {
           e.count_processing_unit_error();  // circulating frame (Section I §14.1 Table 51)
           d.outcome = Delivery::Outcome::Destroyed;
           return d;
         }
+        inside += inner_[n].processing;
       }
       q = kNextPort[q];
       if (e.port_open_[q]) break;
     }
     const Link& out = links_[n][q];
     if (out.slave == kNoSlave || !out.up) return d;  // open with nothing connected: lost
-    t += out.delay;
+    t += inside + out.delay;
     if (out.slave == kMasterSlave) {
       d.outcome = Delivery::Outcome::Returned;
       d.master_port = out.port;

@@ -113,7 +113,8 @@ class Segment {
   // Frames the cable on that port will still corrupt.
   unsigned corruption_pending(std::size_t slave, unsigned port) const noexcept;
 
-  // True while the segment is a line built by add(Esc&) alone.
+  // True while the segment is a line built by add(Esc&) alone whose ESCs
+  // take no time inside (EscConfig::processing_delay/forwarding_delay 0).
   bool is_line() const noexcept { return line_; }
 
   std::size_t size() const noexcept { return escs_.size(); }
@@ -173,6 +174,13 @@ class Segment {
   CableFaultState* fault_on(std::size_t slave, unsigned port) noexcept;
 
   std::vector<Esc*> escs_;
+  // Per slave: its EscConfig processing and forwarding delays (the port
+  // walks add them; a line with any of them non-zero takes the port walk).
+  struct InnerDelay {
+    Nanoseconds processing{0};
+    Nanoseconds forwarding{0};
+  };
+  std::vector<InnerDelay> inner_;
   std::vector<std::array<Link, kMaxPorts>> links_;
   // Per slave: the frame number at which it was last touched / processed
   // (early receive times before the processing unit, carry_ports).

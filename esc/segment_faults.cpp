@@ -127,11 +127,14 @@ Delivery Segment::carry_faulty(DatagramView first, std::size_t count, Nanosecond
     }
     unsigned q = p;
     bool via_unit = false;
+    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding;
     for (;;) {
       if (q == kUpstreamPort) {
         if (via_unit) break;  // every port closed: out of port 0
         via_unit = true;
         processed = frame_number_;
+        const Nanoseconds at_unit = t + inside;
+        inside += inner_[n].processing;
         if (fault != FrameFault::None) {
           // The unit finds the error (its own port's, a forwarded one, or
           // the datagram structure) and discards the frame's operations.
@@ -139,7 +142,7 @@ Delivery Segment::carry_faulty(DatagramView first, std::size_t count, Nanosecond
           fault = FrameFault::Marked;
         } else {
           ++d.processed;
-          if (!e.process_datagrams(first, count, t)) {
+          if (!e.process_datagrams(first, count, at_unit)) {
             e.count_processing_unit_error();  // circulating frame
             d.outcome = Delivery::Outcome::Destroyed;
             return d;
@@ -152,7 +155,7 @@ Delivery Segment::carry_faulty(DatagramView first, std::size_t count, Nanosecond
     const Link& out = links_[n][q];
     if (out.slave == kNoSlave || !out.up) return d;  // open with nothing connected: lost
     cross(n, q);
-    t += out.delay;
+    t += inside + out.delay;
     if (out.slave == kMasterSlave) {
       d.outcome = broken(fault) ? Delivery::Outcome::Corrupted : Delivery::Outcome::Returned;
       d.master_port = out.port;
