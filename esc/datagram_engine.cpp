@@ -19,7 +19,9 @@ bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
     esc_write_enabled_ = false;
     return true;
   }
-  return process_datagrams(frame.front(), frame.size(), now);
+  if (process_datagrams(frame.front(), frame.size(), now)) return true;
+  count_processing_unit_error();  // a circulating frame destroyed (Section I §14.1 Table 51)
+  return false;
 }
 
 // xRW: read first (the data returned is the memory before the write), then

@@ -442,11 +442,41 @@ void Esc::update_dl_status() noexcept {
   if (s != old) set_ecat_event(bits::kEcatEventDlStatus);
 }
 
+namespace {
+void saturating_increment(std::uint8_t& c) noexcept {
+  if (c < bits::kCounterMax) ++c;
+}
+}  // namespace
+
 void Esc::count_rx_error(unsigned port, bool forwarded) noexcept {
+  count_port_error(port, forwarded ? PortError::Forwarded : PortError::InvalidFrame);
+}
+
+// Section I §14.1 Table 51 (auto-forwarder: 0x0300+2n original error,
+// 0x0308+n forwarded error; physical layer: 0x0301+2n) and §14.2 (an error
+// is counted as the port's own only by the first ESC that finds it).
+void Esc::count_port_error(unsigned port, PortError error) noexcept {
   if (port >= kMaxPorts) return;
   std::uint8_t* m = mem_.get();
-  std::uint8_t& c = forwarded ? m[reg::kForwardedRxErrorCounter + port] : m[reg::kRxErrorCounter + 2 * port];
-  if (c < bits::kCounterMax) ++c;
+  switch (error) {
+    case PortError::Forwarded:
+      saturating_increment(m[reg::kForwardedRxErrorCounter + port]);
+      break;
+    case PortError::PhysicalLayer:
+      saturating_increment(m[reg::kRxErrorCounter + 2 * port + 1]);
+      saturating_increment(m[reg::kRxErrorCounter + 2 * port]);  // "includes RX errors"
+      break;
+    case PortError::InvalidFrame:
+      saturating_increment(m[reg::kRxErrorCounter + 2 * port]);
+      break;
+  }
+}
+
+void Esc::count_processing_unit_error() noexcept { saturating_increment(mem_[reg::kProcessingUnitErrorCounter]); }
+
+void Esc::count_pdi_error(std::uint8_t code) noexcept {
+  saturating_increment(mem_[reg::kPdiErrorCounter]);
+  mem_[reg::kPdiErrorCode] = code;
 }
 
 }  // namespace ecat::esc

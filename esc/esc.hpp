@@ -77,6 +77,22 @@ class Esc final : public Pdi {
   // (0x0300 invalid frame on `port`, or 0x0308 when an upstream ESC already
   // marked it) and otherwise leaves the ESC unchanged.
   void count_rx_error(unsigned port, bool forwarded) noexcept;
+  // The error counters as silicon has them (Section I §14 Table 51,
+  // Section II 0x0300-0x030E; all saturate at 0xFF). What the auto-forwarder
+  // of `port` found in a received frame:
+  enum class PortError : std::uint8_t {
+    InvalidFrame,   // CRC (FCS) error, too long, no SOF: 0x0300+2n
+    PhysicalLayer,  // RX_ER (MII) / Manchester violation (EBUS) inside the frame: 0x0300+2n and 0x0301+2n
+    Forwarded,      // a frame an earlier ESC already marked as broken: 0x0308+n
+  };
+  void count_port_error(unsigned port, PortError error) noexcept;
+  // A broken frame passed the processing unit (its own or a forwarded
+  // error, a datagram structure the unit rejects, a circulating frame it
+  // destroys): 0x030C.
+  void count_processing_unit_error() noexcept;
+  // The PDI found an interface error: 0x030D +1, 0x030E the PDI's error
+  // code (Section II 0x030D/0x030E; the code's bits are PDI-specific).
+  void count_pdi_error(std::uint8_t code) noexcept;
   // Runs the time-driven parts (watchdogs, SII busy, DC) up to `now`;
   // returns the next time it needs to run, if any.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;

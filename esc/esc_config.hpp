@@ -63,6 +63,16 @@ struct EscConfig {
   Nanoseconds sii_busy_time{0};
   // Read size reported in 0x0502 bit 6: true = 8 bytes (as an ET1100), false = 4 bytes.
   bool sii_read_8_bytes = true;
+  // Time a frame spends inside this ESC, from its start at a receiving port
+  // to its start at the next open port (docs/esc.md "Forwarding delays
+  // inside an ESC"): through the processing unit (port 0 -> EtherCAT
+  // processing unit -> out, the "processing" direction) and port to port
+  // without it (the "forwarding" direction, Section I §3.2). A frame that
+  // enters at port 1..3 and reaches the unit through a closed port 0 takes
+  // both. 0 (the default): the cables carry all the time (esc::Segment).
+  Nanoseconds processing_delay{0};
+  Nanoseconds forwarding_delay{0};
+
   // Fast paths (issue 8): register bytes without side effects copied as a
   // block, byte-aligned FMMUs routed straight to their SM. false sends every
   // access through the per-byte checked handlers instead - same behaviour,

@@ -246,8 +246,12 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
     if (old != m[a]) set_ecat_event(bits::kEcatEventAlStatus);
   } else if (ecat && in(a, reg::kRxErrorCounter, bits::kRxErrorCountersEnd)) {
     std::fill(m + reg::kRxErrorCounter, m + bits::kRxErrorCountersEnd, std::uint8_t{0});
-  } else if (ecat && (a == reg::kProcessingUnitErrorCounter || a == reg::kPdiErrorCounter)) {
+  } else if (ecat && a == reg::kProcessingUnitErrorCounter) {
     m[a] = 0;
+  } else if (ecat && a == reg::kPdiErrorCounter) {
+    // Section II 0x030D: writing the counter clears it and the error code 0x030E.
+    m[a] = 0;
+    m[reg::kPdiErrorCode] = 0;
   } else if (ecat && in(a, reg::kLostLinkCounter, bits::kLostLinkCountersEnd)) {
     std::fill(m + reg::kLostLinkCounter, m + bits::kLostLinkCountersEnd, std::uint8_t{0});
   } else if (ecat && (a == reg::kWatchdogCounterProcessData || a == reg::kWatchdogCounterPdi)) {

@@ -6,15 +6,13 @@
 
 namespace ecat::esc {
 
-namespace {
-// Section I §3.2 Table 9, 4 ports: 0 -> processing unit -> 3 -> 1 -> 2 -> 0.
-// kNextPort[p]: the port a frame goes to after port p (after the processing
-// unit for p = 0). Ports that do not exist are closed: the frame passes on.
-constexpr std::array<std::uint8_t, kMaxPorts> kNextPort{3, 2, 0, 1};
-}  // namespace
+using segment_detail::kNextPort;
 
 std::size_t Segment::append(Esc& esc) {
   escs_.push_back(&esc);
+  const InnerDelay inner{esc.config().processing_delay, esc.config().forwarding_delay};
+  inner_.push_back(inner);
+  if (inner.processing != Nanoseconds{0} || inner.forwarding != Nanoseconds{0}) line_ = false;  // carry_ports adds them
   links_.emplace_back();
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
@@ -99,17 +97,19 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
     last_error_ = valid.error;
     ++dropped_;
     if (valid.error != FrameError::NotEtherCat) {
-      // The first ESC sees a broken frame on port 0; the ones behind it get
-      // it already marked and count a forwarded error (Section II 0x0300/0x0308).
-      for (std::size_t i = 0; i < escs_.size(); ++i) escs_[i]->count_rx_error(kUpstreamPort, i != 0);
+      // The first processing unit rejects the datagram structure (0x030C) and
+      // marks the frame; every later port counts a forwarded error (0x0308+n)
+      // and every later unit 0x030C (Section I §14.1 Table 51, §14.2).
+      (void)carry_faulty(DatagramView{}, 0, now, master_port, false);
     }
     Delivery d;
     d.outcome = Delivery::Outcome::Malformed;
     return d;
   }
   const DatagramView first(valid.first);
-  const Delivery d = line_ && master_port == 0 ? carry_line(first, valid.count, now)
-                                               : carry_ports(first, valid.count, now, master_port);
+  const Delivery d = !faults_.empty()             ? carry_faulty(first, valid.count, now, master_port, true)
+                     : line_ && master_port == 0 ? carry_line(first, valid.count, now)
+                                                 : carry_ports(first, valid.count, now, master_port);
   if (!d.returned()) [[unlikely]] {
     ++dropped_;
     return d;
@@ -201,23 +201,27 @@ Delivery Segment::carry_ports(DatagramView first, std::size_t count, Nanoseconds
     }
     unsigned q = p;
     bool via_unit = false;
+    // Time inside the ESC: forwarding from a port 1..3, processing through the unit.
+    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding;
     for (;;) {
       if (q == kUpstreamPort) {
         if (via_unit) break;  // every port closed: out of port 0
         via_unit = true;
         processed = frame_number_;
         ++d.processed;
-        if (!e.process_datagrams(first, count, t)) {
+        if (!e.process_datagrams(first, count, t + inside)) {
+          e.count_processing_unit_error();  // circulating frame (Section I §14.1 Table 51)
           d.outcome = Delivery::Outcome::Destroyed;
           return d;
         }
+        inside += inner_[n].processing;
       }
       q = kNextPort[q];
       if (e.port_open_[q]) break;
     }
     const Link& out = links_[n][q];
     if (out.slave == kNoSlave || !out.up) return d;  // open with nothing connected: lost
-    t += out.delay;
+    t += inside + out.delay;
     if (out.slave == kMasterSlave) {
       d.outcome = Delivery::Outcome::Returned;
       d.master_port = out.port;

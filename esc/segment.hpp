@@ -33,6 +33,13 @@ inline constexpr unsigned kDownstreamPort = 1;
 // The master's ports: 0 the main one, 1 the redundant one (the ring's far end).
 inline constexpr unsigned kMasterPorts = 2;
 
+namespace segment_detail {
+// Section I §3.2 Table 9, 4 ports: 0 -> processing unit -> 3 -> 1 -> 2 -> 0.
+// kNextPort[p]: the port a frame goes to after port p (after the processing
+// unit for p = 0). Ports that do not exist are closed: the frame passes on.
+inline constexpr std::array<std::uint8_t, kMaxPorts> kNextPort{3, 2, 0, 1};
+}  // namespace segment_detail
+
 // Where a frame sent with Segment::send went.
 struct Delivery {
   enum class Outcome : std::uint8_t {
@@ -40,6 +47,8 @@ struct Delivery {
     Lost,       // sent out of an open port without a link, or into a closed one
     Destroyed,  // circulating frame (Section I §3.5.1), or no way through
     Malformed,  // rejected before any ESC (Segment::last_error says why)
+    Corrupted,  // came back to the master on `master_port` with a bad FCS: a cable
+                // corrupted it (Segment::corrupt_link); the master drops it as lost
   };
   Outcome outcome = Outcome::Lost;
   unsigned master_port = 0;  // valid when Returned
@@ -87,7 +96,25 @@ class Segment {
     bool master = false;
   };
   std::optional<Peer> peer(std::size_t slave, unsigned port) const noexcept;
-  // True while the segment is a line built by add(Esc&) alone.
+  // Fault injection (Section I §14, error counters): the cable on port
+  // `port` of slave `slave` corrupts the next `frames` frames that cross it,
+  // in either direction (a frame crossing it twice is hit once). The ESC
+  // that receives a corrupted frame counts it as its own error at that port
+  // (0x0300+2n; with RxError also 0x0301+2n) and marks it; every later port
+  // the frame enters counts a forwarded error (0x0308+n), every processing
+  // unit it passes 0x030C and discards its datagrams; the master gets it
+  // with a bad FCS (Delivery::Outcome::Corrupted). 0 frames repairs the
+  // cable. Returns false if nothing is cabled there.
+  enum class CableFault : std::uint8_t {
+    Crc,      // bits flipped on the wire: a bad FCS at the receiving port
+    RxError,  // a symbol error the PHY reports (RX_ER / EBUS Manchester violation)
+  };
+  bool corrupt_link(std::size_t slave, unsigned port, unsigned frames, CableFault fault = CableFault::Crc) noexcept;
+  // Frames the cable on that port will still corrupt.
+  unsigned corruption_pending(std::size_t slave, unsigned port) const noexcept;
+
+  // True while the segment is a line built by add(Esc&) alone whose ESCs
+  // take no time inside (EscConfig::processing_delay/forwarding_delay 0).
   bool is_line() const noexcept { return line_; }
 
   std::size_t size() const noexcept { return escs_.size(); }
@@ -129,13 +156,37 @@ class Segment {
   void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
   Delivery carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   Delivery carry_ports(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
+  // The port walk of carry_ports for frames that are or may become broken
+  // (a cable with a fault, or a frame the processing unit rejects:
+  // `parsed` false), with the error counting of Section I §14
+  // (esc/segment_faults.cpp; kept apart so the hot walks stay as they are).
+  Delivery carry_faulty(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port,
+                        bool parsed) noexcept;
+  // A cable with a fault: one end (a slave's port; for a master cable the
+  // slave end), frames left, and the frame it last hit.
+  struct CableFaultState {
+    std::uint32_t slave = kNoSlave;
+    std::uint8_t port = 0;
+    CableFault fault = CableFault::Crc;
+    unsigned left = 0;
+    std::uint64_t hit_frame = 0;
+  };
+  CableFaultState* fault_on(std::size_t slave, unsigned port) noexcept;
 
   std::vector<Esc*> escs_;
+  // Per slave: its EscConfig processing and forwarding delays (the port
+  // walks add them; a line with any of them non-zero takes the port walk).
+  struct InnerDelay {
+    Nanoseconds processing{0};
+    Nanoseconds forwarding{0};
+  };
+  std::vector<InnerDelay> inner_;
   std::vector<std::array<Link, kMaxPorts>> links_;
   // Per slave: the frame number at which it was last touched / processed
   // (early receive times before the processing unit, carry_ports).
   std::vector<std::uint64_t> touched_;
   std::array<Link, kMasterPorts> master_{};
+  std::vector<CableFaultState> faults_;  // empty on a healthy segment
   std::uint64_t frame_number_ = 0;
   Nanoseconds hop_delay_ = kDefaultHopDelay;
   bool line_ = true;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "coe/storage_quota.hpp"
@@ -35,6 +36,11 @@ struct SlaveOptions {
   bool motion_trace = false;
   PdiKind pdi = PdiKind::Direct;
   pdi_spi::Lan9252Options lan9252{};  // with PdiKind::Lan9252
+  // Time a frame spends inside this slave's ESC (esc::EscConfig
+  // processing_delay / forwarding_delay; docs/esc.md "Forwarding delays
+  // inside an ESC"); unset: the ESC's default (0).
+  std::optional<Nanoseconds> processing_delay;
+  std::optional<Nanoseconds> forwarding_delay;
 };
 
 }  // namespace ecat::slave

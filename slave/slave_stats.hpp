@@ -20,8 +20,8 @@ struct SlaveStatus {
 struct ChainStats {
   std::uint64_t frames_received = 0;   // handed to process_frame
   std::uint64_t frames_returned = 0;   // processed and sent back
-  std::uint64_t frames_malformed = 0;  // dropped as malformed (counted in 0x0300)
-  std::uint64_t frames_lost = 0;       // destroyed in the line (circulating, open port)
+  std::uint64_t frames_malformed = 0;  // dropped as malformed (counted in 0x030C, 0x0308+n)
+  std::uint64_t frames_lost = 0;       // destroyed in the line (circulating, open port) or back with a bad FCS (a corrupting cable)
   std::uint64_t datagrams = 0;
   std::uint64_t wkc_total = 0;         // sum of returned WKCs
 };

@@ -26,6 +26,8 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   s->device_ = std::move(device);
   auto config = esc_config_for(*s->device_);
   if (!config) return fail(config.error());
+  if (options.processing_delay) config->processing_delay = *options.processing_delay;
+  if (options.forwarding_delay) config->forwarding_delay = *options.forwarding_delay;
   s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);
   s->esc_->dc().set_clock(options.clock_ppm, options.clock_start);
   constexpr std::uint16_t kPdiTypeMask = 0x00FF;  // 0x0140 PDI type; 0 = no PDI (Section II 0x0140)

@@ -118,7 +118,9 @@ int main(int argc, char** argv) {
   cli.add_option("--expect-slaves", o.session.expect_slaves, "Fail unless the scan finds this many slaves");
   cli.add_flag("--topology", o.session.topology,
                "Print each slave's parent, the parent's port, active and entry ports (and DC delays with --dc)");
-  cli.add_flag("--scan", o.session.scan_only, "Scan and print the topology only, change no state");
+  cli.add_flag("--scan", o.session.scan_only,
+               "Scan and print the topology only, change no state (with --dc: also measure and print the DC "
+               "delays, writing only the DC delay/offset registers)");
   cli.add_flag("--dc", o.session.dc, "Set up distributed clocks and DC Sync0 mode (1C32h/1C33h = 2)");
   cli.add_flag("--move", o.session.move, "Enable every CiA402 drive and move it in CSP mode");
   cli.add_option("--move-distance", o.session.move_distance, "Move distance in increments");

@@ -117,6 +117,14 @@ Expected<void, std::string> Session::bring_up() {
     return fail(fmt::format("scan found {} slave(s), expected {}", *n, o_.expect_slaves));
   }
   report_.slaves = *n;
+  if (o_.scan_only && o_.dc) {
+    // --scan --dc: measure the propagation delays too (latch the port
+    // receive times, write 0x0920/0x0928) and print them; no AL state moves.
+    auto dc = master_.configure_dc(clock_.now());
+    if (!dc) return fail(fmt::format("DC set-up: {}", error_text(dc.error())));
+    std::fputs(topology_report(master_, true).c_str(), stdout);
+    return {};
+  }
   if (o_.topology || o_.scan_only) std::fputs(topology_report(master_, false).c_str(), stdout);
   if (o_.scan_only) return {};
   pdos_.assign(*n, {});

@@ -26,9 +26,14 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
     so.motion_trace = i == 0 && !options.plot_svg.empty();
     const TopologySlave* placed = options.topology && i < options.topology->slaves.size()
                                       ? &options.topology->slaves[i] : nullptr;
-    if (placed) so.name = placed->name;
+    if (placed) {
+      so.name = placed->name;
+      so.processing_delay = placed->processing;
+      so.forwarding_delay = placed->forwarding;
+    }
     auto ok = placed && placed->parent
-                  ? chain->attach(std::move(devices[i]), so, *placed->parent, placed->parent_port, placed->port)
+                  ? chain->attach(std::move(devices[i]), so, *placed->parent, placed->parent_port, placed->port,
+                                  placed->cable)
                   : chain->add(std::move(devices[i]), so);
     if (!ok) return fail(fmt::format("slave {}: {}", i + 1, ok.error()));
   }

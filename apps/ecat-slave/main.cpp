@@ -69,6 +69,13 @@ int main(int argc, char** argv) {
   cli.add_option("--toggle-link", o.toggle_links,
                  "NAME:PORT[,NAME:PORT...]: SIGUSR2 cuts these cables, the next SIGUSR2 restores them "
                  "(NAME from --topology, or the slave number 1.. of a chain)");
+  cli.add_option("--corrupt-link", o.corrupt_links,
+                 "NAME:PORT[,NAME:PORT...]: each SIGUSR2 makes these cables corrupt their next --corrupt-frames "
+                 "frames (the ESCs count it in 0x0300-0x030C; the frame is lost to the master)");
+  cli.add_option("--corrupt-frames", o.corrupt_frames, "Frames a --corrupt-link cable corrupts per SIGUSR2 (default 1)")
+      ->check(CLI::Range(1u, 1000000u));
+  cli.add_flag("--corrupt-rx-error", o.corrupt_rx_error,
+               "--corrupt-link faults are physical-layer RX errors (also 0x0301+2n) instead of bad FCS");
   auto* pin = cli.add_option("--pcap-in", o.pcap_in, "Replay the master frames of this capture")->check(CLI::ExistingFile);
   auto* pout = cli.add_option("--pcap-out", o.pcap_out, "Write the frames as the segment returns them");
   auto* udp = cli.add_option("--udp", o.udp,

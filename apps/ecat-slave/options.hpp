@@ -36,6 +36,12 @@ struct SlaveProgramOptions {
   // --toggle-link NAME:PORT,...: SIGUSR2 cuts these cables, the next SIGUSR2
   // restores them (NAME from the topology, or the slave number 1.. of a chain).
   std::string toggle_links;
+  // --corrupt-link NAME:PORT,...: each SIGUSR2 makes these cables corrupt
+  // their next --corrupt-frames frames (bad FCS; --corrupt-rx-error: a
+  // physical-layer RX error) - error counters 0x0300-0x030C (docs/topology.md).
+  std::string corrupt_links;
+  unsigned corrupt_frames = 1;
+  bool corrupt_rx_error = false;
 
   // Exactly one medium.
   std::string iface;

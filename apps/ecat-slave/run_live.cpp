@@ -36,11 +36,12 @@ void install_signal_handlers() {
   sigaction(SIGUSR2, &sa, nullptr);
 }
 
-// --toggle-link: the cables SIGUSR2 cuts and restores (docs/topology.md).
-Expected<std::vector<SlavePort>, std::string> toggled_links(const SlaveProgramOptions& o, std::size_t slaves) {
+// --toggle-link / --corrupt-link: the cables SIGUSR2 cuts and restores, or
+// makes corrupt their next frames (docs/topology.md).
+Expected<std::vector<SlavePort>, std::string> named_links(const SlaveProgramOptions& o, const std::string& text,
+                                                          const char* option, std::size_t slaves) {
   std::vector<SlavePort> out;
   std::size_t start = 0;
-  const std::string& text = o.toggle_links;
   while (start < text.size()) {
     const std::size_t comma = std::min(text.find(',', start), text.size());
     const std::string item = text.substr(start, comma - start);
@@ -48,7 +49,7 @@ Expected<std::vector<SlavePort>, std::string> toggled_links(const SlaveProgramOp
     if (item.empty()) continue;
     if (o.topology) {
       auto p = o.topology->parse_port(item);
-      if (!p) return fail(fmt::format("--toggle-link {}", p.error()));
+      if (!p) return fail(fmt::format("{} {}", option, p.error()));
       out.push_back(*p);
       continue;
     }
@@ -58,7 +59,7 @@ Expected<std::vector<SlavePort>, std::string> toggled_links(const SlaveProgramOp
     char tail = 0;
     if (std::sscanf(item.c_str(), "%u:%u%c", &number, &port, &tail) != 2 || number == 0 || number > slaves ||
         port > 3) {
-      return fail(fmt::format("--toggle-link {}: expected SLAVE:PORT with SLAVE 1..{} and PORT 0..3", item, slaves));
+      return fail(fmt::format("{} {}: expected SLAVE:PORT with SLAVE 1..{} and PORT 0..3", option, item, slaves));
     }
     out.push_back(SlavePort{number - 1, port});
   }
@@ -202,10 +203,22 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   // kernel stamped them, after the timers due before them (Chain::catch_up),
   // so a late wake-up does not reorder SYNC0 events and frames, and the DC
   // latches and watchdogs see when a frame arrived (docs/e2e.md "Live timing").
-  auto toggled = toggled_links(o, line.size());
+  auto toggled = named_links(o, o.toggle_links, "--toggle-link", line.size());
   if (!toggled) {
     std::fprintf(stderr, "ecat-slave: %s\n", toggled.error().c_str());
     return 1;
+  }
+  auto corrupted = named_links(o, o.corrupt_links, "--corrupt-link", line.size());
+  if (!corrupted) {
+    std::fprintf(stderr, "ecat-slave: %s\n", corrupted.error().c_str());
+    return 1;
+  }
+  for (const SlavePort& p : *corrupted) {
+    if (!line.segment().peer(p.slave, p.port)) {
+      std::fprintf(stderr, "ecat-slave: --corrupt-link: nothing is cabled on port %u of slave %zu\n", p.port,
+                   p.slave + 1);
+      return 1;
+    }
   }
   bool links_cut = false;
   unsigned next_port = 0;
@@ -222,7 +235,15 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       g_toggle_links = 0;
       links_cut = !links_cut;
       for (const SlavePort& p : *toggled) line.segment().set_link(p.slave, p.port, !links_cut);
-      if (!o.quiet) std::fprintf(stderr, "ecat-slave: %zu link(s) %s\n", toggled->size(), links_cut ? "cut" : "restored");
+      if (!o.quiet && !toggled->empty()) {
+        std::fprintf(stderr, "ecat-slave: %zu link(s) %s\n", toggled->size(), links_cut ? "cut" : "restored");
+      }
+      const auto fault = o.corrupt_rx_error ? esc::Segment::CableFault::RxError : esc::Segment::CableFault::Crc;
+      for (const SlavePort& p : *corrupted) line.segment().corrupt_link(p.slave, p.port, o.corrupt_frames, fault);
+      if (!o.quiet && !corrupted->empty()) {
+        std::fprintf(stderr, "ecat-slave: %zu link(s) corrupt their next %u frame(s)\n", corrupted->size(),
+                     o.corrupt_frames);
+      }
     }
     // With a redundant port: wait on both sockets, then take a frame from
     // the one that has it (the master port it arrived on).

@@ -1,5 +1,8 @@
 #include "apps/ecat-slave/topology.hpp"
 
+#include <array>
+#include <charconv>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -19,6 +22,15 @@ std::vector<std::string> words_of(std::string_view line) {
     out.push_back(w);
   }
   return out;
+}
+
+// A time in ns for `cable` / `inner`: decimal, at most one millisecond.
+constexpr std::uint32_t kMaxNs = 1'000'000;
+std::optional<Nanoseconds> parse_ns(const std::string& text) {
+  std::uint32_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end != text.data() + text.size() || v > kMaxNs) return std::nullopt;
+  return Nanoseconds{v};
 }
 
 }  // namespace
@@ -56,9 +68,8 @@ Expected<Topology, std::string> parse_topology(std::string_view text, const std:
     if (w.empty()) continue;
     auto error = [&](const std::string& what) { return fmt::format("{}:{}: {}", source, number, what); };
     if (w[0] == "slave") {
-      if (w.size() != 3 && w.size() != 5 && w.size() != 7) {
-        return fail(error("expected: slave NAME FILE [at PARENT:PORT [port N]]"));
-      }
+      constexpr const char* kSyntax = "expected: slave NAME FILE [at PARENT:PORT [port N]] [cable NS] [inner P F]";
+      if (w.size() < 3) return fail(error(kSyntax));
       TopologySlave s;
       s.name = w[1];
       s.line = number;
@@ -66,20 +77,42 @@ Expected<Topology, std::string> parse_topology(std::string_view text, const std:
       if (t.find(s.name)) return fail(error(fmt::format("slave '{}' defined twice", s.name)));
       const std::filesystem::path file(w[2]);
       s.device_file = file.is_absolute() || base_dir.empty() ? file.string() : (std::filesystem::path(base_dir) / file).string();
-      if (w.size() >= 5) {
-        if (w[3] != "at") return fail(error(fmt::format("expected 'at', found '{}'", w[3])));
-        auto parent = t.parse_port(w[4]);
+      std::size_t at = 3;  // the next word after NAME FILE
+      if (at < w.size() && w[at] == "at") {
+        if (at + 1 >= w.size()) return fail(error(kSyntax));
+        auto parent = t.parse_port(w[at + 1]);
         if (!parent) return fail(error(parent.error()));
         s.parent = parent->slave;
         s.parent_port = parent->port;
+        at += 2;
+        if (at < w.size() && w[at] == "port") {
+          if (at + 1 >= w.size() || w[at + 1].size() != 1 || w[at + 1][0] < '0' || w[at + 1][0] > '3') {
+            return fail(error("expected 'port N' with N 0..3"));
+          }
+          s.port = static_cast<unsigned>(w[at + 1][0] - '0');
+          at += 2;
+        }
       } else if (!t.slaves.empty()) {
         return fail(error(fmt::format("slave '{}' needs 'at PARENT:PORT' (only the first slave sits on the master)", s.name)));
       }
-      if (w.size() == 7) {
-        if (w[5] != "port" || w[6].size() != 1 || w[6][0] < '0' || w[6][0] > '3') {
-          return fail(error("expected 'port N' with N 0..3"));
+      while (at < w.size()) {
+        const std::size_t values = w[at] == "cable" ? 1 : w[at] == "inner" ? 2 : 0;
+        if (values == 0) return fail(error(fmt::format("expected 'at', 'cable' or 'inner', found '{}'", w[at])));
+        if (at + values >= w.size()) return fail(error(kSyntax));
+        std::array<Nanoseconds, 2> ns{};
+        for (std::size_t k = 0; k < values; ++k) {
+          auto v = parse_ns(w[at + 1 + k]);
+          if (!v) return fail(error(fmt::format("'{}': expected a time in ns (0..{})", w[at + 1 + k], kMaxNs)));
+          ns[k] = *v;
         }
-        s.port = static_cast<unsigned>(w[6][0] - '0');
+        if (values == 1) {
+          if (!s.parent) return fail(error("'cable' needs 'at PARENT:PORT' (the master's cable takes 0)"));
+          s.cable = ns[0];
+        } else {
+          s.processing = ns[0];
+          s.forwarding = ns[1];
+        }
+        at += 1 + values;
       }
       // One cable per port: the parent's port and this slave's port are free.
       for (std::size_t i = 0; i < t.slaves.size(); ++i) {

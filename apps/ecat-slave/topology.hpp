@@ -7,6 +7,11 @@
 //   slave NAME FILE at PARENT:PORT port N    ... with NAME's port N instead of 0
 //   redundant NAME:PORT                  the master's second port (ring's far end)
 //
+// After the placement a slave line may add `cable NS` (the delay of the
+// cable to its parent, ns; default esc::Segment::kDefaultHopDelay) and
+// `inner P F` (the ESC's processing and forwarding delays, ns;
+// docs/esc.md "Forwarding delays inside an ESC").
+//
 // Device FILE paths are relative to the topology file. Slaves are numbered
 // in file order; a parent must come before its children.
 #pragma once
@@ -17,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/clock.hpp"
 #include "common/expected.hpp"
 
 namespace ecat::app {
@@ -28,6 +34,9 @@ struct TopologySlave {
   unsigned parent_port = 0;
   unsigned port = 0;
   int line = 0;
+  std::optional<Nanoseconds> cable;       // `cable NS`
+  std::optional<Nanoseconds> processing;  // `inner P F`
+  std::optional<Nanoseconds> forwarding;
 };
 
 // A cable named by slave and port, for --toggle-link and `redundant`.

@@ -40,6 +40,25 @@ TEST(Topology, ParsesSlavesPortsAndRedundantPort) {
   EXPECT_EQ(p->port, 3u);
 }
 
+TEST(Topology, CableAndInnerDelays) {
+  auto t = parse_topology("slave c c.xml inner 260 140\n"
+                          "slave j j.xml at c:1 cable 150 inner 220 100\n"
+                          "slave b b.xml at j:2 port 1 cable 930\n",
+                          "d.txt", "");
+  ASSERT_TRUE(t) << t.error();
+  ASSERT_EQ(t->slaves.size(), 3u);
+  EXPECT_FALSE(t->slaves[0].cable.has_value());
+  EXPECT_EQ(t->slaves[0].processing, Nanoseconds{260});
+  EXPECT_EQ(t->slaves[0].forwarding, Nanoseconds{140});
+  EXPECT_EQ(t->slaves[1].cable, Nanoseconds{150});
+  EXPECT_EQ(t->slaves[1].processing, Nanoseconds{220});
+  EXPECT_EQ(t->slaves[1].forwarding, Nanoseconds{100});
+  EXPECT_EQ(t->slaves[2].parent_port, 2u);
+  EXPECT_EQ(t->slaves[2].port, 1u);
+  EXPECT_EQ(t->slaves[2].cable, Nanoseconds{930});
+  EXPECT_FALSE(t->slaves[2].processing.has_value());
+}
+
 TEST(Topology, ErrorsNameFileAndLine) {
   auto error_of = [](const char* text) {
     auto t = parse_topology(text, "t.txt", "");
@@ -54,7 +73,17 @@ TEST(Topology, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("slave a x.xml\nslave b x.xml at a:0\n"), "t.txt:2: port 0 of 'a' is already cabled");
   EXPECT_EQ(error_of("slave a x.xml\nslave a x.xml at a:1\n"), "t.txt:2: slave 'a' defined twice");
   EXPECT_EQ(error_of("slave a x.xml\nlink a:1\n"), "t.txt:2: unknown statement 'link' (slave, redundant)");
-  EXPECT_EQ(error_of("slave a x.xml at\n"), "t.txt:1: expected: slave NAME FILE [at PARENT:PORT [port N]]");
+  EXPECT_EQ(error_of("slave a x.xml at\n"),
+            "t.txt:1: expected: slave NAME FILE [at PARENT:PORT [port N]] [cable NS] [inner P F]");
+  EXPECT_EQ(error_of("slave a x.xml\nslave b x.xml at a:1 cable\n"),
+            "t.txt:2: expected: slave NAME FILE [at PARENT:PORT [port N]] [cable NS] [inner P F]");
+  EXPECT_EQ(error_of("slave a x.xml\nslave b x.xml at a:1 cable 1us\n"),
+            "t.txt:2: '1us': expected a time in ns (0..1000000)");
+  EXPECT_EQ(error_of("slave a x.xml\nslave b x.xml at a:1 inner 5 2000000\n"),
+            "t.txt:2: '2000000': expected a time in ns (0..1000000)");
+  EXPECT_EQ(error_of("slave a x.xml cable 100\n"), "t.txt:1: 'cable' needs 'at PARENT:PORT' (the master's cable takes 0)");
+  EXPECT_EQ(error_of("slave a x.xml\nslave b x.xml at a:1 speed 3\n"),
+            "t.txt:2: expected 'at', 'cable' or 'inner', found 'speed'");
   EXPECT_EQ(error_of("# nothing\n"), "t.txt: no slave");
   EXPECT_EQ(error_of("slave a x.xml\nredundant a:1\nredundant a:2\n"), "t.txt:3: the master has one redundant port");
 }

@@ -74,10 +74,17 @@ TEST_P(SegmentMalformed, LeavesEveryEscUnchangedAndCounts) {
   EXPECT_EQ(line.segment.last_error(), GetParam().error);
   EXPECT_EQ(f, before);  // not a byte changed
   expect_untouched(line);
-  EXPECT_EQ(line[0].memory()[reg::kRxErrorCounter], 1);
-  EXPECT_EQ(line[0].memory()[reg::kForwardedRxErrorCounter], 0);
-  EXPECT_EQ(line[1].memory()[reg::kForwardedRxErrorCounter], 1);
-  EXPECT_EQ(line[2].memory()[reg::kForwardedRxErrorCounter], 1);
+  // The first processing unit rejects the frame (0x030C) and marks it; the
+  // others count it as forwarded where it enters (port 0 on the way out,
+  // port 1 on the way back) and in their units (Section I §14.1 Table 51).
+  const auto counters = [&](std::size_t i) {
+    const std::uint8_t* m = line[i].memory();
+    return Data(m + reg::kRxErrorCounter, m + reg::kProcessingUnitErrorCounter + 1);
+  };
+  //                    0x0300..0x0307 (invalid/RX per port)  0x0308..0x030B fwd  0x030C
+  EXPECT_EQ(counters(0), (Data{0, 0, 0, 0, 0, 0, 0, 0, /**/ 0, 1, 0, 0, /**/ 1}));
+  EXPECT_EQ(counters(1), (Data{0, 0, 0, 0, 0, 0, 0, 0, /**/ 1, 1, 0, 0, /**/ 1}));
+  EXPECT_EQ(counters(2), (Data{0, 0, 0, 0, 0, 0, 0, 0, /**/ 1, 0, 0, 0, /**/ 1}));
   EXPECT_EQ(line.segment.frames_dropped(), 1u);
 }
 
@@ -154,8 +161,10 @@ TEST(EscCirculating, SecondPassThroughClosedPort0DestroysTheFrame) {
   EXPECT_TRUE(esc.process(*view, 0ns));
   EXPECT_TRUE((*view)[0].circulating());
   EXPECT_EQ((*view)[0].wkc(), 1);
+  EXPECT_EQ(esc.memory()[reg::kProcessingUnitErrorCounter], 0);
   EXPECT_FALSE(esc.process(*view, 0ns));
   EXPECT_EQ((*view)[0].wkc(), 1);  // not processed again
+  EXPECT_EQ(esc.memory()[reg::kProcessingUnitErrorCounter], 1);  // Section I §14.1 Table 51
 }
 
 TEST(SegmentFrames, NoHeapAllocationPerFrame) {

@@ -51,4 +51,24 @@ want="1 1.1.0.0 0 0
 5 1.0.0.0 2 6000"
 [ "$summary" = "$want" ] || e2e_fail "SOEM's topology differs from the tree; expected:
 $want"
+
+# (b) The same tree with a delay per cable and time inside each ESC
+# (tests/data/topologies/tree-delays.txt; e2e_master_tree.sh (b) derives the
+# same delays for the project's master): SOEM halves the round trips alike.
+CJ=150 JA1=710 A1A2=520 JB1=930
+PC=260 PJ=220 FJ=100 PS=340 FS=300
+d_j=$((CJ + (PC + FJ) / 2))
+d_a1=$((d_j + JA1 + (PJ + FS) / 2))
+d_a2=$((d_a1 + A1A2 + (PS + PS) / 2))
+d_b1=$((d_j + PJ + (2 * JA1 + PS + 2 * A1A2 + PS + FS) + JB1 + (FJ + PS) / 2))
+if e2e_start_slave delays --topology "$src/tests/data/topologies/tree-delays.txt"; then
+  timeout -s KILL 60 ip netns exec "$E2E_NS_M" "$slaveinfo" m0 2>&1 | tr '\r' '\n' > "$E2E_TMP/si2.log"
+  e2e_stop "$E2E_SLAVE_PID"
+  delays=$(awk '/^Slave:/ {n=substr($0,7)} /^ Delay:/ {split($2,a,"["); d[n]=a[1]}
+    END {for (i = 1; i in d; i++) printf "%s ", d[i]}' "$E2E_TMP/si2.log")
+  echo "(b) SOEM's delays with cable and inner times: $delays"
+  [ "$delays" = "0 $d_j $d_a1 $d_a2 $d_b1 " ] || e2e_fail "(b) expected 0 $d_j $d_a1 $d_a2 $d_b1"
+else
+  e2e_fail "(b) slave did not start"
+fi
 exit $e2e_status

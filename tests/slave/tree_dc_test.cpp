@@ -3,8 +3,8 @@
 // files with an explicit delay per cable, scanned by the project's master:
 // every slave's parent, parent port and entry port are the tree as built,
 // and the DC delays configure_dc writes to 0x0928 (read back from each ESC)
-// are the ones the cables give. Then link down/up on a junction branch port:
-// the DL status of silicon, AL states untouched.
+// are the ones the cables and the ESCs' inner delays give. Then link down/up
+// on a junction branch port: the DL status of silicon, AL states untouched.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -38,11 +38,25 @@ od::DeviceDescription load(const std::string& name) {
 // J's port 1 (E-bus out) stays free: closed in Auto.
 // Cable delays, all different, so a term taken from the wrong cable shows:
 constexpr nanoseconds kCJ{150}, kJA1{710}, kA1A2{520}, kJB1{930}, kB1B2{440}, kB2B3{370}, kCD{610};
+// Time inside each ESC (EscConfig::processing_delay P: port 0 -> unit -> out;
+// forwarding_delay F: port 1..3 -> out; docs/esc.md "Forwarding delays inside
+// an ESC"), different per device type. Test values, not datasheet ones; the
+// pairs the master halves below add up to even numbers.
+constexpr nanoseconds kPc{260}, kFc{140};  // coupler
+constexpr nanoseconds kPj{220}, kFj{100};  // junction
+constexpr nanoseconds kPs{340}, kFs{300};  // servo
+
+slave::SlaveOptions inner(nanoseconds p, nanoseconds f) {
+  slave::SlaveOptions o;
+  o.processing_delay = p;
+  o.forwarding_delay = f;
+  return o;
+}
 
 struct Tree : InProcess {
   Tree() {
-    add(load("coupler-3port.xml"));
-    attach("junction-4port.xml", 0, 1, kCJ);
+    add(load("coupler-3port.xml"), inner(kPc, kFc));
+    attach("junction-4port.xml", 0, 1, kCJ, inner(kPj, kFj));
     attach("generic-servo.xml", 1, 3, kJA1);
     attach("generic-servo.xml", 2, 1, kA1A2);
     attach("generic-servo.xml", 1, 2, kJB1);
@@ -50,8 +64,9 @@ struct Tree : InProcess {
     attach("generic-servo.xml", 5, 1, kB2B3);
     attach("generic-servo.xml", 0, 2, kCD);
   }
-  void attach(const std::string& file, std::size_t parent, unsigned port, nanoseconds delay) {
-    auto ok = chain.attach(load(file), {}, parent, port, esc::kUpstreamPort, delay);
+  void attach(const std::string& file, std::size_t parent, unsigned port, nanoseconds delay,
+              const slave::SlaveOptions& o = inner(kPs, kFs)) {
+    auto ok = chain.attach(load(file), o, parent, port, esc::kUpstreamPort, delay);
     if (!ok) throw std::runtime_error(ok.error());
   }
 };
@@ -75,31 +90,49 @@ constexpr std::array<Place, 8> kBuilt{{
     {0, 2, 0, 0b0001},             // D
 }};
 
-// Expected delays (0x0928). The emulated segment delays a frame only on its
-// cables (the same time either way, no forwarding time inside an ESC), and
-// the delay of a slave is the time the frame takes from the reference clock's
-// processing unit (C, the first DC slave: 0) to the slave's, in the order the
-// frame goes (ETG.1000.4 DC propagation delay; SOEM ecx_configdc adds the
-// round trips of the parent's earlier branches the same way). So: the cables
-// on the path from C, plus a full round trip (twice its cables) of every
-// branch the frame walks before it reaches the slave:
-//   J  = CJ
-//   A1 = CJ + JA1,  A2 = A1 + A1A2            (J's port 3 comes first)
-//   B1 = CJ + 2 (JA1 + A1A2) + JB1            (after the whole A branch)
-//   B2 = B1 + B1B2,  B3 = B2 + B2B3
-//   D  = 2 CJ + 2 (JA1 + A1A2) + 2 (JB1 + B1B2 + B2B3) + CD  (after all of J)
-constexpr std::int64_t d_b1 = (kCJ + 2 * (kJA1 + kA1A2) + kJB1).count();
+// Expected delays (0x0928), from the cables and the ESCs' inner delays.
+// The master (compute_dc_delays, the same terms as SOEM's ecx_configdc) sets
+// a slave's delay to its parent's, plus the time the frame spent in the
+// parent's earlier branches (entry port to the port before the slave's),
+// plus half of (the round trip out of the parent's port and back minus the
+// slave's own round trip). That half is the cable plus half of two inner
+// times: the parent's from the port before to leaving toward the slave (P
+// when that port is the entry port 0: through the unit; else F) and the
+// slave's from its last port to leaving back out of port 0 (F when it has
+// more open ports; P for a slave at the end of a branch, whose frame turns
+// round through its unit). Masters assume forwarding takes as long both ways;
+// with P != F the delay they write is that average, not the one-way time.
+//   J  = CJ + (Pc + Fj) / 2
+//   A1 = J + JA1 + (Pj + Fs) / 2,      A2 = A1 + A1A2 + (Ps + Ps) / 2
+//   B1 = J + [Pj + round A] + JB1 + (Fj + Fs) / 2
+//        round A = 2 JA1 + Ps + 2 A1A2 + Ps + Fs   (J port 3 out .. in)
+//   B2 = B1 + B1B2 + (Ps + Fs) / 2,    B3 = B2 + B2B3 + (Ps + Ps) / 2
+//   D  = [Pc + 2 CJ + J's whole time] + CD + (Fc + Ps) / 2
+//        J's whole time = Pj + round A + Fj + round B + Fj   (port 0 in .. out)
+//        round B = 2 JB1 + Ps + 2 B1B2 + Ps + 2 B2B3 + Ps + Fs + Fs
+// With all inner delays 0 these are the cable sums of docs/topology.md
+// (J 150, A1 860, A2 1380, B1 3540, B2 3980, B3 4350, D 6850).
+constexpr std::int64_t half(nanoseconds a, nanoseconds b) { return (a + b).count() / 2; }
+constexpr std::int64_t kRoundA = (2 * kJA1 + kPs + 2 * kA1A2 + kPs + kFs).count();
+constexpr std::int64_t kRoundB = (2 * kJB1 + kPs + 2 * kB1B2 + kPs + 2 * kB2B3 + kPs + kFs + kFs).count();
+constexpr std::int64_t kJ = kCJ.count() + half(kPc, kFj);
+constexpr std::int64_t kA1 = kJ + kJA1.count() + half(kPj, kFs);
+constexpr std::int64_t kB1 = kJ + kPj.count() + kRoundA + kJB1.count() + half(kFj, kFs);
+constexpr std::int64_t kB2 = kB1 + kB1B2.count() + half(kPs, kFs);
+constexpr std::int64_t kJWhole = kPj.count() + kRoundA + kFj.count() + kRoundB + kFj.count();
 constexpr std::array<std::int64_t, 8> kDelay{
     0,
-    kCJ.count(),
-    (kCJ + kJA1).count(),
-    (kCJ + kJA1 + kA1A2).count(),
-    d_b1,
-    d_b1 + kB1B2.count(),
-    d_b1 + (kB1B2 + kB2B3).count(),
-    (2 * kCJ + 2 * (kJA1 + kA1A2) + 2 * (kJB1 + kB1B2 + kB2B3) + kCD).count(),
+    kJ,
+    kA1,
+    kA1 + kA1A2.count() + half(kPs, kPs),
+    kB1,
+    kB2,
+    kB2 + kB2B3.count() + half(kPs, kPs),
+    kPc.count() + 2 * kCJ.count() + kJWhole + kCD.count() + half(kFc, kPs),
 };
-static_assert(kDelay[4] == 3540 && kDelay[7] == 6850, "the sums as written out in docs/topology.md");
+static_assert((kPc + kFj).count() % 2 == 0 && (kPj + kFs).count() % 2 == 0 && (kFj + kFs).count() % 2 == 0 &&
+                  (kPs + kFs).count() % 2 == 0 && (kFc + kPs).count() % 2 == 0,
+              "halves without rounding");
 
 TEST(TreeDc, ScanGivesTheTreeAsBuilt) {
   Tree t;
@@ -119,7 +152,7 @@ TEST(TreeDc, ScanGivesTheTreeAsBuilt) {
   }
 }
 
-TEST(TreeDc, ConfigureDcWritesTheCableDelays) {
+TEST(TreeDc, ConfigureDcWritesTheCableAndInnerDelays) {
   Tree t;
   ASSERT_TRUE(t.master.scan());
   auto dc = t.master.configure_dc(t.clock.now());
