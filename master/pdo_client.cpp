@@ -93,6 +93,7 @@ Expected<void, SdoError> CoeClient::read_pdo_sizes() {
   if (!sms.empty()) {
     s.pd.sms = std::move(sms);
     s.pd.per_sm = true;
+    s.pd.sum_sizes();
     return {};
   }
   auto out_bits = assigned_bits(coe::kRxPdoAssign);

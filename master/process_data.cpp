@@ -79,14 +79,6 @@ void legacy_sms(SlaveInfo& s) {
               ProcessSm{kInputSm, false, s.pd.sm3_start, s.pd.sm3_control, s.pd.input_bytes, 0}};
 }
 
-std::uint16_t bytes_of(const std::vector<ProcessSm>& sms, bool outputs) {
-  std::uint32_t n = 0;
-  for (const ProcessSm& p : sms) {
-    if (p.outputs == outputs) n += p.bytes;
-  }
-  return static_cast<std::uint16_t>(n);
-}
-
 }  // namespace
 
 void Master::size_process_data_from_sii(std::size_t slave) {
@@ -101,6 +93,7 @@ void Master::size_process_data_from_sii(std::size_t slave) {
                                  static_cast<std::uint16_t>((bits + kBitsPerByte - 1) / kBitsPerByte), 0});
   }
   s.pd.per_sm = !s.pd.sms.empty();
+  if (s.pd.per_sm) s.pd.sum_sizes();
   if (!s.pd.per_sm) {  // no SYNCM category: the SII PDOs of SM2/SM3
     s.pd.output_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(false, kOutputSm) + kBitsPerByte - 1) / kBitsPerByte);
     s.pd.input_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(true, kInputSm) + kBitsPerByte - 1) / kBitsPerByte);
@@ -113,8 +106,7 @@ Expected<void, MasterError> Master::configure_process_data() {
   expected_wkc_ = 0;
   for (auto& s : slaves_) {
     if (s.pd.per_sm) {
-      s.pd.output_bytes = bytes_of(s.pd.sms, true);
-      s.pd.input_bytes = bytes_of(s.pd.sms, false);
+      s.pd.sum_sizes();
     } else {
       legacy_sms(s);
     }

@@ -82,6 +82,13 @@ struct ProcessDataLayout {
   // configure_process_data() makes SM2 (output_bytes) and SM3 (input_bytes).
   std::vector<ProcessSm> sms;
   bool per_sm = false;
+  // output_bytes/input_bytes = the sums of the SMs' bytes.
+  void sum_sizes() noexcept {
+    std::uint32_t out = 0, in = 0;
+    for (const ProcessSm& p : sms) (p.outputs ? out : in) += p.bytes;
+    output_bytes = static_cast<std::uint16_t>(out);
+    input_bytes = static_cast<std::uint16_t>(in);
+  }
   // The first SM of a direction as programmed, or null.
   const ProcessSm* first(bool outputs) const noexcept {
     for (const ProcessSm& p : sms) {
