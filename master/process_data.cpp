@@ -38,7 +38,6 @@ std::array<std::uint8_t, reg::kFmmuSize> fmmu_block(std::uint32_t logical, std::
 
 }  // namespace
 
-
 Expected<void, MasterError> Master::write_sync_manager(std::size_t slave, unsigned n, std::uint16_t start,
                                                        std::uint16_t length, std::uint8_t control, bool enable) {
   if (auto c = check_slave(slave); !c) return fail(c.error());
@@ -93,8 +92,9 @@ void Master::size_process_data_from_sii(std::size_t slave) {
                                  static_cast<std::uint16_t>((bits + kBitsPerByte - 1) / kBitsPerByte), 0});
   }
   s.pd.per_sm = !s.pd.sms.empty();
-  if (s.pd.per_sm) s.pd.sum_sizes();
-  if (!s.pd.per_sm) {  // no SYNCM category: the SII PDOs of SM2/SM3
+  if (s.pd.per_sm) {
+    s.pd.sum_sizes();
+  } else {  // no SYNCM category: the SII PDOs of SM2/SM3
     s.pd.output_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(false, kOutputSm) + kBitsPerByte - 1) / kBitsPerByte);
     s.pd.input_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(true, kInputSm) + kBitsPerByte - 1) / kBitsPerByte);
   }
