@@ -7,11 +7,17 @@
 //    (06040041), sub 0 not above the entries (06090031), assigned PDOs in the
 //    right range (06090030), total length within the SM's maximum (06040042),
 //  - recompute the process-data layout after each accepted write;
-// and the PreOp->SafeOp check against the SM2/SM3 settings the master made
+// and the PreOp->SafeOp check against the SM settings the master made
 // (AL 001Dh/001Eh for SM length or enable, 0025h/0024h for a bad mapping).
+// One layout per process-data SM: SM n carries the PDOs its assignment
+// object 1C10h+n lists (ETG.1000.6 §5.6.7.4.2), SM2/SM3 (1C12h/1C13h) on
+// most devices, several SMs per direction on some (Beckhoff EK1828: outputs
+// on SM0 and SM1, 1C10h/1C11h; inputs on SM2, 1C12h).
 #pragma once
 
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "coe/object_hooks.hpp"
 #include "coe/object_store.hpp"
@@ -23,6 +29,18 @@
 
 namespace ecat::coe {
 
+// One process-data SM and the layout of what it carries.
+struct SmLayout {
+  std::uint8_t sm = 0;
+  PdoDirection direction = PdoDirection::Rx;
+  std::uint16_t assign = 0;      // 1C10h + sm
+  std::uint32_t max_bytes = 0;   // the SM's maximum size, else the ESC RAM
+  // False for a direction the device has no PDOs for (an inputs-only NI
+  // 9144's SM2): not checked, nothing copied (od::has_process_data).
+  bool checked = true;
+  ProcessDataImage image;
+};
+
 class PdoConfig final : public ObjectHooks {
  public:
   // Registers itself as the hooks of every mapping/assignment object present.
@@ -33,36 +51,41 @@ class PdoConfig final : public ObjectHooks {
 
   // Layout from the current object values.
   void rebuild() noexcept;
-  const ProcessDataImage& outputs() const noexcept { return outputs_; }
-  const ProcessDataImage& inputs() const noexcept { return inputs_; }
+  // The first SM of each direction (SM2/SM3 on most devices); an empty
+  // layout when the device has none.
+  const ProcessDataImage& outputs() const noexcept;
+  const ProcessDataImage& inputs() const noexcept;
+  // Every process-data SM, in SM order.
+  std::span<const SmLayout> sms() const noexcept { return sms_; }
 
   // Whole-direction check of the current values (as at PreOp->SafeOp).
   Expected<void, SdoAbort> validate(PdoDirection d) const noexcept;
-  // PreOp->SafeOp: mapping valid, SM2/SM3 enabled with the image's length
-  // (or unused when the image is empty).
+  // PreOp->SafeOp: mappings valid, each process-data SM enabled with its
+  // image's length (or unused when the image is empty).
   esc::AlStatusCode check_safeop(esc::Pdi& pdi) noexcept;
 
-  // Largest SM2/SM3 payload in bytes (the SM's max size, else the ESC RAM).
-  std::uint32_t max_bytes(PdoDirection d) const noexcept { return d == PdoDirection::Rx ? max_rx_ : max_tx_; }
+  // Largest payload in bytes of an SM of the direction (the SM's max size,
+  // else the ESC RAM).
+  std::uint32_t max_bytes(PdoDirection d) const noexcept;
 
  private:
   Expected<void, SdoAbort> check_entry(PdoDirection d, std::uint32_t value) const noexcept;
   // Bits of a mapping object with `count` entries, one entry replaced if `sub` != 0.
   Expected<std::uint32_t, SdoAbort> mapping_bits(PdoDirection d, std::uint16_t index, std::uint8_t count,
                                                  std::uint8_t sub = 0, std::uint32_t value = 0) const noexcept;
-  // Bits of the assigned PDOs, with one mapping's length replaced.
-  Expected<std::uint32_t, SdoAbort> assigned_bits(PdoDirection d, std::uint8_t count, std::uint8_t sub = 0,
+  // Bits of the PDOs an SM's assignment lists, with one mapping's length replaced.
+  Expected<std::uint32_t, SdoAbort> assigned_bits(const SmLayout& sm, std::uint8_t count, std::uint8_t sub = 0,
                                                   std::uint16_t pdo = 0, std::uint16_t changed_mapping = 0,
                                                   std::uint32_t changed_bits = 0) const noexcept;
   Expected<void, SdoAbort> check_mapping_write(PdoDirection d, const WriteRequest& r) const noexcept;
-  Expected<void, SdoAbort> check_assign_write(PdoDirection d, const WriteRequest& r) const noexcept;
-  void build(PdoDirection d, ProcessDataImage& image) noexcept;
+  Expected<void, SdoAbort> check_assign_write(const SmLayout& sm, const WriteRequest& r) const noexcept;
+  Expected<void, SdoAbort> validate(const SmLayout& sm) const noexcept;
+  const SmLayout* sm_of_assign(std::uint16_t index) const noexcept;
+  void build(SmLayout& sm) noexcept;
 
   ObjectStore& store_;
-  std::uint32_t max_rx_ = 0;
-  std::uint32_t max_tx_ = 0;
-  ProcessDataImage outputs_;
-  ProcessDataImage inputs_;
+  std::vector<SmLayout> sms_;  // fixed after construction: images stay in place
+  ProcessDataImage empty_;
 };
 
 }  // namespace ecat::coe

@@ -18,9 +18,10 @@ constexpr unsigned kBitsPerByte = 8;
 ProcessData::ProcessData(ObjectStore& store, PdoConfig& config)
     : store_(store),
       config_(config),
-      buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))) {
-  out_plan_.copies.reserve(config.outputs().capacity());
-  in_plan_.copies.reserve(config.inputs().capacity());
+      buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))),
+      areas_(config.sms().size()),
+      plans_(config.sms().size()) {
+  for (std::size_t k = 0; k < plans_.size(); ++k) plans_[k].copies.reserve(config.sms()[k].image.capacity());
 }
 
 void ProcessData::rebuild(const ProcessDataImage& image, Plan& p) noexcept {
@@ -51,27 +52,41 @@ void ProcessData::rebuild(const ProcessDataImage& image, Plan& p) noexcept {
   p.generation = image.generation();
 }
 
-ProcessData::SmArea ProcessData::area(esc::Pdi& pdi, unsigned sm) noexcept {
-  if (layout_loaded_) return areas_[sm == kOutputsSm ? 0 : 1];
+ProcessData::SmArea ProcessData::area(esc::Pdi& pdi, std::size_t k) noexcept {
+  if (layout_loaded_) return areas_[k];
   std::uint8_t raw[esc::reg::kSyncManagerStride]{};
-  pdi.read(esc::reg::sync_manager(sm), raw);
+  pdi.read(esc::reg::sync_manager(config_.sms()[k].sm), raw);
   return {load_le<std::uint16_t>(raw + esc::reg::sm::kStartAddress), load_le<std::uint16_t>(raw + esc::reg::sm::kLength),
           (raw[esc::reg::sm::kActivate] & bits::kSmActivateEnable) != 0};
 }
 
 void ProcessData::load_layout(esc::Pdi& pdi) noexcept {
   layout_loaded_ = false;
-  areas_ = {area(pdi, kOutputsSm), area(pdi, kInputsSm)};
+  for (std::size_t k = 0; k < areas_.size(); ++k) areas_[k] = area(pdi, k);
   layout_loaded_ = true;
 }
 
 void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
-  const ProcessDataImage& image = config_.outputs();
-  const SmArea sm = area(pdi, kOutputsSm);
+  const auto sms = config_.sms();
+  for (std::size_t k = 0; k < sms.size(); ++k) {
+    if (sms[k].direction == PdoDirection::Rx && sms[k].checked) read_sm(pdi, k);
+  }
+}
+
+void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
+  const auto sms = config_.sms();
+  for (std::size_t k = 0; k < sms.size(); ++k) {
+    if (sms[k].direction == PdoDirection::Tx && sms[k].checked) write_sm(pdi, k);
+  }
+}
+
+void ProcessData::read_sm(esc::Pdi& pdi, std::size_t k) noexcept {
+  const ProcessDataImage& image = config_.sms()[k].image;
+  const SmArea sm = area(pdi, k);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
   // In place where the PDI can (the ESC's 3-buffer), else through buffer_.
   const std::uint8_t* buffer = pdi.read_buffer(sm.start, {buffer_.data(), sm.length}).data();
-  for (const Copy& c : plan(image, out_plan_).copies) {
+  for (const Copy& c : plan(image, plans_[k]).copies) {
     if (c.bytes != 0) {
       esc::copy_small(c.value, buffer + c.byte_offset, c.bytes);
     } else {
@@ -80,11 +95,11 @@ void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
   }
 }
 
-void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
-  const ProcessDataImage& image = config_.inputs();
-  const SmArea sm = area(pdi, kInputsSm);
+void ProcessData::write_sm(esc::Pdi& pdi, std::size_t k) noexcept {
+  const ProcessDataImage& image = config_.sms()[k].image;
+  const SmArea sm = area(pdi, k);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  const Plan& p = plan(image, in_plan_);
+  const Plan& p = plan(image, plans_[k]);
   const std::span<std::uint8_t> place = pdi.write_buffer_begin(sm.start, {buffer_.data(), sm.length});
   std::uint8_t* buffer = place.data();
   // Bytes no copy writes are 0 (gaps, padding, the rest of a longer SM).

@@ -1,8 +1,10 @@
 // Cyclic copy between the process-data sync managers and the objects
-// (ETG.1000.6 §5.6.7.4): read_outputs takes SM2's buffer (reading it whole
-// hands the 3-buffer back to the ESC) and writes each mapped RxPDO entry;
-// write_inputs packs the mapped TxPDO entries and writes SM3's buffer (its
-// last byte completes it). Layout from PdoConfig; the frame buffer is sized
+// (ETG.1000.6 §5.6.7.4): read_outputs takes each outputs SM's buffer (SM2
+// on most devices; reading it whole hands the 3-buffer back to the ESC) and
+// writes each mapped RxPDO entry; write_inputs packs the mapped TxPDO
+// entries and writes each inputs SM's buffer (its last byte completes it).
+// A device with several SMs per direction (EK1828: SM0 and SM1 outputs) has
+// one copy per SM, each from the PDOs its 1C10h+n assigns. Layout from PdoConfig; the frame buffer is sized
 // once; no heap on this path. Both go through the Pdi's whole-buffer calls
 // (read_buffer, write_buffer_begin/commit): on the emulated ESC the entries
 // are copied straight between its 3-buffer and the objects (issue 8).
@@ -14,7 +16,6 @@
 // registers every time. Without load_layout() each call reads them.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -33,7 +34,7 @@ class ProcessData {
   // Objects -> SM3. Call in SafeOp and Op.
   void write_inputs(esc::Pdi& pdi) noexcept;
 
-  // Reads SM2/SM3 (start, length, enable) once for the following cycles.
+  // Reads the process-data SMs (start, length, enable) once for the following cycles.
   void load_layout(esc::Pdi& pdi) noexcept;
 
   const ProcessDataImage& outputs() const noexcept { return config_.outputs(); }
@@ -45,7 +46,7 @@ class ProcessData {
     std::uint16_t length = 0;
     bool enabled = false;
   };
-  SmArea area(esc::Pdi& pdi, unsigned sm) noexcept;
+  SmArea area(esc::Pdi& pdi, std::size_t k) noexcept;
   // The copies of one image decoded once (issue 8): per mapped entry its
   // value bytes and its place in the SM buffer; whole bytes are copied as
   // such, other items bit by bit from their PdoItem. Rebuilt when the
@@ -72,12 +73,16 @@ class ProcessData {
   }
   void rebuild(const ProcessDataImage& image, Plan& p) noexcept;
 
+  void read_sm(esc::Pdi& pdi, std::size_t k) noexcept;
+  void write_sm(esc::Pdi& pdi, std::size_t k) noexcept;
+
   ObjectStore& store_;
   PdoConfig& config_;
   std::vector<std::uint8_t> buffer_;
-  std::array<SmArea, 2> areas_{};  // [0] SM2, [1] SM3, from load_layout()
-  Plan out_plan_;
-  Plan in_plan_;
+  // Per process-data SM of config_.sms(), same order: its area (from
+  // load_layout()) and its copy plan.
+  std::vector<SmArea> areas_;
+  std::vector<Plan> plans_;
   bool layout_loaded_ = false;
 };
 

@@ -413,14 +413,16 @@ void Esc::update_ports() noexcept {
 }
 
 // Enabled SMs (Section I §8): the ones whose area the memory path guards;
-// and the 1-byte SMs that only trigger the process-data watchdog (0x0802).
+// and the SMs whose bytes are plain memory or registers and that only
+// trigger the process-data watchdog: 1-byte SMs (0x0802) and SMs over the
+// digital output registers.
 void Esc::update_sm_guards() noexcept {
   sm_enabled_ = 0;
   sm_watchdog_only_ = 0;
   pdi_buffer_hints_ = {};  // an SM register changed (pdi_in_place_sm)
   for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
     if (sms_[n].enabled()) sm_enabled_ |= 1u << n;
-    if (sms_[n].watchdog_trigger_only()) sm_watchdog_only_ |= 1u << n;
+    if (sms_[n].watchdog_trigger_only() || sms_[n].watchdog_trigger_on_registers()) sm_watchdog_only_ |= 1u << n;
   }
   update_fmmus();  // their routes depend on the SMs
 }

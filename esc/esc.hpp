@@ -260,7 +260,7 @@ class Esc final : public Pdi {
   std::array<SyncManager, kMaxSyncManagers> sms_{};
   std::array<Fmmu, kMaxFmmus> fmmus_{};
   std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
-  std::uint32_t sm_watchdog_only_ = 0;  // bit n: SM n of length 1, watchdog trigger only
+  std::uint32_t sm_watchdog_only_ = 0;  // bit n: SM n of length 1 or over registers, watchdog trigger only
   // Whether [first, end) holds the byte of a watchdog-trigger-only SM.
   bool touches_watchdog_only_sm(std::uint32_t first, std::uint32_t end) const noexcept;
   std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active

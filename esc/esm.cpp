@@ -160,7 +160,9 @@ AlStatusCode Esm::check(EsmTransition t, AlState from, AlState to) noexcept {
     default: break;
   }
   if (code != AlStatusCode::NoError) return code;
-  return ask_hooks(from, to);
+  code = ask_hooks(from, to);
+  if (code == AlStatusCode::NoError && t == EsmTransition::PS) code = check_sm_overlap(pdi_);
+  return code;
 }
 
 AlStatusCode Esm::ask_hooks(AlState from, AlState to) noexcept {
@@ -175,7 +177,7 @@ AlStatusCode Esm::ask_hooks(AlState from, AlState to) noexcept {
 // above sends the slave to Init (0x0016); one that breaks SM2/SM3 in SafeOp
 // or Op sends it to PreOp (0x001D/0x001E).
 void Esm::handle_sm_change() noexcept {
-  constexpr unsigned kSmsWatched = 4;
+  constexpr unsigned kSmsWatched = kMaxProcessSms;
   for (unsigned n = 0; n < kSmsWatched; ++n) (void)read_sm(pdi_, n);  // clears the event
   if (state_ == AlState::Bootstrap) {
     const AlStatusCode code = check_mailbox(pdi_, config_.boot_mailbox_out, config_.boot_mailbox_in,
@@ -192,7 +194,8 @@ void Esm::handle_sm_change() noexcept {
     }
   }
   if (runs_process_data(state_)) {
-    const AlStatusCode code = check_process_sms(pdi_, config_);
+    AlStatusCode code = check_process_sms(pdi_, config_);
+    if (code == AlStatusCode::NoError) code = check_sm_overlap(pdi_);
     if (code != AlStatusCode::NoError) raise_error(code, AlState::PreOp);
   }
 }
@@ -240,10 +243,12 @@ void Esm::enter(AlState to, AlStatusCode code, bool error) noexcept {
 void Esm::apply_services(AlState s) noexcept {
   const bool mailbox = runs_mailbox(s);
   const bool process = runs_process_data(s);
-  set_sm_deactivated(pdi_, kSmMailboxOut, !mailbox);
-  set_sm_deactivated(pdi_, kSmMailboxIn, !mailbox);
-  set_sm_deactivated(pdi_, kSmOutputs, !process);
-  set_sm_deactivated(pdi_, kSmInputs, !process);
+  // Without a mailbox SM0/SM1 may carry process data (Beckhoff EK18xx).
+  if (config_.has_mailbox) {
+    set_sm_deactivated(pdi_, kSmMailboxOut, !mailbox);
+    set_sm_deactivated(pdi_, kSmMailboxIn, !mailbox);
+  }
+  for (const ProcessSmConfig& p : config_.process()) set_sm_deactivated(pdi_, p.sm, !process);
 }
 
 // ESC datasheet Section II 0x0120 bit 5, SOES ESC_check_id_request: with no

@@ -14,7 +14,10 @@ constexpr std::uint8_t kPdiDeactivate = 0x01;     // PDI control byte bit 0
 constexpr std::uint8_t kControlModeMask = 0x03;   // control bits 1:0
 constexpr std::uint8_t kControlModeBuffered = 0x00;
 constexpr std::uint32_t kBuffersInBufferedMode = 3;
-constexpr unsigned kCheckedSms = 4;  // SM0..SM3
+// Section II 0x0802: a length of 1 does not activate the SM ("only Watchdog
+// Trigger is generated"): its byte is plain memory, no buffers.
+constexpr std::uint16_t kWatchdogOnlyLength = 1;
+constexpr unsigned kCheckedSms = kMaxProcessSms;  // SM0..SM7 for the overlap check
 
 bool mailbox_matches(const SmRegisters& sm, const MailboxSmConfig& expected) noexcept {
   return sm.enabled() && sm.start == expected.start && sm.length == expected.length &&
@@ -22,6 +25,7 @@ bool mailbox_matches(const SmRegisters& sm, const MailboxSmConfig& expected) noe
 }
 
 bool process_sm_ok(const SmRegisters& sm, const ProcessSmConfig& expected) noexcept {
+  // An SM that starts and is controlled as expected; with length 0 it must be off.
   if (sm.length == 0) return !sm.enabled();
   return sm.enabled() && sm.start == expected.start && sm.control == expected.control;
 }
@@ -37,7 +41,7 @@ bool overlap(const SmRegisters& a, const SmRegisters& b) noexcept {
 bool SmRegisters::enabled() const noexcept { return (activate & kActivateEnable) != 0; }
 
 std::uint32_t SmRegisters::footprint() const noexcept {
-  const bool buffered = (control & kControlModeMask) == kControlModeBuffered;
+  const bool buffered = (control & kControlModeMask) == kControlModeBuffered && length != kWatchdogOnlyLength;
   return buffered ? kBuffersInBufferedMode * length : length;
 }
 
@@ -64,13 +68,25 @@ AlStatusCode check_mailbox(Pdi& pdi, const MailboxSmConfig& out, const MailboxSm
 
 AlStatusCode check_process_sms(Pdi& pdi, const EsmConfig& config) noexcept {
   std::array<SmRegisters, kCheckedSms> sms{};
+  for (const ProcessSmConfig& p : config.process()) {
+    if (p.sm < kCheckedSms) sms[p.sm] = read_sm(pdi, p.sm);
+  }
+  // Every inputs SM first, then every outputs SM: SOES reports 0x001E when
+  // an input SM failed, else 0x001D (esm-al-codes.md §3), SM by SM here.
+  for (const bool outputs : {false, true}) {
+    for (const ProcessSmConfig& p : config.process()) {
+      if (p.outputs != outputs || p.sm >= kCheckedSms) continue;
+      if (!process_sm_ok(sms[p.sm], p)) {
+        return outputs ? AlStatusCode::InvalidOutputConfiguration : AlStatusCode::InvalidInputConfiguration;
+      }
+    }
+  }
+  return AlStatusCode::NoError;
+}
+
+AlStatusCode check_sm_overlap(Pdi& pdi) noexcept {
+  std::array<SmRegisters, kCheckedSms> sms{};
   for (unsigned n = 0; n < kCheckedSms; ++n) sms[n] = read_sm(pdi, n);
-  if (!process_sm_ok(sms[kSmInputs], config.inputs)) {
-    return AlStatusCode::InvalidInputConfiguration;
-  }
-  if (!process_sm_ok(sms[kSmOutputs], config.outputs)) {
-    return AlStatusCode::InvalidOutputConfiguration;
-  }
   for (unsigned a = 0; a < kCheckedSms; ++a) {
     for (unsigned b = a + 1; b < kCheckedSms; ++b) {
       if (sms[a].enabled() && sms[b].enabled() && sms[a].length > 0 && sms[b].length > 0 &&

@@ -21,7 +21,8 @@ struct SmRegisters {
   std::uint8_t pdi_control = 0;
 
   bool enabled() const noexcept;
-  // Bytes the SM occupies: 3 x length in buffered mode, length in mailbox mode.
+  // Bytes the SM occupies: 3 x length in buffered mode, length in mailbox
+  // mode and for length 1 (a watchdog trigger only, Section II 0x0802).
   std::uint32_t footprint() const noexcept;
 };
 
@@ -33,11 +34,18 @@ SmRegisters read_sm(Pdi& pdi, unsigned n) noexcept;
 AlStatusCode check_mailbox(Pdi& pdi, const MailboxSmConfig& out, const MailboxSmConfig& in,
                            AlStatusCode code) noexcept;
 
-// SM2/SM3 at PreOp->SafeOp: an SM with length 0 must be disabled; with a
-// length it must be enabled with the expected start and control byte
-// (0x001D outputs, 0x001E inputs; inputs win as in SOES). Enabled SM areas
-// must not overlap (0x0017).
+// The process-data SMs of the config (SM2/SM3, or as many per direction as
+// the device has) at PreOp->SafeOp: an SM with length 0 must be disabled;
+// with a length it must be enabled with the expected start and control byte
+// (0x001D outputs, 0x001E inputs; inputs win as in SOES).
 AlStatusCode check_process_sms(Pdi& pdi, const EsmConfig& config) noexcept;
+
+// Enabled SM areas (SM0..SM7) must not overlap (0x0017); an SM of length 1
+// holds no buffers (Section II 0x0802). At PreOp->SafeOp this comes after
+// the SM lengths are checked against the mapping (SSC: CheckSmSettings, then
+// the overlap check of StartInputHandler), so a wrong length is reported as
+// 0x001D/0x001E, not as the overlap it makes.
+AlStatusCode check_sm_overlap(Pdi& pdi) noexcept;
 
 // Sets or clears the PDI deactivate bit (0x0807+8n bit 0) keeping the
 // repeat-acknowledge bit.

@@ -101,8 +101,10 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
 
 bool Esc::touches_watchdog_only_sm(std::uint32_t first, std::uint32_t end) const noexcept {
   for (std::uint32_t left = sm_watchdog_only_; left != 0; left &= left - 1) {
-    const std::uint32_t at = sms_[static_cast<unsigned>(std::countr_zero(left))].start();
-    if (at >= first && at < end) return true;
+    const SyncManager& sm = sms_[static_cast<unsigned>(std::countr_zero(left))];
+    const std::uint32_t at = sm.start();
+    const std::uint32_t sm_end = at + std::max<std::uint32_t>(sm.length(), 1);
+    if (at < end && first < sm_end) return true;
   }
   return false;
 }

@@ -88,6 +88,15 @@ class SyncManager {
     return (regs_[reg::sm::kActivate] & sm_bits::kActivateEnable) != 0 && length() == sm_bits::kWatchdogOnlyLength &&
            ecat_writes() && (control() & sm_bits::kWatchdogTrigger) != 0;
   }
+  // An SM over registers (below the process RAM at 1000h: the digital
+  // output data 0F00h-0F03h of an EL9800 revision, SM0 4 bytes, control
+  // 46h) holds no buffer there - the bytes are the registers - but an ECAT
+  // write to them restarts the process-data watchdog when control bit 6 is
+  // set (Section II 0x0F00 "Digital I/O output data", 0x0804 bit 6).
+  bool watchdog_trigger_on_registers() const noexcept {
+    return (regs_[reg::sm::kActivate] & sm_bits::kActivateEnable) != 0 && length() > 0 &&
+           start() < reg::kProcessRam && ecat_writes() && (control() & sm_bits::kWatchdogTrigger) != 0;
+  }
   bool pdi_deactivated() const noexcept { return (regs_[reg::sm::kPdiControl] & sm_bits::kPdiDeactivate) != 0; }
   bool covers(std::uint32_t address) const noexcept { return enabled() && address >= start() && address < end(); }
   std::uint32_t end() const noexcept { return static_cast<std::uint32_t>(start()) + length(); }

@@ -23,6 +23,7 @@ constexpr std::uint32_t kProcessRamStart = 0x1000;
 constexpr std::uint8_t kSmModeMask = 0x03;     // control bits 1:0
 constexpr std::uint8_t kSmModeBuffered = 0x00;  // three buffers
 constexpr std::uint32_t kBufferedCopies = 3;
+constexpr std::uint32_t kWatchdogOnlyLength = 1;  // SM length 1: no buffers (Section II 0x0802)
 constexpr std::uint32_t kDigitalOutputFirst = 0x0F00, kDigitalOutputEnd = 0x0F04;  // ESC digital output data register
 constexpr std::uint32_t kBitsPerByte = 8;
 
@@ -187,7 +188,12 @@ void check_sync_manager_memory(const DeviceSpec& spec, const od::DeviceDescripti
     // 0x0F00, control 0x44): one register, no buffer copies in process RAM.
     const bool digital_output = sm.start_address >= kDigitalOutputFirst &&
                                 sm.start_address + std::max<std::uint32_t>(length, 1) <= kDigitalOutputEnd;
-    if ((sm.control & kSmModeMask) == kSmModeBuffered && !digital_output) length *= kBufferedCopies;
+    // ESC Section II 0x0802: a length of 1 does not activate the SM ("only
+    // Watchdog Trigger is generated"): its byte is plain memory, no three
+    // buffers. Beckhoff EQ2339 puts 1-byte input SMs at 1000h and 1001h, in
+    // "3-buffer" mode, on the digital inputs the ESC's digital I/O PDI writes.
+    const bool one_byte = length == kWatchdogOnlyLength;
+    if ((sm.control & kSmModeMask) == kSmModeBuffered && !digital_output && !one_byte) length *= kBufferedCopies;
     const Range r{i, sm.start_address, sm.start_address + length};
     const Where w = sm_where(spec, i);
     if (!digital_output && (r.first < kProcessRamStart || r.end > ram_end)) {

@@ -220,7 +220,10 @@ class Repairer {
           break;
         }
       }
-      if (sm.max_size == 0 || (sm.control & kModeMask) != kModeBuffered) continue;
+      // A 1-byte SM holds no buffers (ESC Section II 0x0802: length 1 is a
+      // watchdog trigger only); EQ2339's input SMs at 1000h/1001h stay as they are.
+      constexpr std::uint16_t kWatchdogOnlyLength = 1;
+      if (sm.max_size == 0 || sm.max_size == kWatchdogOnlyLength || (sm.control & kModeMask) != kModeBuffered) continue;
       std::uint32_t next = 0;
       for (const auto& o : d_.sync_managers) {
         if (o.type != od::SmType::Unused && o.start_address > sm.start_address && (next == 0 || o.start_address < next)) {

@@ -57,6 +57,7 @@ inline constexpr std::uint8_t kValueInfoDefault = 0x10;
 inline constexpr std::uint8_t kValueInfoMinimum = 0x20;
 inline constexpr std::uint8_t kValueInfoMaximum = 0x40;
 // PDO objects.
+inline constexpr std::uint16_t kSmPdoAssignBase = 0x1C10;  // + SM number (ETG.1000.6 §5.6.7.4.2)
 inline constexpr std::uint16_t kRxPdoAssign = 0x1C12;
 inline constexpr std::uint16_t kTxPdoAssign = 0x1C13;
 inline constexpr std::uint16_t kSmCommunicationType = 0x1C00;
@@ -114,7 +115,9 @@ class CoeClient {
   Expected<std::vector<std::uint32_t>, SdoError> read_pdo_mapping(std::uint16_t pdo);
   // Sum of the entry bit lengths of every PDO assigned in `assign`.
   Expected<std::uint32_t, SdoError> assigned_bits(std::uint16_t assign);
-  // Fills the slave's pd.output_bytes/input_bytes from 0x1C12/0x1C13.
+  // Fills the slave's process-data sizes: per SM from 1C10h+n for every SII
+  // SM of type 3/4 (pd.sms, pd.per_sm), else pd.output_bytes/input_bytes
+  // from 0x1C12/0x1C13.
   Expected<void, SdoError> read_pdo_sizes();
 
   const std::vector<Emergency>& emergencies() const noexcept { return emergencies_; }

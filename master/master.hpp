@@ -153,9 +153,14 @@ class Master {
 
   // --- process data (masters.md §1.3) ----------------------------------------------
   // Lays out the image (all outputs, then all inputs, slave order), programs
-  // SM2/SM3 (start/control from SII, length from pd.output_bytes/input_bytes,
-  // which the caller or CoeClient::read_pdo_sizes filled) and FMMU0/FMMU1.
+  // the process-data SMs and their FMMUs: SM2/SM3 (start/control from SII,
+  // length from pd.output_bytes/input_bytes, which the caller filled), or
+  // every SM in pd.sms when sized per SM (pd.per_sm), one FMMU per run of
+  // SMs of a direction that lie back to back.
   Expected<void, MasterError> configure_process_data();
+  // Sizes every SII SM of type 3/4 from the SII PDOs assigned to it (a
+  // slave without CoE, as SOEM's ecx_map_sii): fills pd.sms, sets pd.per_sm.
+  void size_process_data_from_sii(std::size_t slave);
   // One LRW over the whole image (+ FRMW 0x0910 to the reference clock when DC
   // is on). Copies outputs in and inputs out; no allocation. When a slave
   // cannot take LRW (0x0008 bit 9, or SII GENERAL flag "not LRW") the frame

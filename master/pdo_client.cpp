@@ -75,14 +75,34 @@ Expected<std::uint32_t, SdoError> CoeClient::assigned_bits(std::uint16_t assign)
   return bits;
 }
 
+// ETG.1000.6 §5.6.7.4.2: SM n carries what 1C10h+n assigns. Every SII SM
+// of type 3/4 is read (as SOEM walks the SMs of 1C00h); a slave whose SII
+// lists no such SM gets 1C12h/1C13h for SM2/SM3.
 Expected<void, SdoError> CoeClient::read_pdo_sizes() {
+  auto& s = master_.slave(slave_);
+  std::vector<ProcessSm> sms;
+  const auto& sii_sms = s.sii.sync_managers;
+  for (std::size_t n = 0; n < sii_sms.size(); ++n) {
+    const bool outputs = sii_sms[n].type == sii::kSmTypeOutputs;
+    if (!outputs && sii_sms[n].type != sii::kSmTypeInputs) continue;
+    auto bits = assigned_bits(static_cast<std::uint16_t>(coe::kSmPdoAssignBase + n));
+    if (!bits) return fail(bits.error());
+    sms.push_back(ProcessSm{static_cast<std::uint8_t>(n), outputs, sii_sms[n].start, sii_sms[n].control,
+                            static_cast<std::uint16_t>((*bits + kBitsPerByte - 1) / kBitsPerByte), 0});
+  }
+  if (!sms.empty()) {
+    s.pd.sms = std::move(sms);
+    s.pd.per_sm = true;
+    s.pd.sum_sizes();
+    return {};
+  }
   auto out_bits = assigned_bits(coe::kRxPdoAssign);
   if (!out_bits) return fail(out_bits.error());
   auto in_bits = assigned_bits(coe::kTxPdoAssign);
   if (!in_bits) return fail(in_bits.error());
-  auto& pd = master_.slave(slave_).pd;
-  pd.output_bytes = static_cast<std::uint16_t>((*out_bits + kBitsPerByte - 1) / kBitsPerByte);
-  pd.input_bytes = static_cast<std::uint16_t>((*in_bits + kBitsPerByte - 1) / kBitsPerByte);
+  s.pd.per_sm = false;
+  s.pd.output_bytes = static_cast<std::uint16_t>((*out_bits + kBitsPerByte - 1) / kBitsPerByte);
+  s.pd.input_bytes = static_cast<std::uint16_t>((*in_bits + kBitsPerByte - 1) / kBitsPerByte);
   return {};
 }
 

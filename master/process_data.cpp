@@ -1,4 +1,5 @@
-// Process data: SM2/SM3 + FMMU set-up from the PDO sizes and the cyclic LRW
+// Process data: SM + FMMU set-up from the PDO sizes (SM2/SM3, or every
+// process-data SM where a device has several per direction) and the cyclic LRW
 // (masters.md §1.3/§1.4, esc-registers.md §6/§7). Layout as SOEM: all
 // outputs in slave order, then all inputs; expected WKC = 2 per slave with
 // outputs + 1 per slave with inputs (ETG.1000.4 §5.4.3 LRW counting).
@@ -17,6 +18,7 @@ constexpr std::uint8_t kInputsControl = 0x20;   // 3-buffer, read
 constexpr std::uint8_t kFmmuStopBit = 7;
 constexpr unsigned kOutputSm = 2;
 constexpr unsigned kInputSm = 3;
+constexpr std::uint32_t kBitsPerByte = 8;
 
 // FMMU register block (esc-registers.md §6).
 std::array<std::uint8_t, reg::kFmmuSize> fmmu_block(std::uint32_t logical, std::uint16_t length,
@@ -53,17 +55,79 @@ Expected<void, MasterError> Master::write_sync_manager(std::size_t slave, unsign
   return fpwr(station, reg::sync_manager(n), b);
 }
 
+namespace {
+
+// The SMs a slave's process data goes through: those sized per SM, or SM2
+// (outputs) and SM3 (inputs) with start/control from the SII SYNCM category
+// when it has them.
+void legacy_sms(SlaveInfo& s) {
+  const auto& sms = s.sii.sync_managers;
+  if (sms.size() > kOutputSm && sms[kOutputSm].start != 0) {
+    s.pd.sm2_start = sms[kOutputSm].start;
+    s.pd.sm2_control = sms[kOutputSm].control;
+  } else if (s.pd.sm2_start == 0) {
+    s.pd.sm2_control = kOutputsControl;
+  }
+  if (sms.size() > kInputSm && sms[kInputSm].start != 0) {
+    s.pd.sm3_start = sms[kInputSm].start;
+    s.pd.sm3_control = sms[kInputSm].control;
+  } else if (s.pd.sm3_start == 0) {
+    s.pd.sm3_control = kInputsControl;
+  }
+  s.pd.sms = {ProcessSm{kOutputSm, true, s.pd.sm2_start, s.pd.sm2_control, s.pd.output_bytes, 0},
+              ProcessSm{kInputSm, false, s.pd.sm3_start, s.pd.sm3_control, s.pd.input_bytes, 0}};
+}
+
+}  // namespace
+
+void Master::size_process_data_from_sii(std::size_t slave) {
+  SlaveInfo& s = slaves_[slave];
+  s.pd.sms.clear();
+  const auto& sms = s.sii.sync_managers;
+  for (std::size_t n = 0; n < sms.size(); ++n) {
+    const bool outputs = sms[n].type == sii::kSmTypeOutputs;
+    if (!outputs && sms[n].type != sii::kSmTypeInputs) continue;
+    const std::uint32_t bits = s.sii.default_pdo_bits(!outputs, static_cast<std::uint8_t>(n));
+    s.pd.sms.push_back(ProcessSm{static_cast<std::uint8_t>(n), outputs, sms[n].start, sms[n].control,
+                                 static_cast<std::uint16_t>((bits + kBitsPerByte - 1) / kBitsPerByte), 0});
+  }
+  s.pd.per_sm = !s.pd.sms.empty();
+  if (s.pd.per_sm) {
+    s.pd.sum_sizes();
+  } else {  // no SYNCM category: the SII PDOs of SM2/SM3
+    s.pd.output_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(false, kOutputSm) + kBitsPerByte - 1) / kBitsPerByte);
+    s.pd.input_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(true, kInputSm) + kBitsPerByte - 1) / kBitsPerByte);
+  }
+}
+
 Expected<void, MasterError> Master::configure_process_data() {
   output_bytes_ = 0;
   input_bytes_ = 0;
   expected_wkc_ = 0;
   for (auto& s : slaves_) {
+    if (s.pd.per_sm) {
+      s.pd.sum_sizes();
+    } else {
+      legacy_sms(s);
+    }
+  }
+  // Each slave's outputs SMs side by side in SM order, then (after all
+  // slaves' outputs) its inputs SMs (SOEM's layout, masters.md §1.3 step 4).
+  for (auto& s : slaves_) {
     s.pd.output_offset = output_bytes_;
-    output_bytes_ += s.pd.output_bytes;
+    for (ProcessSm& p : s.pd.sms) {
+      if (!p.outputs) continue;
+      p.logical = output_bytes_;
+      output_bytes_ += p.bytes;
+    }
   }
   for (auto& s : slaves_) {
     s.pd.input_offset = output_bytes_ + input_bytes_;
-    input_bytes_ += s.pd.input_bytes;
+    for (ProcessSm& p : s.pd.sms) {
+      if (p.outputs) continue;
+      p.logical = output_bytes_ + input_bytes_;
+      input_bytes_ += p.bytes;
+    }
   }
   // Then one status byte per mailbox slave (SOEM's layout), read like inputs.
   for (auto& s : slaves_) {
@@ -84,41 +148,39 @@ Expected<void, MasterError> Master::configure_process_data() {
 
   for (std::size_t i = 0; i < slaves_.size(); ++i) {
     SlaveInfo& s = slaves_[i];
-    // SM2/SM3 start and control from the SII SYNCM category when it has them.
-    const auto& sms = s.sii.sync_managers;
-    if (sms.size() > kOutputSm && sms[kOutputSm].start != 0) {
-      s.pd.sm2_start = sms[kOutputSm].start;
-      s.pd.sm2_control = sms[kOutputSm].control;
-    } else if (s.pd.sm2_start == 0) {
-      s.pd.sm2_control = kOutputsControl;
+    // Every process-data SM, enabled iff length > 0 (SOEM, IgH).
+    for (const ProcessSm& p : s.pd.sms) {
+      if (auto r = write_sync_manager(i, p.sm, p.start, p.bytes, p.control, p.bytes > 0); !r) return fail(r.error());
     }
-    if (sms.size() > kInputSm && sms[kInputSm].start != 0) {
-      s.pd.sm3_start = sms[kInputSm].start;
-      s.pd.sm3_control = sms[kInputSm].control;
-    } else if (s.pd.sm3_start == 0) {
-      s.pd.sm3_control = kInputsControl;
-    }
-    // Enabled iff length > 0 (SOEM, IgH).
-    if (auto r = write_sync_manager(i, kOutputSm, s.pd.sm2_start, s.pd.output_bytes, s.pd.sm2_control,
-                                    s.pd.output_bytes > 0);
-        !r) {
-      return fail(r.error());
-    }
-    if (auto r = write_sync_manager(i, kInputSm, s.pd.sm3_start, s.pd.input_bytes, s.pd.sm3_control,
-                                    s.pd.input_bytes > 0);
-        !r) {
-      return fail(r.error());
-    }
+    // One FMMU per run of SMs of a direction that lie back to back in the
+    // ESC (EK1828's SM0 at 0F00h and SM1 at 0F01h: one 2-byte FMMU, as SOEM
+    // joins them) - the logical side is back to back by construction.
     unsigned next_fmmu = 0;
-    if (s.pd.output_bytes > 0) {
-      const auto b = fmmu_block(s.pd.output_offset, s.pd.output_bytes, s.pd.sm2_start, reg::kFmmuWrite);
-      if (auto r = fpwr(s.station_address, reg::fmmu(next_fmmu++), b); !r) return fail(r.error());
-      expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 2);
+    bool any_outputs = false;
+    for (const bool outputs : {true, false}) {
+      const ProcessSm* run = nullptr;
+      std::uint32_t run_bytes = 0;
+      auto flush = [&]() -> Expected<void, MasterError> {
+        if (run == nullptr || run_bytes == 0) return {};
+        if (s.esc.fmmus != 0 && next_fmmu >= s.esc.fmmus) return fail(MasterError::InvalidArgument);
+        const auto b = fmmu_block(run->logical, static_cast<std::uint16_t>(run_bytes), run->start,
+                                  outputs ? reg::kFmmuWrite : reg::kFmmuRead);
+        return fpwr(s.station_address, reg::fmmu(next_fmmu++), b);
+      };
+      for (const ProcessSm& p : s.pd.sms) {
+        if (p.outputs != outputs || p.bytes == 0) continue;
+        if (outputs) any_outputs = true;
+        if (run != nullptr && run->start + run_bytes == p.start && run->logical + run_bytes == p.logical) {
+          run_bytes += p.bytes;
+          continue;
+        }
+        if (auto r = flush(); !r) return fail(r.error());
+        run = &p;
+        run_bytes = p.bytes;
+      }
+      if (auto r = flush(); !r) return fail(r.error());
     }
-    if (s.pd.input_bytes > 0) {
-      const auto b = fmmu_block(s.pd.input_offset, s.pd.input_bytes, s.pd.sm3_start, reg::kFmmuRead);
-      if (auto r = fpwr(s.station_address, reg::fmmu(next_fmmu++), b); !r) return fail(r.error());
-    }
+    if (any_outputs) expected_wkc_ = static_cast<std::uint16_t>(expected_wkc_ + 2);
     if (s.pd.mailbox_status_offset) {
       const auto status = static_cast<std::uint16_t>(reg::sync_manager(1) + reg::kSmStatusOffset);
       const auto b = fmmu_block(*s.pd.mailbox_status_offset, 1, status, reg::kFmmuRead);

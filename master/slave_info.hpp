@@ -54,16 +54,48 @@ struct MailboxLayout {
   bool configured = false;
 };
 
-// SM2/SM3 + FMMU programming and the slave's place in the process image.
+// One process-data SM as the master programs it (SOEM walks every SM of
+// type 3/4: masters.md §1.3; a device may have several per direction,
+// Beckhoff EK1828 outputs on SM0 and SM1).
+struct ProcessSm {
+  std::uint8_t sm = 0;
+  bool outputs = false;  // type 3 (master -> slave), else type 4
+  std::uint16_t start = 0;
+  std::uint8_t control = 0;
+  std::uint16_t bytes = 0;
+  std::uint32_t logical = 0;  // offset in the image, set by configure_process_data()
+};
+
+// SM + FMMU programming and the slave's place in the process image.
 struct ProcessDataLayout {
-  std::uint16_t output_bytes = 0;   // RxPDO (SM2)
-  std::uint16_t input_bytes = 0;    // TxPDO (SM3)
+  std::uint16_t output_bytes = 0;   // RxPDO (all outputs SMs)
+  std::uint16_t input_bytes = 0;    // TxPDO (all inputs SMs)
   std::uint32_t output_offset = 0;  // in the logical image
   std::uint32_t input_offset = 0;
   std::uint16_t sm2_start = 0, sm3_start = 0;
   std::uint8_t sm2_control = 0x64, sm3_control = 0x20;
   std::optional<std::uint32_t> mailbox_status_offset;  // logical byte of SM1 status, if mapped
   bool configured = false;
+  // The SMs programmed. With per_sm set (CoeClient::read_pdo_sizes,
+  // Master::size_process_data_from_sii) their `bytes` are the sizes asked
+  // for and output_bytes/input_bytes their sums; otherwise
+  // configure_process_data() makes SM2 (output_bytes) and SM3 (input_bytes).
+  std::vector<ProcessSm> sms;
+  bool per_sm = false;
+  // output_bytes/input_bytes = the sums of the SMs' bytes.
+  void sum_sizes() noexcept {
+    std::uint32_t out = 0, in = 0;
+    for (const ProcessSm& p : sms) (p.outputs ? out : in) += p.bytes;
+    output_bytes = static_cast<std::uint16_t>(out);
+    input_bytes = static_cast<std::uint16_t>(in);
+  }
+  // The first SM of a direction as programmed, or null.
+  const ProcessSm* first(bool outputs) const noexcept {
+    for (const ProcessSm& p : sms) {
+      if (p.outputs == outputs) return &p;
+    }
+    return nullptr;
+  }
 };
 
 struct DcInfo {

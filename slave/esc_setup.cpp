@@ -1,6 +1,7 @@
 #include "slave/esc_setup.hpp"
 
 #include "esi/sii_writer.hpp"
+#include "od/process_directions.hpp"
 
 namespace ecat::slave {
 namespace {
@@ -52,8 +53,15 @@ esc::EsmConfig esm_config_for(const od::DeviceDescription& device) {
   if (out) c.mailbox_out = {out->start_address, out->default_size, out->control};
   if (in) c.mailbox_in = {in->start_address, in->default_size, in->control};
   c.bootstrap_supported = device.bootstrap_supported;
-  if (const auto* o = find_sm(device, od::SmType::Outputs)) c.outputs = {o->start_address, o->control};
-  if (const auto* i = find_sm(device, od::SmType::Inputs)) c.inputs = {i->start_address, i->control};
+  // Every process-data SM of a direction the device has PDOs for (several
+  // per direction where the device has them, e.g. EK1828's SM0/SM1).
+  for (std::size_t n = 0; n < device.sync_managers.size(); ++n) {
+    const od::SyncManagerConfig& sm = device.sync_managers[n];
+    const bool outputs = sm.type == od::SmType::Outputs;
+    if (!outputs && sm.type != od::SmType::Inputs) continue;
+    if (!od::has_process_data(device, outputs)) continue;
+    c.add_process_sm({static_cast<std::uint8_t>(n), outputs, sm.start_address, sm.control});
+  }
   c.device_id = device.esc.configured_station_alias;
   return c;
 }

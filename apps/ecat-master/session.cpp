@@ -50,6 +50,17 @@ const char* state_name(std::uint8_t s) {
   }
 }
 
+// The SII's process-data SMs are SM2 (outputs) and SM3 (inputs) at most.
+bool standard_process_sms(const master::SiiInfo& sii) {
+  constexpr std::size_t kOutputSm = 2, kInputSm = 3;
+  for (std::size_t n = 0; n < sii.sync_managers.size(); ++n) {
+    const std::uint8_t t = sii.sync_managers[n].type;
+    if (t == master::sii::kSmTypeOutputs && n != kOutputSm) return false;
+    if (t == master::sii::kSmTypeInputs && n != kInputSm) return false;
+  }
+  return true;
+}
+
 Nanoseconds percentile(std::vector<Nanoseconds>& v, double p) {
   if (v.empty()) return Nanoseconds{0};
   const auto k = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1));
@@ -73,7 +84,11 @@ Expected<void, std::string> Session::configure_slave(std::size_t i) {
   auto st = master_.request_state(i, master::AlState::PreOp);
   if (!st) return fail(fmt::format("slave {}: PreOp: {}", i + 1, error_text(st.error())));
   if (st->error()) return fail(fmt::format("slave {}: PreOp refused, AL status code 0x{:04X}", i + 1, st->code));
-  if (!has_coe_[i]) return {};
+  // Without CoE the SII's PDOs size every process-data SM (SOEM ecx_map_sii).
+  if (!has_coe_[i]) {
+    master_.size_process_data_from_sii(i);
+    return {};
+  }
   master::CoeClient coe(master_, i);
   auto pdos = PdoLocator::read(coe);
   if (!pdos) return fail(fmt::format("slave {}: {}", i + 1, pdos.error()));
@@ -85,6 +100,14 @@ Expected<void, std::string> Session::configure_slave(std::size_t i) {
   };
   s.pd.output_bytes = static_cast<std::uint16_t>((bits(pdos_[i].outputs) + kBitsPerByte - 1) / kBitsPerByte);
   s.pd.input_bytes = static_cast<std::uint16_t>((bits(pdos_[i].inputs) + kBitsPerByte - 1) / kBitsPerByte);
+  s.pd.per_sm = false;
+  // Process data on other SMs than SM2 outputs / SM3 inputs, or on more
+  // than one per direction: each SM from its 1C10h+n (ETG.1000.6 §5.6.7.4.2).
+  if (!standard_process_sms(s.sii)) {
+    if (auto ok = coe.read_pdo_sizes(); !ok) {
+      return fail(fmt::format("slave {}: PDO sizes per SM: {}", i + 1, error_text(ok.error())));
+    }
+  }
   if (o_.move) {
     // CSP needs 6502h bit 7 (CiA402 §6.2.1); a drive without it is left alone.
     auto modes = coe.upload_value(kSupportedDriveModes, 0);

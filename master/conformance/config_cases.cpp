@@ -13,8 +13,6 @@ constexpr std::uint16_t kInvalidMailboxConfig = 0x0016;
 constexpr std::uint16_t kSmWatchdog = 0x001B;
 constexpr std::uint16_t kInvalidOutputConfig = 0x001D;
 constexpr std::uint16_t kInvalidInputConfig = 0x001E;
-constexpr unsigned kOutputSm = 2;
-constexpr unsigned kInputSm = 3;
 // Watchdog base unit: (divider + 2) x 40 ns (esc-registers.md §8).
 constexpr std::int64_t kWatchdogTickNs = 40;
 constexpr std::int64_t kWatchdogWaitFactor = 3;
@@ -56,18 +54,18 @@ Case mailbox_case(const char* name, const char* what, void (*mutate)(MailboxLayo
               }};
 }
 
-// PreOp with process data prepared, then `sm` rewritten by `mutate`, then SafeOp.
-CaseResult process_sm_case(Context& ctx, unsigned sm, std::uint16_t code,
+// PreOp with process data prepared, then the first SM of a direction (SM2 or
+// SM3 on most devices; SM0 for EK1828's outputs) rewritten by `mutate`, then SafeOp.
+CaseResult process_sm_case(Context& ctx, bool outputs, std::uint16_t code,
                            void (*mutate)(std::uint16_t& start, std::uint16_t& length)) {
   if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
   if (auto r = ctx.prepare_process_data(); !r) return CaseResult::failed("process data", r.error());
-  const ProcessDataLayout& pd = ctx.info().pd;
-  std::uint16_t start = sm == kOutputSm ? pd.sm2_start : pd.sm3_start;
-  std::uint16_t length = sm == kOutputSm ? pd.output_bytes : pd.input_bytes;
-  const std::uint8_t control = sm == kOutputSm ? pd.sm2_control : pd.sm3_control;
-  if (length == 0) return CaseResult::skip(sm == kOutputSm ? "no outputs" : "no inputs");
+  const ProcessSm* p = ctx.info().pd.first(outputs);
+  if (p == nullptr || p->bytes == 0) return CaseResult::skip(outputs ? "no outputs" : "no inputs");
+  std::uint16_t start = p->start;
+  std::uint16_t length = p->bytes;
   mutate(start, length);
-  if (auto r = ctx.master().write_sync_manager(ctx.slave(), sm, start, length, control, true); !r) {
+  if (auto r = ctx.master().write_sync_manager(ctx.slave(), p->sm, start, length, p->control, true); !r) {
     return CaseResult::failed("SM written", std::string(describe(r.error())));
   }
   return CaseResult::compare(refused(AlState::PreOp, code),
@@ -85,30 +83,31 @@ std::vector<Case> config_cases() {
   };
   cases.push_back({"config.output_sm_length", "ETG.1000.6 §6.4.1 PreOp->SafeOp, Table 11 0x001D (SM2 length != RxPDO size)",
                    [](Context& ctx) {
-                     return process_sm_case(ctx, kOutputSm, kInvalidOutputConfig,
+                     return process_sm_case(ctx, true, kInvalidOutputConfig,
                                             [](std::uint16_t&, std::uint16_t& len) { len = static_cast<std::uint16_t>(len + 1); });
                    }});
   cases.push_back({"config.input_sm_length", "ETG.1000.6 §6.4.1 PreOp->SafeOp, Table 11 0x001E (SM3 length != TxPDO size)",
                    [](Context& ctx) {
-                     return process_sm_case(ctx, kInputSm, kInvalidInputConfig,
+                     return process_sm_case(ctx, false, kInvalidInputConfig,
                                             [](std::uint16_t&, std::uint16_t& len) { len = static_cast<std::uint16_t>(len + 1); });
                    }});
   cases.push_back({"config.output_sm_start", "ETG.1000.6 §6.4.1 PreOp->SafeOp, Table 11 0x001D (SM2 start address)",
                    [](Context& ctx) {
-                     return process_sm_case(ctx, kOutputSm, kInvalidOutputConfig,
+                     return process_sm_case(ctx, true, kInvalidOutputConfig,
                                             [](std::uint16_t& start, std::uint16_t&) { start = static_cast<std::uint16_t>(start + 8); });
                    }});
   cases.push_back({"config.watchdog_expiry", "ETG.1000.6 Table 11 0x001B: no process data within the SM watchdog time -> SafeOp + ErrInd (esm-al-codes.md §5.6, esc-registers.md §8)",
                    [](Context& ctx) {
                      if (!ctx.options().wait) return CaseResult::skip("no way to let time pass");
                      if (auto r = ctx.go_to(AlState::Op); !r) return CaseResult::failed("reach Op", r.error());
-                     if (ctx.info().pd.output_bytes == 0) return CaseResult::skip("no outputs (no SM2 watchdog)");
+                     const ProcessSm* out = ctx.info().pd.first(true);
+                     if (ctx.info().pd.output_bytes == 0 || out == nullptr) return CaseResult::skip("no outputs (no SM2 watchdog)");
                      const std::uint16_t station = ctx.info().station_address;
                      // ESC Section II 0x0804 bit 6: only an SM with the watchdog trigger
                      // enabled rewinds the process-data watchdog; without it (e.g. control
                      // byte 0x24) the firmware does not supervise SM2 (SSC, SOES).
                      auto control = ctx.master().fprd_u8(
-                         station, static_cast<std::uint16_t>(reg::sync_manager(kOutputSm) + reg::kSmControlOffset));
+                         station, static_cast<std::uint16_t>(reg::sync_manager(out->sm) + reg::kSmControlOffset));
                      if (!control) return CaseResult::failed("SM2 control register", "read failed");
                      if ((*control & reg::kSmControlWatchdogTrigger) == 0) {
                        return CaseResult::skip(fmt::format("SM2 watchdog trigger not enabled (control byte 0x{:02X})", *control));
@@ -129,8 +128,9 @@ std::vector<Case> config_cases() {
   cases.push_back({"config.sm2_disabled_in_safeop", "ETG.1000.6 §6.4.1 SM change at run time, Table 11 0x001D -> PreOp + ErrInd (esm-al-codes.md §3, SOES)",
                    [](Context& ctx) {
                      if (auto r = ctx.go_to(AlState::SafeOp); !r) return CaseResult::failed("reach SafeOp", r.error());
-                     if (ctx.info().pd.output_bytes == 0) return CaseResult::skip("no outputs");
-                     const auto act = static_cast<std::uint16_t>(reg::sync_manager(kOutputSm) + reg::kSmActivateOffset);
+                     const ProcessSm* out = ctx.info().pd.first(true);
+                     if (ctx.info().pd.output_bytes == 0 || out == nullptr) return CaseResult::skip("no outputs");
+                     const auto act = static_cast<std::uint16_t>(reg::sync_manager(out->sm) + reg::kSmActivateOffset);
                      if (auto r = ctx.master().fpwr_u8(ctx.info().station_address, act, 0); !r) {
                        return CaseResult::failed("SM2 disabled", std::string(describe(r.error())));
                      }

@@ -61,10 +61,7 @@ Expected<void, std::string> Context::prepare_process_data() {
     auto coe_client = coe();
     sized = coe_client.read_pdo_sizes().has_value();
   }
-  if (!sized) {
-    s.pd.output_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(false, 2) + 7) / 8);
-    s.pd.input_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(true, 3) + 7) / 8);
-  }
+  if (!sized) master_.size_process_data_from_sii(slave());
   if (auto r = master_.configure_process_data(); !r) return fail("process data set-up: " + describe_error(r.error()));
   return {};
 }

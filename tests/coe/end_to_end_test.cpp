@@ -26,8 +26,8 @@ class EndToEnd : public ::testing::Test {
     esc::EsmConfig c;
     c.mailbox_out = {test::kSm0, test::kMbxLen, 0x26};
     c.mailbox_in = {test::kSm1, test::kMbxLen, 0x22};
-    c.outputs = {0x1100, 0x64};
-    c.inputs = {0x1180, 0x20};
+    c.add_process_sm({esc::kSmOutputs, true, 0x1100, 0x64});
+    c.add_process_sm({esc::kSmInputs, false, 0x1180, 0x20});
     return c;
   }
   void cycle() {

@@ -155,6 +155,24 @@ TEST_F(OneByteWdTest, DigitalOutputRegisterTriggers) {
   EXPECT_EQ(esc().memory()[reg::kDigitalIoOutput], 0x00);  // outputs to 0 on expiry
 }
 
+// An SM of more than one byte over the digital output registers (an EL9800
+// revision of beckhoff-ethercat-evaboard.xml: SM0 0F00h, 4 bytes, control
+// 46h = mailbox mode, ECAT writes, watchdog trigger): the bytes are the
+// registers, and an ECAT write to any of them - by FPWR or through an FMMU -
+// restarts the watchdog (issue 14).
+TEST_F(OneByteWdTest, FourByteSmOverTheDigitalOutputsTriggers) {
+  config_sm(seg(), kStation, 0, reg::kDigitalIoOutput, 4, 0x46);
+  EXPECT_EQ(transact(seg(), Command::Fpwr, fp(kStation, reg::kDigitalIoOutput + 2), Data{0x81}, 5ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[reg::kDigitalIoOutput + 2], 0x81);
+  expect_expiry_after(5ms);
+  EXPECT_EQ(esc().memory()[reg::kDigitalIoOutput + 2], 0x00);  // outputs to 0 on expiry
+  config_fmmu(seg(), kStation, 0, kLogical, 4, 0, 7, reg::kDigitalIoOutput, 0, kFmmuWrite);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical, Data{1, 2, 3, 4}, 8ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[reg::kDigitalIoOutput + 3], 0x04);
+  EXPECT_EQ(esc().poll(8ms), 9ms);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+}
+
 TEST_F(OneByteWdTest, NoTriggerWithoutBit6OrEnableOrWhenReadDirection) {
   config_sm(seg(), kStation, 2, kOneByte, 1, 0x24);  // no trigger bit
   config_sm(seg(), kStation, 3, 0x1101, 1, 0x64, 0);  // not enabled

@@ -30,8 +30,8 @@ inline EsmConfig test_esm_config() {
   c.mailbox_in = {kMbxInStart, kMbxLength, kMbxInControl};
   c.boot_mailbox_out = {kBootOutStart, kBootLength, kMbxOutControl};
   c.boot_mailbox_in = {kBootInStart, kBootLength, kMbxInControl};
-  c.outputs = {kOutStart, kOutControl};
-  c.inputs = {kInStart, kInControl};
+  c.add_process_sm({kSmOutputs, true, kOutStart, kOutControl});
+  c.add_process_sm({kSmInputs, false, kInStart, kInControl});
   return c;
 }
 
