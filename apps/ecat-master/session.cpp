@@ -17,6 +17,8 @@ namespace ecat::app {
 namespace {
 
 constexpr unsigned kBitsPerByte = 8;
+constexpr std::uint8_t kOutputsSm = 2;  // ETG.1000.4: SM2 process data outputs
+constexpr std::uint8_t kInputsSm = 3;   // SM3 process data inputs
 // Cycles exchanged in SafeOp before Op is requested, so the slaves have seen
 // valid outputs (SM2 written, watchdog triggered) when they check SafeOp->Op.
 constexpr unsigned kSafeOpWarmupCycles = 10;
@@ -73,7 +75,17 @@ Expected<void, std::string> Session::configure_slave(std::size_t i) {
   auto st = master_.request_state(i, master::AlState::PreOp);
   if (!st) return fail(fmt::format("slave {}: PreOp: {}", i + 1, error_text(st.error())));
   if (st->error()) return fail(fmt::format("slave {}: PreOp refused, AL status code 0x{:04X}", i + 1, st->code));
-  if (!has_coe_[i]) return {};
+  if (!has_coe_[i]) {
+    // Without CoE the SII's RXPDO/TXPDO categories, each with its SM, say
+    // what is mapped (ETG.2010; SOEM's ecx_map_sii does the same): SM2 and
+    // SM3 get the default PDOs' lengths (Weidmueller UR20-FBC-EC as IgH
+    // dumps it: mailbox SMs, no protocol, PDOs on SM2/SM3).
+    s.pd.output_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(false, kOutputsSm) + kBitsPerByte - 1) /
+                                                   kBitsPerByte);
+    s.pd.input_bytes = static_cast<std::uint16_t>((s.sii.default_pdo_bits(true, kInputsSm) + kBitsPerByte - 1) /
+                                                  kBitsPerByte);
+    return {};
+  }
   master::CoeClient coe(master_, i);
   auto pdos = PdoLocator::read(coe);
   if (!pdos) return fail(fmt::format("slave {}: {}", i + 1, pdos.error()));
