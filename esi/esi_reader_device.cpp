@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "esi/device_values.hpp"
+#include "esi/esi_reader_axes.hpp"
 #include "esi/esi_reader_context.hpp"
 #include "esi/esi_writer_names.hpp"
 
@@ -130,6 +131,10 @@ class DeviceReader {
       if (auto ok = read_esi_modules(info, slots_, ctx_, module_pdo, d_); !ok) return ok;
     }
     repair_for_twin(dev, ctx_, d_);
+    if (auto why = recover_axes(d_)) {
+      const pugi::xml_node dict = dev.child("Profile").child("Dictionary");
+      ctx_.warn_at("Dictionary", ctx_.line(dict ? dict : dev), std::move(*why));
+    }
     return {};
   }
 
