@@ -60,8 +60,8 @@ std::optional<std::string> recover_axes(od::DeviceDescription& d) {
     if (!l.per_axis(o.index)) continue;
     for (unsigned axis = 2; axis <= axes; ++axis) {
       if (!d.dictionary.find(l.object_index(axis, o.index))) {
-        return fmt::format("{}, but axis {} has no {:04X}h (axis 1's {:04X}h); the twin runs axis 1's state machine only",
-                           head, axis, l.object_index(axis, o.index), o.index);
+        return fmt::format("{}, but axis {} has no {:04X}h (axis 1's {:04X}h); the twin runs axis 1's state "
+                           "machine only", head, axis, l.object_index(axis, o.index), o.index);
       }
     }
   }

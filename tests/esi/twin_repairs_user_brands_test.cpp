@@ -96,7 +96,8 @@ bool has_warning(const std::vector<EsiWarning>& w, int line, const std::string& 
 }
 
 bool warns_about(const std::vector<EsiWarning>& w, const std::string& part) {
-  return std::any_of(w.begin(), w.end(), [&](const EsiWarning& x) { return x.message.find(part) != std::string::npos; });
+  return std::any_of(w.begin(), w.end(),
+                     [&](const EsiWarning& x) { return x.message.find(part) != std::string::npos; });
 }
 
 struct Read {
@@ -142,7 +143,8 @@ TEST(TwinUserBrands, IdentitySubindexZeroBelowItsEntriesCoversThem) {
   ASSERT_NE(si0, nullptr);
   EXPECT_EQ(si0->default_value, od::Value({4}));
   EXPECT_TRUE(has_warning(r.warnings, line_of(text, "<Index>#x1018"),
-                          "1018h:00 default #x00 is below the identity entries 1018h:01-04 the object defines; SI0 is 4"))
+                          "1018h:00 default #x00 is below the identity entries 1018h:01-04 the object defines; "
+                          "SI0 is 4"))
       << all(r.warnings);
   auto back = load_device_string(write_device_xml(r.d), "twin.xml");
   ASSERT_TRUE(back) << back.error().to_string();
