@@ -196,7 +196,11 @@ void derive_pdo_mappings(DeviceSpec& spec) {
     if (spec.objects.contains(index)) continue;
     const Where& w = pdo.element.where;
     ObjectSpec& o = ensure(spec, index, w, {{"code", "RECORD"}, {"type", "PDO_MAPPING"}});
-    o.attrs.set("name", attr(attr_text(pdo.element, "name", fmt::format("PDO {:04X}h", index)), w));
+    // A PDO without a name (absent or empty: IgH's `ethercat xml` writes
+    // <Name></Name>) gives its mapping object a name all the same.
+    std::string name = attr_text(pdo.element, "name");
+    if (name.empty()) name = fmt::format("PDO {:04X}h", index);
+    o.attrs.set("name", attr(name, w));
     const bool writable = configurable && !attr_bool(pdo.element, "fixed", false);
     set_access(o, writable, w);
     const auto max_entries = attr_unsigned(pdo.element, "maxEntries", 0xFE, pdo.entries.size());

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "esi/device_values.hpp"
+#include "esi/esi_reader_axes.hpp"
 #include "esi/esi_reader_context.hpp"
 #include "esi/esi_writer_names.hpp"
 
@@ -130,6 +131,10 @@ class DeviceReader {
       if (auto ok = read_esi_modules(info, slots_, ctx_, module_pdo, d_); !ok) return ok;
     }
     repair_for_twin(dev, ctx_, d_);
+    if (auto why = recover_axes(d_)) {
+      const pugi::xml_node dict = dev.child("Profile").child("Dictionary");
+      ctx_.warn_at("Dictionary", ctx_.line(dict ? dict : dev), std::move(*why));
+    }
     return {};
   }
 
@@ -190,13 +195,20 @@ class DeviceReader {
     sm.max_size = u16("MaxSize");
     sm.control = ranged<std::uint8_t>(ctx_, s, "ControlByte", s.attribute("ControlByte").value(), 0);
     sm.enable = (ranged<std::uint8_t>(ctx_, s, "Enable", s.attribute("Enable").value(), 1) & 1) != 0;
-    if (!known) {
+    // An Sm without text but with a ControlByte (IgH's `ethercat xml` writes
+    // none, its SII reading has the type only in the SYNCM category): the
+    // control byte says what the SM is, as for a text that is not one of
+    // the four words.
+    const bool untyped = *s.child_value() == '\0' && s.attribute("ControlByte");
+    if (!known || untyped) {
       // The SII SYNCM type a master reads follows the control byte (ESC Section II
       // 0x0804: bits 1:0 mode, bits 3:2 direction) when the text is not one of
       // the four ETG.2000 words (e.g. "OrbitaIn").
       sm.type = sm_type_from_control(sm.control);
-      ctx_.warn(s, fmt::format("unknown SM use '{}'; taken as {} from ControlByte #x{:02X}", s.child_value(),
-                               sm_type_word(sm.type), sm.control));
+      ctx_.warn(s, untyped ? fmt::format("no SM use given; taken as {} from ControlByte #x{:02X}",
+                                         sm_type_word(sm.type), sm.control)
+                           : fmt::format("unknown SM use '{}'; taken as {} from ControlByte #x{:02X}",
+                                         s.child_value(), sm_type_word(sm.type), sm.control));
     }
     d_.sync_managers.push_back(sm);
   }
@@ -218,6 +230,10 @@ class DeviceReader {
     }
     p.index = static_cast<std::uint16_t>(*index);
     p.name = esi_name(n);
+    if (p.name.empty()) {
+      ctx_.warn(n, fmt::format("PDO {:04X}h has no Name; its mapping object is named 'PDO {:04X}h'", p.index,
+                               p.index));
+    }
     p.fixed = esi_bool(n.attribute("Fixed"));
     p.mandatory = esi_bool(n.attribute("Mandatory"));
     if (auto sm = n.attribute("Sm")) p.sm = ranged<std::uint8_t>(ctx_, n, "Sm", sm.value(), 0);

@@ -210,6 +210,10 @@ void append_device(pugi::xml_node devices, const od::DeviceDescription& d) {
   auto type = device.append_child("Type");
   attr(type, "ProductCode", esi_hex(id.product_code, kIdDigits));
   attr(type, "RevisionNo", esi_hex(id.revision, kIdDigits));
+  // Type@SerialNo (ETG.2000, optional): the serial the SII carries in words
+  // Eh-Fh and 1018h:04 repeats; written when there is one, so a re-read ESI
+  // gives the same identity (Sanyo Denki RS2 gives #x20110111).
+  if (id.serial != 0) attr(type, "SerialNo", esi_hex(id.serial, kIdDigits));
   if (d.esc.no_lrw) attr(type, "UseLrdLwr", "true");  // ESC lacks LRW: master uses LRD/LWR
   type.text().set((id.type_name.empty() ? id.name : id.type_name).c_str());
   name(device, "Name", id.name.empty() ? id.type_name : id.name);

@@ -296,6 +296,31 @@ void append_drive(pugi::xml_node root, const od::DriveProfile& drive) {
     attr(p, "name", name);
     attr(p, "value", fmt::format("{}", value));
   }
+  // Several axes (docs/device-format.md "Several axes"): the layout, so the
+  // loader binds each axis to its objects; the objects and PDOs of every axis
+  // are written as objects and PDOs, which the loader keeps as written.
+  const od::AxisLayout& l = drive.axes;
+  if (l.axes <= 1) return;
+  attr(n, "axes", std::to_string(l.axes));
+  attr(n, "axisIndexOffset", hex(l.index_offset, 4));
+  attr(n, "axisPdoOffset", hex(l.pdo_offset, 4));
+  const od::AxisLayout defaults;
+  const bool default_ranges = l.ranges.size() == defaults.ranges.size() &&
+                              l.ranges.front().first == defaults.ranges.front().first &&
+                              l.ranges.front().last == defaults.ranges.front().last;
+  if (!default_ranges) {
+    for (const od::AxisRange& r : l.ranges) {
+      auto a = n.append_child("AxisObjects");
+      attr(a, "from", hex(r.first, 4));
+      attr(a, "to", hex(r.last, 4));
+    }
+  }
+  for (const od::AxisIndex& x : l.exceptions) {
+    auto a = n.append_child("AxisIndex");
+    attr(a, "index", hex(x.index, 4));
+    attr(a, "axis", std::to_string(x.axis));
+    attr(a, "at", hex(x.at, 4));
+  }
 }
 
 // <Modules>: the module types at their slot-0 indices, the slot rules and the

@@ -15,6 +15,7 @@
 #include "esi/esi_reader_context.hpp"
 #include "esi/sii_layout.hpp"
 #include "esi/sii_writer.hpp"
+#include "od/firmware.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -85,6 +86,7 @@ class Repairer {
     repair_sm_types();
     repair_assignments();
     repair_mappings();
+    warn_pdi_type_with_mailbox();
     repair_eeprom_size();
   }
 
@@ -414,6 +416,20 @@ class Repairer {
                            sub, hex_value(e->default_value), what[sub - 1], want[sub - 1]));
       e->default_value = le_of(want[sub - 1], kIdentityBits / kBitsPerByte);
     }
+    // SI0 below the identity entries the object defines (Bohign's "00" next
+    // to 1018h:01-04): a master reading SI0 would find no identity, and an
+    // SDO upload of 1018h:01-04 would abort with 06090011h on a device that
+    // answers them. SI0 = the highest of 1018h:01-04 the object has.
+    od::Entry* si0 = o->find(0);
+    std::uint8_t highest = 0;
+    for (std::uint8_t sub = 1; sub <= kIdentityEntries; ++sub) {
+      if (o->find(sub)) highest = sub;
+    }
+    if (si0 && !si0->default_value.empty() && value_of(si0->default_value) < highest) {
+      warn(*o, fmt::format("1018h:00 default {} is below the identity entries 1018h:01-{:02X} the object defines; "
+                           "SI0 is {}", hex_value(si0->default_value), highest, highest));
+      si0->default_value = le_of(highest, si0->default_value.size());
+    }
   }
 
   void repair_sm_types() {
@@ -453,6 +469,20 @@ class Repairer {
                              o->index, was, sm, list_text(want, kAssignBytes)));
       }
     }
+  }
+
+  // ConfigData word 0 with PDI type 0 ("interface deactivated", Section II
+  // 0x0140) next to mailbox SMs: the file contradicts itself, since only a µC
+  // behind a PDI answers a mailbox. The real device answers (it is sold with
+  // that mailbox), so the twin runs its firmware (od::runs_firmware) and its
+  // SII keeps word 0 as the file gives it.
+  void warn_pdi_type_with_mailbox() {
+    if ((d_.esc.pdi_control & od::kPdiTypeMask) != 0 || !od::has_mailbox_sm(d_)) return;
+    const pugi::xml_node n = device_.child("Eeprom").child("ConfigData");
+    ctx_.warn_at("ConfigData", n ? ctx_.line(n) : device_line_,
+                 fmt::format("PDI type 00h (PDI deactivated, word 0 #x{:04X}) in a device with mailbox SMs; "
+                             "the twin runs its firmware as the mailbox needs, the SII keeps word 0",
+                             d_.esc.pdi_control));
   }
 
   // ESI files of the 1.0-1.2 era give Eeprom/ByteSize 128 (1 Kbit): the

@@ -11,9 +11,12 @@ namespace ecat::esi {
 
 class LineIndex {
  public:
+  // A line ends at LF, at CR LF and at a CR alone: XML 1.0 §2.11 reads all
+  // three as one line end (Lichuan's LC10E ESI has CR-only line ends).
   explicit LineIndex(std::string_view text) {
     for (std::size_t i = 0; i < text.size(); ++i) {
-      if (text[i] == '\n') line_starts_.push_back(i + 1);
+      const bool lone_cr = text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n');
+      if (text[i] == '\n' || lone_cr) line_starts_.push_back(i + 1);
     }
   }
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "od/firmware.hpp"
 #include "pdi_spi/emulated_et1100_spi.hpp"
 #include "pdi_spi/emulated_lan9252.hpp"
 #include "pdi_spi/et1100_spi_pdi.hpp"
@@ -30,8 +31,7 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   if (options.forwarding_delay) config->forwarding_delay = *options.forwarding_delay;
   s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);
   s->esc_->dc().set_clock(options.clock_ppm, options.clock_start);
-  constexpr std::uint16_t kPdiTypeMask = 0x00FF;  // 0x0140 PDI type; 0 = no PDI (Section II 0x0140)
-  s->has_firmware_ = (s->device_->esc.pdi_control & kPdiTypeMask) != 0;
+  s->has_firmware_ = od::runs_firmware(*s->device_);
   if (!s->has_firmware_ && options.pdi != PdiKind::Direct) {
     return fail(std::string("the device has no PDI (0x0140 PDI type 0, an ESC that only forwards): "
                             "there is no firmware to run over SPI"));

@@ -85,8 +85,9 @@ class VirtualSlave {
   std::unique_ptr<Firmware> firmware_;
   std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
   Nanoseconds esc_wake_ = Nanoseconds::max();  // the same, max when none
-  // False for an ESC without PDI (SII word 0 PDI type 0, e.g. a coupler or
-  // junction): no µC, the firmware never runs; with device emulation
+  // False for an ESC without PDI (SII word 0 PDI type 0 and no mailbox SM,
+  // od::runs_firmware; e.g. a coupler or junction): no µC, the firmware
+  // never runs; with device emulation
   // (0x0141 bit 0) the ESC itself copies AL control into AL status.
   bool has_firmware_ = true;
 };

@@ -59,5 +59,16 @@ TEST(DeviceSchema, LineIndex) {
   EXPECT_EQ(lines.line_of(-1), 0);
 }
 
+TEST(DeviceSchema, LineIndexCountsEveryXmlLineEnd) {
+  // XML 1.0 §2.11: CR LF and a CR alone end a line like LF (CR-only files exist).
+  const LineIndex cr("ab\rcd\r\ref");
+  EXPECT_EQ(cr.line_of(3), 2);
+  EXPECT_EQ(cr.line_of(7), 4);
+  const LineIndex crlf("ab\r\ncd\r\n\r\nef");
+  EXPECT_EQ(crlf.line_of(2), 1);  // the CR of CR LF is still line 1
+  EXPECT_EQ(crlf.line_of(4), 2);
+  EXPECT_EQ(crlf.line_of(10), 4);
+}
+
 }  // namespace
 }  // namespace ecat::esi
