@@ -42,6 +42,10 @@ struct MasterConfig {
   // Data bytes per cyclic logical datagram (at most kMaxDatagramData = 1486,
   // SOEM's EC_MAXLRWDATA); a smaller value puts several datagrams in a frame.
   std::size_t max_process_datagram = kMaxDatagramData;
+  // scan(): read the SII STRINGS category. Off, its bytes stay zero in
+  // SlaveInfo::sii_image (no strings, no device name) and the scan reads about
+  // half the words of a typical image (only what configuration needs).
+  bool read_sii_strings = true;
 };
 
 // Result of one cyclic exchange.

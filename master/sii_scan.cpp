@@ -5,6 +5,8 @@
 // the category walk), one step per round, and each round puts one datagram
 // per slave into as few frames as fit. A slave sees exactly the datagrams it
 // saw when read alone; N slaves take about N / 57 frames per step instead of N.
+// MasterConfig::read_sii_strings = false leaves the STRINGS category out (SOEM
+// reads strings only for the name; half of a generic servo's 1 KiB image).
 #include <algorithm>
 #include <optional>
 
@@ -36,7 +38,9 @@ struct Reader {
 };
 
 // After data arrived (or at the start): the next word to read, or done.
-Expected<void, MasterError> advance(Reader& r) {
+// Without `strings`, a STRINGS category is not read: its data bytes are left
+// zero (a category of 0 strings) and the walk reads on at the next header.
+Expected<void, MasterError> advance(Reader& r, bool strings) {
   for (;;) {
     if (r.image.size() < r.need) {
       r.step = Step::Command;
@@ -55,6 +59,10 @@ Expected<void, MasterError> advance(Reader& r) {
       return {};
     }
     const auto words = load_le<std::uint16_t>(r.image.data() + 2 * (r.walk + 1));
+    if (!strings && (type & sii::kCategoryTypeMask) == static_cast<std::uint16_t>(sii::Category::Strings)) {
+      r.image.resize(2 * (r.walk + 2));              // drop what a read brought beyond the header
+      r.image.resize(2 * (r.walk + 2 + words), 0);   // and leave the strings out
+    }
     r.walk += 2u + words;
     if (2 * r.walk >= sii::kMaxImageBytes) return fail(MasterError::SiiInvalid);
     r.need = 2 * (r.walk + 2);
@@ -117,13 +125,13 @@ Expected<void, MasterError> Master::read_sii_images() {
           r.budget.reset();
           if ((status & reg::kEepromErrorBits) != 0) {
             r.step = Step::ClearError;
-          } else if (auto a = advance(r); !a) {
+          } else if (auto a = advance(r, config_.read_sii_strings); !a) {
             return fail(a.error());
           }
           break;
         }
         case Step::ClearError:
-          if (auto a = advance(r); !a) return fail(a.error());
+          if (auto a = advance(r, config_.read_sii_strings); !a) return fail(a.error());
           break;
         case Step::Command:
           ++r.attempts;
@@ -142,7 +150,7 @@ Expected<void, MasterError> Master::read_sii_images() {
           if ((status & reg::kEepromErrorBits) != 0) return fail(MasterError::SiiError);
           const std::size_t n = (status & reg::kEepromReadSize8) != 0 ? 8 : 4;
           r.image.insert(r.image.end(), data.begin() + kDataAt, data.begin() + static_cast<std::ptrdiff_t>(kDataAt + n));
-          if (auto a = advance(r); !a) return fail(a.error());
+          if (auto a = advance(r, config_.read_sii_strings); !a) return fail(a.error());
           break;
         }
         case Step::Done: break;

@@ -178,6 +178,68 @@ TEST(InProcessScale, BatchedSetUpLearnsWhatSlaveBySlaveReadsLearnForEveryDevice)
   }
 }
 
+// MasterConfig::read_sii_strings = false: everything the configuration uses
+// from the SII is the same, the strings are not read, the scan takes fewer frames.
+TEST(InProcessScale, ScanWithoutStringsLearnsTheSameConfigurationInFewerFrames) {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(ECAT_SOURCE_DIR) + "/xml/devices")) {
+    if (e.path().extension() == ".xml") files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  InProcessBus full_bus, lean_bus;
+  for (const auto& f : files) {
+    ASSERT_TRUE(full_bus.add(f)) << f;
+    ASSERT_TRUE(lean_bus.add(f)) << f;
+  }
+  Master full(full_bus.transport, full_bus.clock);
+  MasterConfig cfg;
+  cfg.read_sii_strings = false;
+  Master lean(lean_bus.transport, lean_bus.clock, cfg);
+  ASSERT_EQ(full.scan().value_or(0), files.size());
+  ASSERT_EQ(lean.scan().value_or(0), files.size());
+  EXPECT_LT(lean_bus.chain().stats().frames_received, full_bus.chain().stats().frames_received);
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    SCOPED_TRACE(files[i]);
+    const SiiInfo& a = full.slave(i).sii;
+    const SiiInfo& b = lean.slave(i).sii;
+    EXPECT_EQ(full.slave(i).sii_image.size(), lean.slave(i).sii_image.size());
+    EXPECT_FALSE(a.strings.empty());
+    EXPECT_TRUE(b.strings.empty());
+    EXPECT_EQ(a.checksum_ok, b.checksum_ok);
+    EXPECT_EQ(a.vendor_id, b.vendor_id);
+    EXPECT_EQ(a.product_code, b.product_code);
+    EXPECT_EQ(a.revision, b.revision);
+    EXPECT_EQ(a.serial, b.serial);
+    EXPECT_EQ(a.rx_mailbox_offset, b.rx_mailbox_offset);
+    EXPECT_EQ(a.rx_mailbox_size, b.rx_mailbox_size);
+    EXPECT_EQ(a.tx_mailbox_offset, b.tx_mailbox_offset);
+    EXPECT_EQ(a.tx_mailbox_size, b.tx_mailbox_size);
+    EXPECT_EQ(a.mailbox_protocols, b.mailbox_protocols);
+    EXPECT_EQ(a.category_order, b.category_order);
+    ASSERT_EQ(a.general.has_value(), b.general.has_value());
+    if (a.general) {
+      EXPECT_EQ(a.general->coe_details, b.general->coe_details);
+      EXPECT_EQ(a.general->flags, b.general->flags);
+      EXPECT_EQ(a.general->physical_ports, b.general->physical_ports);
+    }
+    EXPECT_EQ(a.fmmu_usage, b.fmmu_usage);
+    ASSERT_EQ(a.sync_managers.size(), b.sync_managers.size());
+    for (std::size_t k = 0; k < a.sync_managers.size(); ++k) {
+      EXPECT_EQ(a.sync_managers[k].start, b.sync_managers[k].start);
+      EXPECT_EQ(a.sync_managers[k].length, b.sync_managers[k].length);
+      EXPECT_EQ(a.sync_managers[k].control, b.sync_managers[k].control);
+      EXPECT_EQ(a.sync_managers[k].type, b.sync_managers[k].type);
+    }
+    for (std::uint8_t sm = 0; sm < 8; ++sm) {
+      EXPECT_EQ(a.default_pdo_bits(true, sm), b.default_pdo_bits(true, sm));
+      EXPECT_EQ(a.default_pdo_bits(false, sm), b.default_pdo_bits(false, sm));
+    }
+    EXPECT_EQ(a.tx_pdos.size(), b.tx_pdos.size());
+    EXPECT_EQ(a.rx_pdos.size(), b.rx_pdos.size());
+    EXPECT_EQ(a.dc_modes.size(), b.dc_modes.size());
+  }
+}
+
 // The batch packs: 60 servos' station addresses, ESC/DL/AL reads and SII
 // rounds take far fewer frames than one per slave and step.
 TEST(InProcessScale, ScanOfSixtySlavesPacksManyDatagramsPerFrame) {
