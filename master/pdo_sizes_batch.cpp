@@ -8,6 +8,8 @@
 // exist" on 1C1xh:00, a mailbox error reply, a segmented answer, a value of
 // the wrong size, a lost read, a timeout) is read again alone by
 // CoeClient::read_pdo_sizes, which reports the error exactly as before.
+#include <algorithm>
+#include <array>
 #include <optional>
 
 #include "master/coe_client.hpp"
@@ -28,6 +30,13 @@ constexpr std::uint32_t kEntryBitLengthMask = 0xFF;  // mapping entry: bits 7:0 
 constexpr std::uint32_t kBitsPerByte = 8;
 constexpr std::size_t kUploadData = 6;           // expedited data / normal size field, after the CoE header
 constexpr std::uint8_t kExpeditedSizeShift = 2;  // bits 3:2 = 4 - size
+// Mailbox header + CoE header + SDO header + 4 data bytes: an expedited
+// upload answer, an abort, an emergency, or a normal upload of up to 4 bytes.
+constexpr std::size_t kShortReply = mbx::kHeaderSize + kCoeHeaderSize + kSdoHeaderSize + 4;
+
+std::uint16_t mailbox_last_byte(std::uint16_t start, std::uint16_t size) noexcept {
+  return static_cast<std::uint16_t>(start + size - 1);
+}
 
 struct PdoReader {
   std::size_t slave = 0;
@@ -140,10 +149,12 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
   }
   DatagramBatch batch;
   std::vector<std::size_t> active;
-  std::vector<std::uint8_t> area;
+  std::vector<std::size_t> first;  // the active slave's first datagram in the batch
   for (;;) {
     batch.clear();
     active.clear();
+    first.clear();
+    std::size_t at = 0;
     for (std::size_t k = 0; k < readers.size(); ++k) {
       PdoReader& r = readers[k];
       if (r.io == Io::Done || r.io == Io::Alone) continue;
@@ -158,17 +169,29 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
       }
       switch (r.io) {
         case Io::Send: {
-          // Header + request, the rest of SM0 zero: the whole area in one
-          // datagram, so its last byte completes the buffer (Master::mailbox_send_raw).
+          // Header + request, then the last byte of SM0 in the same frame: the
+          // buffer is full once its last byte is written (ESC Section I,
+          // mailbox SM; TwinCAT writes SM0 so, masters.md §3), 41 bytes on the
+          // wire per slave instead of the whole area.
           const auto req = CoeClient::upload_request(r.index(), r.subindex(), false);
-          area.assign(s.mailbox.rx_size, 0);
-          ByteWriter w(area);
+          std::array<std::uint8_t, mbx::kHeaderSize + kCoeHeaderSize + kSdoHeaderSize> msg{};
+          if (s.mailbox.rx_size < msg.size()) {
+            r.io = Io::Alone;  // does not fit: CoeClient reports it
+            continue;
+          }
+          ByteWriter w(msg);
           w.u16(static_cast<std::uint16_t>(req.size()));
           w.u16(0);
           w.u8(0);
           w.u8(static_cast<std::uint8_t>(mbx::kTypeCoe | (r.counter << mbx::kCounterShift)));
           w.bytes(req);
-          batch.add(Command::Fpwr, device_address(s.station_address, s.mailbox.rx_start), area);
+          batch.add(Command::Fpwr, device_address(s.station_address, s.mailbox.rx_start), msg);
+          if (s.mailbox.rx_size > msg.size()) {
+            const std::uint8_t last[1]{0};
+            batch.add(Command::Fpwr,
+                      device_address(s.station_address, mailbox_last_byte(s.mailbox.rx_start, s.mailbox.rx_size)),
+                      last);
+          }
           break;
         }
         case Io::Poll:
@@ -178,22 +201,39 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
                           1);
           break;
         case Io::Read:
-          batch.add_zeros(Command::Fprd, device_address(s.station_address, s.mailbox.tx_start), s.mailbox.tx_size);
+          // The header and an upload answer of up to 4 data bytes, then the
+          // last byte, which frees SM1 (TwinCAT reads SM1 so). A longer reply
+          // is cut: that slave is read again alone (a fresh request).
+          if (s.mailbox.tx_size <= kShortReply) {
+            batch.add_zeros(Command::Fprd, device_address(s.station_address, s.mailbox.tx_start), s.mailbox.tx_size);
+          } else {
+            batch.add_zeros(Command::Fprd, device_address(s.station_address, s.mailbox.tx_start), kShortReply);
+            batch.add_zeros(Command::Fprd,
+                            device_address(s.station_address, mailbox_last_byte(s.mailbox.tx_start, s.mailbox.tx_size)), 1);
+          }
           break;
         case Io::Done:
         case Io::Alone: break;
       }
       active.push_back(k);
+      first.push_back(at);
+      at = batch.size();
     }
     if (active.empty()) break;
     if (auto x = batch.exchange(master.link()); !x) return fail(SdoError::master(x.error()));
-    for (std::size_t n = 0; n < active.size(); ++n) {
-      PdoReader& r = readers[active[n]];
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      PdoReader& r = readers[active[a]];
+      const std::size_t n = first[a];
+      const std::size_t parts = (a + 1 < active.size() ? first[a + 1] : batch.size()) - n;
       SlaveInfo& s = master.slave(r.slave);
       const ConstBytes data = batch.data(n);
       switch (r.io) {
         case Io::Send:
           if (batch.wkc(n) != 1) break;  // SM0 still full: again while the budget lasts
+          if (parts == 2 && batch.wkc(n + 1) != 1) {
+            r.io = Io::Alone;  // the first part went in, the last byte did not
+            break;
+          }
           s.mailbox_counter = r.counter;
           r.io = Io::Poll;
           r.budget.reset();
@@ -207,7 +247,7 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
           break;
         case Io::Read: {
           r.budget.reset();
-          if (batch.wkc(n) != 1) {  // full but not read: the repeat request is CoeClient's
+          if (batch.wkc(n) != 1 || (parts == 2 && batch.wkc(n + 1) != 1)) {  // full but not read: the repeat request is CoeClient's
             r.io = Io::Alone;
             break;
           }

@@ -178,6 +178,30 @@ TEST(InProcessScale, BatchedSetUpLearnsWhatSlaveBySlaveReadsLearnForEveryDevice)
   }
 }
 
+// A slave that cannot take the batched path (here: no mailbox set up) is read
+// alone by CoeClient, and the error is the one CoeClient reports; the others
+// still get their sizes.
+TEST(InProcessScale, BatchedPdoSizesReportTheSlaveBySlaveError) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml"), 3));
+  Master master(bus.transport, bus.clock);
+  ASSERT_EQ(master.scan().value_or(0), 3u);
+  ASSERT_TRUE(master.configure_mailbox(0).has_value());
+  ASSERT_TRUE(master.configure_mailbox(2).has_value());
+  ASSERT_TRUE(master.request_state(0, AlState::PreOp).has_value());
+  ASSERT_TRUE(master.request_state(2, AlState::PreOp).has_value());
+  CoeClient alone(master, 1);
+  auto want = alone.read_pdo_sizes();
+  ASSERT_FALSE(want.has_value());
+  const std::vector<std::size_t> only_good{0, 2};
+  ASSERT_TRUE(read_pdo_sizes_all(master, only_good).has_value());
+  EXPECT_GT(master.slave(2).pd.output_bytes, 0);
+  const std::vector<std::size_t> all{0, 1, 2};
+  auto got = read_pdo_sizes_all(master, all);
+  ASSERT_FALSE(got.has_value());
+  EXPECT_EQ(got.error(), want.error());
+}
+
 // MasterConfig::read_sii_strings = false: everything the configuration uses
 // from the SII is the same, the strings are not read, the scan takes fewer frames.
 TEST(InProcessScale, ScanWithoutStringsLearnsTheSameConfigurationInFewerFrames) {
