@@ -151,9 +151,10 @@ Expected<std::size_t, MasterError> Master::scan() {
   // status of every slave: one datagram per slave and step, as many per frame
   // as fit (issue 16 item 5: 1000 slaves in tens of frames, not thousands).
   slaves_.resize(*count);
+  constexpr std::size_t kWord = sizeof(std::uint16_t);  // 0x0010 station address, 0x0110 DL status
   DatagramBatch batch;
   for (std::size_t p = 0; p < *count; ++p) {
-    std::uint8_t a[2];
+    std::uint8_t a[kWord];
     store_le(a, static_cast<std::uint16_t>(config_.first_station_address + p));
     batch.add(Command::Apwr,
               device_address(auto_increment_adp(static_cast<std::uint16_t>(p)), reg::kConfiguredStationAddress), a);
@@ -164,7 +165,7 @@ Expected<std::size_t, MasterError> Master::scan() {
   for (std::size_t p = 0; p < *count; ++p) {
     batch.add_zeros(Command::Aprd,
                     device_address(auto_increment_adp(static_cast<std::uint16_t>(p)), reg::kConfiguredStationAddress),
-                    2);
+                    kWord);
   }
   if (auto r = batch.exchange(link_); !r) return fail(r.error());
   if (!batch.all_wkc(1)) return fail(MasterError::WorkingCounter);
@@ -175,7 +176,7 @@ Expected<std::size_t, MasterError> Master::scan() {
   batch.clear();
   for (const SlaveInfo& s : slaves_) {
     batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kType), reg::kEscInfoLength);
-    batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kDlStatus), 2);
+    batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kDlStatus), kWord);
     batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kAlStatus), reg::kAlStatusReadLength);
   }
   if (auto r = batch.exchange(link_); !r) return fail(r.error());

@@ -28,7 +28,9 @@ enum class Ask : std::uint8_t { AssignCount, AssignEntry, MapCount, MapEntry };
 
 constexpr std::uint32_t kEntryBitLengthMask = 0xFF;  // mapping entry: bits 7:0 = length
 constexpr std::uint32_t kBitsPerByte = 8;
-constexpr std::size_t kUploadData = 6;           // expedited data / normal size field, after the CoE header
+constexpr std::size_t kSdoIndexAt = 3;           // index (u16) and subindex bytes of the SDO header
+constexpr std::size_t kSdoSubindexAt = 5;
+constexpr std::size_t kUploadData = 6;           // expedited data / normal size field
 constexpr std::uint8_t kExpeditedSizeShift = 2;  // bits 3:2 = 4 - size
 // Mailbox header + CoE header + SDO header + 4 data bytes: an expedited
 // upload answer, an abort, an emergency, or a normal upload of up to 4 bytes.
@@ -119,7 +121,7 @@ Reply parse_reply(ConstBytes p, std::uint16_t index, std::uint8_t subindex, Cons
     const auto code = static_cast<SdoAbortCode>(load_le<std::uint32_t>(p.data() + kUploadData));
     return code == SdoAbortCode::ObjectNotFound ? Reply::NotFound : Reply::Other;
   }
-  if (service != kServiceSdoResponse || load_le<std::uint16_t>(p.data() + 3) != index || p[5] != subindex ||
+  if (service != kServiceSdoResponse || load_le<std::uint16_t>(p.data() + kSdoIndexAt) != index || p[kSdoSubindexAt] != subindex ||
       (cmd >> kSpecifierShift) != kScsUploadInitiate) {
     return Reply::Other;
   }
