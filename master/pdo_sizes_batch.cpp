@@ -173,7 +173,7 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
         case Io::Send: {
           // Header + request, then the last byte of SM0 in the same frame: the
           // buffer is full once its last byte is written (ESC Section I,
-          // mailbox SM; TwinCAT writes SM0 so, masters.md §3), 41 bytes on the
+          // mailbox SM; TwinCAT writes SM0 so, masters.md §3.4), 41 bytes on the
           // wire per slave instead of the whole area.
           const auto req = CoeClient::upload_request(r.index(), r.subindex(), false);
           std::array<std::uint8_t, mbx::kHeaderSize + kCoeHeaderSize + kSdoHeaderSize> msg{};
