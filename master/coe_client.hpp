@@ -140,4 +140,9 @@ class CoeClient {
   std::vector<Emergency> emergencies_;
 };
 
+// CoeClient::read_pdo_sizes for each of `slaves`, their mailbox steps sent
+// side by side (several mailbox datagrams per frame); a slave that leaves the
+// plain path is read alone by CoeClient (master/pdo_sizes_batch.cpp).
+Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std::size_t> slaves);
+
 }  // namespace ecat::master

@@ -18,6 +18,34 @@ Expected<std::uint16_t, MasterError> DatagramLink::exchange(Command command, std
   return d.wkc;
 }
 
+std::size_t DatagramLink::fitting_in_one_frame(std::span<const Datagram> datagrams) noexcept {
+  constexpr std::size_t kRoom = kMaxEthernetPayload - kFrameHeaderSize;
+  // The index byte of a datagram is the frame's first index + its position:
+  // a frame holds at most 256 distinct indices.
+  constexpr std::size_t kMaxIndices = 256;
+  std::size_t used = 0;
+  std::size_t n = 0;
+  for (const Datagram& d : datagrams) {
+    const std::size_t need = kDatagramOverhead + d.data.size();
+    if (used + need > kRoom || n == kMaxDatagramsPerFrame || n == kMaxIndices) break;
+    used += need;
+    ++n;
+  }
+  return n;
+}
+
+Expected<std::size_t, MasterError> DatagramLink::exchange_batch(std::span<Datagram> datagrams) {
+  std::size_t frames = 0;
+  while (!datagrams.empty()) {
+    const std::size_t n = fitting_in_one_frame(datagrams);
+    if (n == 0) return fail(MasterError::InvalidFrame);
+    if (auto r = exchange(datagrams.first(n)); !r) return fail(r.error());
+    datagrams = datagrams.subspan(n);
+    ++frames;
+  }
+  return frames;
+}
+
 bool DatagramLink::matches(Bytes reply, std::uint8_t index, std::span<const Datagram> sent) const noexcept {
   auto view = parse_frame(reply);  // only reads
   if (!view || view->size() != sent.size()) return false;

@@ -48,6 +48,16 @@ class DatagramLink {
   Expected<void, MasterError> exchange(std::span<Datagram> datagrams);
   // One datagram; returns its WKC.
   Expected<std::uint16_t, MasterError> exchange(Command command, std::uint32_t address, Bytes data);
+  // Any number of datagrams, in order, packed into as few frames as the
+  // Ethernet frame limit allows (each frame: consecutive datagrams whose
+  // headers, data and WKCs fit kMaxEthernetPayload after the frame header),
+  // one frame after the other (ETG.1000.4 §5.3: a frame carries any number of
+  // datagrams; SOEM and TwinCAT batch the per-slave reads of the scan so).
+  // Returns the number of frames used; each datagram gets its reply and WKC.
+  Expected<std::size_t, MasterError> exchange_batch(std::span<Datagram> datagrams);
+  // How many of `datagrams`, from the first, fit one frame (at least 1 if the
+  // first fits at all, 0 if it does not).
+  static std::size_t fitting_in_one_frame(std::span<const Datagram> datagrams) noexcept;
 
   const LinkStats& stats() const noexcept { return stats_; }
   const LinkConfig& config() const noexcept { return config_; }

@@ -3,8 +3,10 @@
 // counter rotating 1..7, SM1 polled through its status bit 3, repeat request
 // when a read of a full SM1 is lost.
 #include <algorithm>
+#include <array>
 #include <cstring>
 
+#include "master/datagram_batch.hpp"
 #include "master/master.hpp"
 #include "master/poll_budget.hpp"
 #include "master/registers.hpp"
@@ -14,11 +16,9 @@ namespace ecat::master {
 namespace {
 constexpr std::uint8_t kDefaultRxControl = 0x26;  // mailbox, write, AL event
 constexpr std::uint8_t kDefaultTxControl = 0x22;  // mailbox, read, AL event
-}  // namespace
 
-Expected<void, MasterError> Master::write_mailbox_sms(std::size_t slave, const MailboxLayout& layout, bool enable) {
-  if (auto c = check_slave(slave); !c) return fail(c.error());
-  std::uint8_t sms[2 * reg::kSyncManagerSize]{};
+std::array<std::uint8_t, 2 * reg::kSyncManagerSize> sm_pair_block(const MailboxLayout& layout, bool enable) {
+  std::array<std::uint8_t, 2 * reg::kSyncManagerSize> sms{};
   ByteWriter w(sms);
   w.u16(layout.rx_start);
   w.u16(layout.rx_size);
@@ -32,24 +32,13 @@ Expected<void, MasterError> Master::write_mailbox_sms(std::size_t slave, const M
   w.u8(0);
   w.u8(enable ? reg::kSmActivateEnable : 0);
   w.u8(0);
-  // Both off first (IgH clears them before configuring), then SM0 + SM1 in
-  // one datagram (SOEM).
-  const std::uint8_t off[2 * reg::kSyncManagerSize]{};
-  if (auto r = fpwr(slaves_[slave].station_address, reg::sync_manager(0), off); !r) return fail(r.error());
-  if (auto r = fpwr(slaves_[slave].station_address, reg::sync_manager(0), sms); !r) return fail(r.error());
-  SlaveInfo& s = slaves_[slave];
-  s.mailbox = layout;
-  s.mailbox.configured = enable && layout.rx_size > 0 && layout.tx_size > 0;
-  s.mailbox_counter = 0;
-  const std::size_t need = std::max<std::size_t>(layout.rx_size, layout.tx_size);
-  if (mailbox_buffer_.size() < need) mailbox_buffer_.resize(need);
-  return {};
+  return sms;
 }
 
-Expected<void, MasterError> Master::configure_mailbox(std::size_t slave) {
-  if (auto c = check_slave(slave); !c) return fail(c.error());
-  const SiiInfo& sii = slaves_[slave].sii;
-  if (!sii.has_mailbox()) return fail(MasterError::NoMailbox);
+// SM0/SM1 from the SII: lengths from words 0x19/0x1B (SOEM, ethercrab;
+// masters.md §6 #18 asks both to agree), control bytes from the SYNCM
+// category when present.
+MailboxLayout sii_mailbox_layout(const SiiInfo& sii) {
   MailboxLayout l;
   l.rx_start = sii.rx_mailbox_offset;
   l.rx_size = sii.rx_mailbox_size;
@@ -57,13 +46,63 @@ Expected<void, MasterError> Master::configure_mailbox(std::size_t slave) {
   l.tx_size = sii.tx_mailbox_size;
   l.rx_control = kDefaultRxControl;
   l.tx_control = kDefaultTxControl;
-  // Control bytes from the SYNCM category when present; lengths from words
-  // 0x19/0x1B (SOEM, ethercrab; masters.md §6 #18 asks both to agree).
   if (sii.sync_managers.size() >= 2) {
     l.rx_control = sii.sync_managers[0].control;
     l.tx_control = sii.sync_managers[1].control;
   }
-  return write_mailbox_sms(slave, l, true);
+  return l;
+}
+
+}  // namespace
+
+void Master::set_mailbox_layout(std::size_t slave, const MailboxLayout& layout, bool enable) {
+  SlaveInfo& s = slaves_[slave];
+  s.mailbox = layout;
+  s.mailbox.configured = enable && layout.rx_size > 0 && layout.tx_size > 0;
+  s.mailbox_counter = 0;
+  const std::size_t need = std::max<std::size_t>(layout.rx_size, layout.tx_size);
+  if (mailbox_buffer_.size() < need) mailbox_buffer_.resize(need);
+}
+
+Expected<void, MasterError> Master::write_mailbox_sms(std::size_t slave, const MailboxLayout& layout, bool enable) {
+  if (auto c = check_slave(slave); !c) return fail(c.error());
+  // Both off first (IgH clears them before configuring), then SM0 + SM1 in
+  // one datagram (SOEM).
+  const std::uint8_t off[2 * reg::kSyncManagerSize]{};
+  if (auto r = fpwr(slaves_[slave].station_address, reg::sync_manager(0), off); !r) return fail(r.error());
+  if (auto r = fpwr(slaves_[slave].station_address, reg::sync_manager(0), sm_pair_block(layout, enable)); !r) {
+    return fail(r.error());
+  }
+  set_mailbox_layout(slave, layout, enable);
+  return {};
+}
+
+Expected<void, MasterError> Master::configure_mailbox(std::size_t slave) {
+  if (auto c = check_slave(slave); !c) return fail(c.error());
+  const SiiInfo& sii = slaves_[slave].sii;
+  if (!sii.has_mailbox()) return fail(MasterError::NoMailbox);
+  return write_mailbox_sms(slave, sii_mailbox_layout(sii), true);
+}
+
+// The same two datagrams per slave as configure_mailbox, all slaves' in as
+// few frames as fit (issue 16 item 5).
+Expected<std::size_t, MasterError> Master::configure_mailboxes() {
+  DatagramBatch batch;
+  std::vector<std::size_t> with_mailbox;
+  static constexpr std::array<std::uint8_t, 2 * reg::kSyncManagerSize> kOff{};
+  for (std::size_t i = 0; i < slaves_.size(); ++i) {
+    const SiiInfo& sii = slaves_[i].sii;
+    if (!sii.has_mailbox()) continue;
+    const auto at = device_address(slaves_[i].station_address, reg::sync_manager(0));
+    batch.add(Command::Fpwr, at, kOff);
+    batch.add(Command::Fpwr, at, sm_pair_block(sii_mailbox_layout(sii), true));
+    with_mailbox.push_back(i);
+  }
+  if (batch.empty()) return std::size_t{0};
+  if (auto r = batch.exchange(link_); !r) return fail(r.error());
+  if (!batch.all_wkc(1)) return fail(MasterError::WorkingCounter);
+  for (std::size_t i : with_mailbox) set_mailbox_layout(i, sii_mailbox_layout(slaves_[i].sii), true);
+  return with_mailbox.size();
 }
 
 Expected<void, MasterError> Master::mailbox_send_raw(std::size_t slave, std::uint8_t type, std::uint8_t counter,

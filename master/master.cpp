@@ -4,6 +4,7 @@
 #include <array>
 
 #include "common/frame.hpp"
+#include "master/datagram_batch.hpp"
 #include "master/registers.hpp"
 
 namespace ecat::master {
@@ -146,34 +147,43 @@ Expected<std::size_t, MasterError> Master::scan() {
     if (auto r = bwr(step.first, step.second); !r) return fail(r.error());
   }
 
+  // Station addresses, their read-back, then ESC info, DL status and AL
+  // status of every slave: one datagram per slave and step, as many per frame
+  // as fit (issue 16 item 5: 1000 slaves in tens of frames, not thousands).
   slaves_.resize(*count);
+  constexpr std::size_t kWord = sizeof(std::uint16_t);  // 0x0010 station address, 0x0110 DL status
+  DatagramBatch batch;
   for (std::size_t p = 0; p < *count; ++p) {
-    SlaveInfo& s = slaves_[p];
-    s.position = static_cast<std::uint16_t>(p);
-    const auto address = static_cast<std::uint16_t>(config_.first_station_address + p);
-    std::uint8_t a[2];
-    store_le(a, address);
-    auto wkc = link_.exchange(Command::Apwr,
-                              device_address(auto_increment_adp(static_cast<std::uint16_t>(p)),
-                                             reg::kConfiguredStationAddress),
-                              a);
-    if (!wkc) return fail(wkc.error());
-    if (*wkc != 1) return fail(MasterError::WorkingCounter);
-    std::uint8_t back[2]{};
-    wkc = link_.exchange(Command::Aprd,
-                         device_address(auto_increment_adp(static_cast<std::uint16_t>(p)),
-                                        reg::kConfiguredStationAddress),
-                         back);
-    if (!wkc) return fail(wkc.error());
-    if (*wkc != 1) return fail(MasterError::WorkingCounter);
-    s.station_address = load_le<std::uint16_t>(back);
+    std::uint8_t a[kWord];
+    store_le(a, static_cast<std::uint16_t>(config_.first_station_address + p));
+    batch.add(Command::Apwr,
+              device_address(auto_increment_adp(static_cast<std::uint16_t>(p)), reg::kConfiguredStationAddress), a);
   }
-
+  if (auto r = batch.exchange(link_); !r) return fail(r.error());
+  if (!batch.all_wkc(1)) return fail(MasterError::WorkingCounter);
+  batch.clear();
+  for (std::size_t p = 0; p < *count; ++p) {
+    batch.add_zeros(Command::Aprd,
+                    device_address(auto_increment_adp(static_cast<std::uint16_t>(p)), reg::kConfiguredStationAddress),
+                    kWord);
+  }
+  if (auto r = batch.exchange(link_); !r) return fail(r.error());
+  if (!batch.all_wkc(1)) return fail(MasterError::WorkingCounter);
+  for (std::size_t p = 0; p < *count; ++p) {
+    slaves_[p].position = static_cast<std::uint16_t>(p);
+    slaves_[p].station_address = load_le<std::uint16_t>(batch.data(p).data());
+  }
+  batch.clear();
+  for (const SlaveInfo& s : slaves_) {
+    batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kType), reg::kEscInfoLength);
+    batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kDlStatus), kWord);
+    batch.add_zeros(Command::Fprd, device_address(s.station_address, reg::kAlStatus), reg::kAlStatusReadLength);
+  }
+  if (auto r = batch.exchange(link_); !r) return fail(r.error());
+  if (!batch.all_wkc(1)) return fail(MasterError::WorkingCounter);
   for (std::size_t p = 0; p < *count; ++p) {
     SlaveInfo& s = slaves_[p];
-    std::uint8_t info[reg::kEscInfoLength]{};
-    if (auto r = fprd(s.station_address, reg::kType, info); !r) return fail(r.error());
-    ByteReader rd(info);
+    ByteReader rd(batch.data(3 * p));
     s.esc.type = rd.u8();
     s.esc.revision = rd.u8();
     s.esc.build = rd.u16();
@@ -182,14 +192,14 @@ Expected<std::size_t, MasterError> Master::scan() {
     s.esc.ram_kib = rd.u8();
     s.esc.port_descriptor = rd.u8();
     s.esc.features = rd.u16();
-    auto dl = fprd_u16(s.station_address, reg::kDlStatus);
-    if (!dl) return fail(dl.error());
-    s.dl_status = *dl;
-    auto al = read_al_status(p);
-    if (!al) return fail(al.error());
-    auto image = read_sii_image(s.station_address);
-    if (!image) return fail(image.error());
-    s.sii_image = std::move(*image);
+    s.dl_status = load_le<std::uint16_t>(batch.data(3 * p + 1).data());
+    const ConstBytes al = batch.data(3 * p + 2);
+    s.al.raw = load_le<std::uint16_t>(al.data());
+    s.al.code = load_le<std::uint16_t>(al.data() + (reg::kAlStatusCode - reg::kAlStatus));
+  }
+  if (auto r = read_sii_images(); !r) return fail(r.error());
+  for (std::size_t p = 0; p < *count; ++p) {
+    SlaveInfo& s = slaves_[p];
     auto parsed = parse_sii(s.sii_image);
     if (!parsed) return fail(MasterError::SiiInvalid);
     s.sii = std::move(*parsed);

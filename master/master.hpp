@@ -18,6 +18,7 @@
 #include "common/expected.hpp"
 #include "master/datagram_link.hpp"
 #include "master/mailbox.hpp"
+#include "master/process_image_plan.hpp"
 #include "master/master_error.hpp"
 #include "master/slave_info.hpp"
 #include "transport/transport.hpp"
@@ -38,6 +39,13 @@ struct MasterConfig {
   // with one more FMMU (SOEM, TwinCAT), so mailbox replies can be seen from
   // the cyclic frame (mailbox_reply_flagged) instead of an FPRD per slave.
   bool map_mailbox_status = false;
+  // Data bytes per cyclic logical datagram (at most kMaxDatagramData = 1486,
+  // SOEM's EC_MAXLRWDATA); a smaller value puts several datagrams in a frame.
+  std::size_t max_process_datagram = kMaxDatagramData;
+  // scan(): read the SII STRINGS category. Off, its bytes stay zero in
+  // SlaveInfo::sii_image (no strings, no device name) and the scan reads about
+  // half the words of a typical image (only what configuration needs).
+  bool read_sii_strings = true;
 };
 
 // Result of one cyclic exchange.
@@ -49,7 +57,9 @@ struct CyclicResult {
   // With DC: the reference clock's system time when the frame passed it
   // (the FRMW 0x0910:8 read-back), if the datagram came back with WKC >= 1.
   std::optional<std::uint64_t> reference_time;
-  bool ok() const noexcept { return wkc == expected_wkc; }
+  std::uint16_t frames = 0;           // frames the cycle took
+  std::uint16_t datagrams_wrong = 0;  // logical datagrams whose WKC was not their expected one
+  bool ok() const noexcept { return wkc == expected_wkc && datagrams_wrong == 0; }
 };
 
 struct CyclicStats {
@@ -112,6 +122,9 @@ class Master {
   Expected<std::size_t, MasterError> sii_read(std::uint16_t station, std::uint16_t word_address, Bytes out);
   // The whole image up to and including the 0xFFFF end marker.
   Expected<std::vector<std::uint8_t>, MasterError> read_sii_image(std::uint16_t station);
+  // Every slave's image into SlaveInfo::sii_image, the slaves read side by
+  // side (same datagrams per slave as read_sii_image, many slaves per frame).
+  Expected<void, MasterError> read_sii_images();
 
   // --- ESM (ETG.1000.6 §6.4; esm-al-codes.md) --------------------------------------
   Expected<AlStatus, MasterError> read_al_status(std::size_t slave);
@@ -129,6 +142,9 @@ class Master {
   // --- mailbox (ETG.1000.4 §5.6; coe-mailbox.md §1-§3) ------------------------------
   // SM0/SM1 from the SII SYNCM category (words 0x18-0x1B, control 0x26/0x22 as fallback).
   Expected<void, MasterError> configure_mailbox(std::size_t slave);
+  // configure_mailbox for every slave whose SII has a mailbox, the slaves'
+  // datagrams packed into as few frames as fit; returns how many were set up.
+  Expected<std::size_t, MasterError> configure_mailboxes();
   // Programs SM n: first disabled (start/length/control are writable only
   // while the SM is off, Section II 0x0800), then the new values.
   Expected<void, MasterError> write_sync_manager(std::size_t slave, unsigned n, std::uint16_t start,
@@ -161,13 +177,20 @@ class Master {
   // Sizes every SII SM of type 3/4 from the SII PDOs assigned to it (a
   // slave without CoE, as SOEM's ecx_map_sii): fills pd.sms, sets pd.per_sm.
   void size_process_data_from_sii(std::size_t slave);
-  // One LRW over the whole image (+ FRMW 0x0910 to the reference clock when DC
-  // is on). Copies outputs in and inputs out; no allocation. When a slave
+  // The image may need several logical datagrams and frames (more than 1486
+  // bytes): process_data_plan() lists them, each with its expected WKC.
+  // One LRW per datagram over the image (+ FRMW 0x0910 to the reference clock
+  // in the first frame when DC is on). Copies outputs in and inputs out; no
+  // allocation. Every datagram's WKC is checked (CyclicResult::datagrams_wrong). When a slave
   // cannot take LRW (0x0008 bit 9, or SII GENERAL flag "not LRW") the frame
   // carries LWR (outputs) + LRD (inputs) instead and the WKC is counted as
   // 2 x LWR + LRD, so the expected value stays the same (SOEM).
   Expected<CyclicResult, MasterError> exchange_process_data();
   std::uint16_t expected_wkc() const noexcept { return expected_wkc_; }
+  std::span<const PdDatagram> process_data_plan() const noexcept { return pd_plan_; }
+  std::size_t process_data_frames() const noexcept { return pd_frames_; }
+  // WKC of logical datagram `i` of the plan in the last cyclic exchange.
+  std::uint16_t last_datagram_wkc(std::size_t i) const noexcept;
   // SM1 "mailbox full" (0x080D bit 3) as the last cyclic exchange saw it;
   // false when the status byte is not mapped (MasterConfig::map_mailbox_status).
   bool mailbox_reply_flagged(std::size_t slave) const noexcept;
@@ -197,6 +220,7 @@ class Master {
                                                    bool idle);
   Expected<void, MasterError> check_slave(std::size_t slave) const;
   Expected<void, MasterError> read_mailbox_area(std::size_t slave, bool& got);
+  void set_mailbox_layout(std::size_t slave, const MailboxLayout& layout, bool enable);
 
   transport::Transport& transport_;
   const Clock& clock_;
@@ -210,6 +234,10 @@ class Master {
   std::uint32_t input_bytes_ = 0;
   std::uint16_t expected_wkc_ = 0;
   bool pd_configured_ = false;                // configure_process_data() ran
+  std::vector<PdDatagram> pd_plan_;           // the cyclic logical datagrams
+  std::size_t pd_frames_ = 0;
+  std::vector<Datagram> pd_datagrams_;        // [0] FRMW slot, then one per plan entry
+  std::vector<std::size_t> pd_frame_begin_;   // frame f: pd_datagrams_[begin[f], begin[f+1])
   std::array<std::uint8_t, 2> al_status_{};  // cyclic BRD 0x0130 of a segment without process data
   CyclicStats cyclic_stats_{};
   std::optional<std::size_t> reference_clock_;

@@ -35,6 +35,11 @@ inline constexpr std::uint16_t kVersion = 0x003F;
 inline constexpr std::uint16_t kFirstCategory = 0x0040;
 inline constexpr std::size_t kFixedAreaBytes = 2 * kFirstCategory;
 inline constexpr std::size_t kChecksumCoveredBytes = 14;
+// The master's reads through 0x0502 (master/sii_access.cpp, sii_scan.cpp).
+inline constexpr std::size_t kReadMax = 8;             // bytes per read command (0x0502 bit 6)
+inline constexpr std::size_t kMaxImageBytes = 0x10000;  // 32 K words: far beyond any real EEPROM
+inline constexpr unsigned kCommandTries = 3;            // SOEM retries a read on ack error
+inline constexpr std::uint16_t kCategoryTypeMask = 0x7FFF;  // bit 15: vendor specific
 
 enum class Category : std::uint16_t {
   Nop = 0, Strings = 10, DataTypes = 20, General = 30, Fmmu = 40, SyncM = 41, FmmuX = 42,

@@ -12,9 +12,9 @@
 namespace ecat::master {
 
 namespace {
-constexpr std::size_t kSiiReadMax = 8;
-constexpr std::size_t kSiiMaxBytes = 0x10000;  // 32 K words: far beyond any real EEPROM
-constexpr unsigned kSiiCommandTries = 3;
+constexpr std::size_t kSiiReadMax = sii::kReadMax;
+constexpr std::size_t kSiiMaxBytes = sii::kMaxImageBytes;
+constexpr unsigned kSiiCommandTries = sii::kCommandTries;
 }  // namespace
 
 Expected<void, MasterError> Master::sii_wait_idle(std::uint16_t station, std::uint16_t& status) {

@@ -42,6 +42,9 @@ struct Options {
 };
 
 constexpr std::int64_t kNsPerSecond = 1'000'000'000;
+// Slaves one segment may hold: the largest --count; the process image of that
+// many drives takes several frames per cycle (master/process_image_plan.hpp).
+constexpr unsigned kMaxSlaves = 1024;
 
 // Sleeps to an absolute CLOCK_MONOTONIC time (SteadyClock is steady_clock,
 // CLOCK_MONOTONIC on Linux): a wake-up that comes late does not push the
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
   auto* inproc = cli.add_flag("--in-process", o.in_process, "Run against virtual slaves in this process");
   cli.add_option("--device", o.devices, "Device file of an in-process slave (repeat for a chain; default: generic servo)")
       ->check(CLI::ExistingFile);
-  cli.add_option("--count", o.count, "In-process: number of slaves (copies of the last device)")->check(CLI::Range(1u, 1024u));
+  cli.add_option("--count", o.count, "In-process: number of slaves (copies of the last device)")->check(CLI::Range(1u, kMaxSlaves));
   cli.add_option("--cycles", o.session.cycles, "Cyclic exchanges to run");
   cli.add_option("--period-us", o.period_us, "Cycle period in microseconds")->check(CLI::Range(50.0, 1e6));
   cli.add_option("--expect-slaves", o.session.expect_slaves, "Fail unless the scan finds this many slaves");
@@ -262,7 +265,9 @@ int main(int argc, char** argv) {
     used = recorder.get();
   }
 
-  ecat::master::Master master(*used, clock);
+  ecat::master::MasterConfig master_config;
+  master_config.max_slaves = kMaxSlaves;  // the library's default (64) is SOEM-sized
+  ecat::master::Master master(*used, clock, master_config);
   auto wait = [&](ecat::Nanoseconds deadline) {
     if (o.in_process) {
       if (deadline > simulated.now()) simulated.set(deadline);

@@ -75,5 +75,36 @@ TEST(CyclicExchange, DoesNotAllocate) {
   EXPECT_EQ(master.cyclic_stats().wkc_errors, 0u);
 }
 
+// An image of several datagrams and frames (issue 16 item 5): still no allocation per cycle.
+TEST(CyclicExchange, SeveralFramesDoNotAllocate) {
+  FakeEsc esc;
+  esc.sii = test_sii_image();
+  FixedLoopback loop(esc);
+  ManualClock clock;
+  MasterConfig cfg;
+  cfg.max_process_datagram = 700;
+  Master master(loop, clock, cfg);
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  master.slave(0).pd.output_bytes = 2000;
+  master.slave(0).pd.input_bytes = 1000;
+  ASSERT_TRUE(master.configure_process_data().has_value());
+  ASSERT_GE(master.process_data_frames(), 3u);
+  ASSERT_GE(master.process_data_plan().size(), 5u);
+  ASSERT_TRUE(master.exchange_process_data().has_value());  // warm-up
+  g_allocations = 0;
+  g_counting = true;
+  std::size_t frames = 0;
+  for (int i = 0; i < 100; ++i) {
+    master.outputs(0)[1999] = static_cast<std::uint8_t>(i);
+    auto r = master.exchange_process_data();
+    if (!r) break;
+    frames += r->frames;
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0u);
+  EXPECT_EQ(frames, 100 * master.process_data_frames());
+  EXPECT_EQ(master.cyclic_stats().cycles, 101u);
+}
+
 }  // namespace
 }  // namespace ecat::master::test
