@@ -28,6 +28,19 @@ enum class Ask : std::uint8_t { AssignCount, AssignEntry, MapCount, MapEntry };
 
 constexpr std::uint32_t kEntryBitLengthMask = 0xFF;  // mapping entry: bits 7:0 = length
 constexpr std::uint32_t kBitsPerByte = 8;
+constexpr std::size_t kOutputsSm = 2;  // 1C12h's SM
+constexpr std::size_t kInputsSm = 3;   // 1C13h's SM
+
+// Process data on SM2 (outputs) and SM3 (inputs) only, so 1C12h/1C13h size
+// it; any other process-data SM needs 1C10h+n (CoeClient's per-SM path).
+bool standard_process_sms(const SiiInfo& sii) {
+  for (std::size_t n = 0; n < sii.sync_managers.size(); ++n) {
+    const std::uint8_t t = sii.sync_managers[n].type;
+    if (t == sii::kSmTypeOutputs && n != kOutputsSm) return false;
+    if (t == sii::kSmTypeInputs && n != kInputsSm) return false;
+  }
+  return true;
+}
 constexpr std::size_t kSdoIndexAt = 3;           // index (u16) and subindex bytes of the SDO header
 constexpr std::size_t kSdoSubindexAt = 5;
 constexpr std::size_t kUploadData = 6;           // expedited data / normal size field
@@ -146,7 +159,7 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
     if (i >= master.slave_count()) return fail(SdoError::master(MasterError::InvalidArgument));
     PdoReader r;
     r.slave = i;
-    if (!master.slave(i).mailbox.configured) r.io = Io::Alone;
+    if (!master.slave(i).mailbox.configured || !standard_process_sms(master.slave(i).sii)) r.io = Io::Alone;
     readers.push_back(std::move(r));
   }
   DatagramBatch batch;
@@ -291,6 +304,7 @@ Expected<void, SdoError> read_pdo_sizes_all(Master& master, std::span<const std:
       continue;
     }
     auto& pd = master.slave(r.slave).pd;
+    pd.per_sm = false;
     pd.output_bytes = static_cast<std::uint16_t>((r.bits[0] + kBitsPerByte - 1) / kBitsPerByte);
     pd.input_bytes = static_cast<std::uint16_t>((r.bits[1] + kBitsPerByte - 1) / kBitsPerByte);
   }
