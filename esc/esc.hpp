@@ -159,15 +159,15 @@ class Esc final : public Pdi {
 
   // Frames a segment let pass by (esc/pass_hook.hpp): the times they left
   // are taken in before anything looks at this ESC (sync_pass), and any
-  // access from outside a frame also marks it for a full pass by the next
-  // frame (touch), since it may change what the segment knows of it.
+  // access from outside a frame also marks it for the segment to read again
+  // (touch), since it may change what the segment knows of it.
   void sync_pass() noexcept {
     if (hook_.line != nullptr && hook_.synced != hook_.line->frame) apply_pass();
   }
   void apply_pass() noexcept;
   void touch() noexcept {
     sync_pass();
-    if (hook_.must_word != nullptr) *hook_.must_word |= hook_.must_bit;
+    if (hook_.dirty_word != nullptr) *hook_.dirty_word |= hook_.dirty_bit;
   }
 
   // Datagram engine (inline in esc/datagram_engine.hpp, which esc::Segment
@@ -314,6 +314,7 @@ class Esc final : public Pdi {
   // a logical datagram outside it passes this ESC untouched.
   std::uint64_t logical_first_ = 0;
   std::uint64_t logical_end_ = 0;
+  std::uint32_t fmmu_epoch_ = 0;  // +1 at every update_fmmus (esc::Segment re-reads the spans)
   std::array<bool, kMaxPorts> link_{};
   std::array<bool, kMaxPorts> port_open_{};
   // What a line of ESCs (esc::Segment's line path) does after the processing

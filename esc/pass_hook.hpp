@@ -7,8 +7,8 @@
 // frame; it keeps the latest frame of its line (LinePass), and each ESC
 // derives its own times from it when anything next looks (Esc::sync_pass).
 // Any access to an ESC from outside a frame (PDI, poll, link, reset) also
-// sets its bit in the segment's "must visit" set, so the next frame runs its
-// full pass and the segment reads its state again.
+// sets its bit in the segment's "dirty" set, so the segment reads its state
+// again before the next frame decides whether to pass it by.
 #pragma once
 
 #include <cstdint>
@@ -37,8 +37,8 @@ struct LinePass {
 // An Esc's link to the segment that may skip it (all null when it is in none).
 struct PassHook {
   const LinePass* line = nullptr;
-  std::uint64_t* must_word = nullptr;  // the word of the segment's must-visit set
-  std::uint64_t must_bit = 0;
+  std::uint64_t* dirty_word = nullptr;  // the word of the segment's dirty set
+  std::uint64_t dirty_bit = 0;
   std::uint32_t index = 0;   // position in the line
   std::uint64_t synced = 0;  // the LinePass::frame its times include
 };

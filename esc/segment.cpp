@@ -4,6 +4,9 @@
 
 #include "esc/datagram_engine.hpp"
 
+#include <algorithm>
+#include <bit>
+
 namespace ecat::esc {
 
 namespace {
@@ -19,6 +22,7 @@ std::size_t Segment::append(Esc& esc) {
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
   armed_.push_back(0);
+  fmmu_epochs_.push_back(esc.fmmu_epoch_ - 1);  // not read yet
   const std::size_t i = escs_.size() - 1;
   if (index_.resize(escs_.size())) {
     for (std::size_t k = 0; k < i; ++k) hook(k);
@@ -33,8 +37,8 @@ void Segment::hook(std::size_t i) noexcept {
   PassHook& h = escs_[i]->hook_;
   escs_[i]->sync_pass();  // anything of an earlier segment first
   h.line = &pass_;
-  h.must_word = index_.must_word(i);
-  h.must_bit = SkipIndex::bit(i);
+  h.dirty_word = index_.dirty_word(i);
+  h.dirty_bit = SkipIndex::bit(i);
   h.index = static_cast<std::uint32_t>(i);
   h.synced = pass_.frame;
 }
@@ -170,6 +174,7 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
 Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
   if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
+  refresh_dirty();
   const bool all = !skipping_ || !plan(first, count, now);
   const std::size_t n = escs_.size();
   std::size_t reached = 0;  // ESCs whose processing unit the frame entered
@@ -242,6 +247,21 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
   return d;
 }
 
+// The ESCs accessed from outside a frame since the last one (PDI, poll,
+// link, reset: Esc::touch) are read again; the ones still passive may be
+// passed by (their firmware ran, they are not addressed).
+void Segment::refresh_dirty() noexcept {
+  const std::span<std::uint64_t> dirty = index_.dirty_words();
+  for (std::size_t w = 0; w < dirty.size(); ++w) {
+    std::uint64_t bits = dirty[w];
+    dirty[w] = 0;
+    while (bits != 0) {
+      note_entered(w * SkipIndex::kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
+      bits &= bits - 1;
+    }
+  }
+}
+
 bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   index_.begin_frame();
   auto_increments_ = 0;
@@ -278,6 +298,32 @@ bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexc
   return true;
 }
 
+// The logical bytes of each active FMMU (Section I §6: [logical_start,
+// logical_start + length) holds every bit it maps), joined where they touch
+// or overlap, by start; past SkipIndex::kSpans ranges the rest go into the
+// last one. A datagram outside all of them makes no FMMU act (the routed
+// and the bit-granular path alike), so the ESC may be passed by.
+std::size_t Segment::logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept {
+  std::array<SkipIndex::Span, kMaxFmmus> all{};
+  std::size_t n = 0;
+  for (unsigned k = 0; k < e.config_.fmmu_count; ++k) {
+    if ((e.fmmu_active_ & (1u << k)) == 0) continue;
+    const Fmmu& f = e.fmmus_[k];
+    all[n++] = SkipIndex::Span{f.logical_start, std::uint64_t{f.logical_start} + f.length};
+  }
+  std::sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n),
+            [](const SkipIndex::Span& a, const SkipIndex::Span& b) { return a.first < b.first; });
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (count > 0 && (all[k].first <= out[count - 1].end || count == out.size())) {
+      out[count - 1].end = std::max(out[count - 1].end, all[k].end);
+    } else {
+      out[count++] = all[k];
+    }
+  }
+  return count;
+}
+
 void Segment::note_entered(std::size_t i) noexcept {
   const Esc& e = *escs_[i];
   SkipIndex::Passive p;
@@ -289,10 +335,14 @@ void Segment::note_entered(std::size_t i) noexcept {
     p.station = load_le<std::uint16_t>(m + reg::kConfiguredStationAddress);
     const bool alias_on = (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0;
     p.alias = alias_on ? load_le<std::uint16_t>(m + reg::kConfiguredStationAlias) : p.station;
-    p.logical_first = e.logical_first_;
-    p.logical_end = e.logical_end_;
   }
   index_.update(i, p);
+  if (fmmu_epochs_[i] != e.fmmu_epoch_) {
+    fmmu_epochs_[i] = e.fmmu_epoch_;
+    SkipIndex::Spans spans{};
+    const std::size_t count = logical_spans(e, spans);
+    index_.set_spans(i, spans, count);
+  }
 }
 
 // Esc::apply_pass takes in only the latest frame: right as long as each

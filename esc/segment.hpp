@@ -151,6 +151,8 @@ class Segment {
   bool plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // What the index keeps of ESC i, read after a frame entered it.
   void note_entered(std::size_t i) noexcept;
+  static std::size_t logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept;
+  void refresh_dirty() noexcept;
   // The frame just carried becomes the line's latest (LinePass).
   void record_pass(Nanoseconds start, std::uint32_t reached, bool returned) noexcept;
   void hook(std::size_t i) noexcept;
@@ -174,6 +176,7 @@ class Segment {
   SkipIndex index_;
   LinePass pass_;
   std::vector<std::uint32_t> armed_;  // entered ESCs with the receive latch armed (one frame)
+  std::vector<std::uint32_t> fmmu_epochs_;  // Esc::fmmu_epoch_ when its spans were last read
   bool skipping_ = true;
   bool line_ = true;
   std::uint64_t processed_ = 0;

@@ -12,21 +12,23 @@ bool SkipIndex::resize(std::size_t n) {
   const std::uint64_t* before = must_.data();
   const std::size_t words = (n + kWordBits - 1) / kWordBits;
   must_.resize(words, 0);
+  const std::uint64_t* dirty_before = dirty_.data();
+  dirty_.resize(words, 0);
   visit_.resize(words, 0);
   entered_.resize(words, 0);
   next_timer_.resize(n, Nanoseconds::max());
   address_.resize(n, 0);
-  first_.resize(n, 0);
-  end_.resize(n, 0);
-  order_.resize(n, 0);
-  sorted_first_.resize(n, 0);
-  prefix_end_.resize(n, 0);
+  first_.resize(n * kSpans, 0);
+  end_.resize(n * kSpans, 0);
+  order_.resize(n * kSpans, 0);
+  sorted_first_.resize(n * kSpans, 0);
+  prefix_end_.resize(n * kSpans, 0);
   for (std::size_t i = size_; i < n; ++i) {
     must_[i / kWordBits] |= bit(i);
     entered_[i / kWordBits] |= bit(i);
   }
   size_ = n;
-  return must_.data() != before;
+  return must_.data() != before || dirty_.data() != dirty_before;
 }
 
 void SkipIndex::update(std::size_t i, const Passive& p) noexcept {
@@ -39,10 +41,17 @@ void SkipIndex::update(std::size_t i, const Passive& p) noexcept {
   next_timer_[i] = p.next_timer;
   min_timer_ = std::min(min_timer_, p.next_timer);
   address_[i] = p.station | (std::uint32_t{p.alias} << 16);
-  if (first_[i] != p.logical_first || end_[i] != p.logical_end) {
-    first_[i] = p.logical_first;
-    end_[i] = p.logical_end;
-    spans_dirty_ = true;
+}
+
+void SkipIndex::set_spans(std::size_t i, const Spans& spans, std::size_t count) noexcept {
+  for (std::size_t k = 0; k < kSpans; ++k) {
+    const Span span = k < count ? spans[k] : Span{};
+    const std::size_t slot = i * kSpans + k;
+    if (first_[slot] != span.first || end_[slot] != span.end) {
+      first_[slot] = span.first;
+      end_[slot] = span.end;
+      spans_dirty_ = true;
+    }
   }
 }
 
@@ -69,8 +78,8 @@ void SkipIndex::mark_address(std::uint16_t adp) noexcept {
 
 void SkipIndex::rebuild_spans() noexcept {
   spans_ = 0;
-  for (std::size_t i = 0; i < size_; ++i) {
-    if (first_[i] < end_[i]) order_[spans_++] = static_cast<std::uint32_t>(i);
+  for (std::size_t slot = 0; slot < size_ * kSpans; ++slot) {
+    if (first_[slot] < end_[slot]) order_[spans_++] = static_cast<std::uint32_t>(slot);
   }
   std::sort(order_.begin(), order_.begin() + static_cast<std::ptrdiff_t>(spans_),
             [&](std::uint32_t a, std::uint32_t b) { return first_[a] < first_[b] || (first_[a] == first_[b] && a < b); });
@@ -97,8 +106,8 @@ void SkipIndex::mark_logical(std::uint64_t first, std::size_t size) noexcept {
   while (k > 0) {
     --k;
     if (prefix_end_[k] <= first) break;
-    const std::uint32_t i = order_[k];
-    if (end_[i] > first) mark(i);
+    const std::uint32_t slot = order_[k];
+    if (end_[slot] > first) mark(slot / kSpans);
   }
 }
 

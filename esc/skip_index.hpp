@@ -17,6 +17,7 @@
 // whose timer falls due while the frame passes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,6 +29,12 @@ namespace ecat::esc {
 class SkipIndex {
  public:
   static constexpr std::size_t kWordBits = 64;
+  static constexpr std::size_t kSpans = 4;
+  struct Span {
+    std::uint64_t first = 0;
+    std::uint64_t end = 0;
+    bool operator==(const Span&) const = default;
+  };
 
   // What the segment read of ESC i after a frame entered it.
   struct Passive {
@@ -35,19 +42,26 @@ class SkipIndex {
     Nanoseconds next_timer = Nanoseconds::max();
     std::uint16_t station = 0;
     std::uint16_t alias = 0;  // = station while the alias is not enabled (0x0100 bit 24)
-    std::uint64_t logical_first = 0;  // [first, end) over every active FMMU; empty when first == end
-    std::uint64_t logical_end = 0;
   };
+  using Spans = std::array<Span, kSpans>;
 
   // Set-up: room for `n` ESCs (the new ones must be visited). Returns true
   // when the must-visit words moved (the hooks pointing into them must be set again).
   bool resize(std::size_t n);
   std::size_t size() const noexcept { return size_; }
-  std::uint64_t* must_word(std::size_t i) noexcept { return &must_[i / kWordBits]; }
+  std::uint64_t* dirty_word(std::size_t i) noexcept { return &dirty_[i / kWordBits]; }
+  // The ESCs accessed from outside a frame since (Esc::touch): the segment
+  // reads them again (update) before the next frame.
+  std::span<std::uint64_t> dirty_words() noexcept { return dirty_; }
   static std::uint64_t bit(std::size_t i) noexcept { return std::uint64_t{1} << (i % kWordBits); }
 
-  // After a frame entered ESC i.
+  // After a frame entered ESC i, or it was accessed from outside a frame.
   void update(std::size_t i, const Passive& p) noexcept;
+  // The logical bytes ESC i's active FMMUs map, as up to kSpans disjoint
+  // [first, end) ranges by start (more are joined into the last one): not
+  // the one range over all of them (Esc::logical_first_/end_), which for a
+  // drive with outputs and inputs spans the images of all slaves between.
+  void set_spans(std::size_t i, const Spans& spans, std::size_t count) noexcept;
   // Every ESC must be visited (a frame went round the port walk).
   void must_visit_all() noexcept;
 
@@ -75,14 +89,15 @@ class SkipIndex {
 
   std::size_t size_ = 0;
   std::vector<std::uint64_t> must_;
+  std::vector<std::uint64_t> dirty_;
   std::vector<std::uint64_t> visit_;
   std::vector<std::uint64_t> entered_;
   std::vector<Nanoseconds> next_timer_;
   std::vector<std::uint32_t> address_;  // station | alias << 16
-  std::vector<std::uint64_t> first_;
+  std::vector<std::uint64_t> first_;  // kSpans per ESC: slot i * kSpans + k
   std::vector<std::uint64_t> end_;
-  // The ESCs with a logical span, by span start; prefix_end_[k]: the
-  // largest end among order_[0..k] (a query walks down from its end).
+  // The non-empty span slots by start; prefix_end_[k]: the largest end
+  // among order_[0..k] (a query walks down from its end).
   std::vector<std::uint32_t> order_;
   std::vector<std::uint64_t> sorted_first_;
   std::vector<std::uint64_t> prefix_end_;
