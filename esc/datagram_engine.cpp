@@ -9,6 +9,7 @@
 namespace ecat::esc {
 
 bool Esc::process(const FrameView& frame, Nanoseconds now) noexcept {
+  touch();
   if (frame.empty()) {
     // Nothing to walk; the timers, the DC arrival and the per-frame write
     // enables behave as for any frame.

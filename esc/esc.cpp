@@ -51,6 +51,7 @@ Esc::~Esc() = default;
 std::uint32_t Esc::dl_control() const noexcept { return load_le<std::uint32_t>(mem_.get() + reg::kDlControl); }
 
 std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept {
+  const_cast<Esc*>(this)->sync_pass();  // the DC block is read at the latest access time
   if (address >= reg::kDcBase && address < reg::kDcEnd) {
     std::uint8_t b[2]{};
     const_cast<DcUnit&>(dc_).read(static_cast<std::uint16_t>(address - reg::kDcBase), b, now_, Side::Pdi);
@@ -65,6 +66,7 @@ std::uint16_t Esc::register_u16(std::uint16_t address) const noexcept {
 // Power-on / ESC reset: every register to its reset value (Section II), RAM
 // cleared, then the EEPROM load of the configuration area.
 void Esc::reset() noexcept {
+  touch();
   if (!memory_fresh_) std::memset(mem_.get(), 0, memory_size());
   memory_fresh_ = false;
   std::uint8_t* m = mem_.get();
@@ -165,6 +167,7 @@ void Esc::load_eeprom(bool power_on) noexcept {
 // path and recomputes 0x0110, and tests/esc/esc_pdi_fast_path_test.cpp
 // compares the two.
 void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
+  touch();
   const Nanoseconds t = clock_.now();
   run_timers(t);
   now_ = t;
@@ -180,6 +183,7 @@ void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
 }
 
 void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
+  touch();
   const Nanoseconds t = clock_.now();
   run_timers(t);
   now_ = t;
@@ -249,6 +253,7 @@ int Esc::pdi_find_in_place_sm(std::uint16_t address, std::size_t n, bool write) 
 }
 
 std::span<const std::uint8_t> Esc::read_buffer(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept {
+  touch();
   const int sm = pdi_in_place_sm(address, scratch.size(), false);
   if (sm < 0) {
     read(address, scratch);
@@ -268,6 +273,7 @@ std::span<const std::uint8_t> Esc::read_buffer(std::uint16_t address, std::span<
 }
 
 std::span<std::uint8_t> Esc::write_buffer_begin(std::uint16_t address, std::span<std::uint8_t> scratch) noexcept {
+  touch();
   const int sm = pdi_in_place_sm(address, scratch.size(), true);
   if (sm < 0) return scratch;
   const std::uint32_t at = sms_[static_cast<unsigned>(sm)].write_position(address);
@@ -276,6 +282,7 @@ std::span<std::uint8_t> Esc::write_buffer_begin(std::uint16_t address, std::span
 }
 
 void Esc::write_buffer_commit(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept {
+  touch();
   const int sm = pdi_in_place_sm(address, bytes.size(), true);
   if (sm < 0 || bytes.data() != mem_.get() + sms_[static_cast<unsigned>(sm)].write_position(address)) {
     write(address, bytes);  // the caller's scratch (or, against the contract, a stale place)
@@ -304,7 +311,21 @@ void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
 
 // --- Time ---------------------------------------------------------------------------
 
+// The frames of the line that passed this ESC by since it last looked
+// (esc/pass_hook.hpp): its latest access is the latest frame's arrival,
+// and its DC unit has seen that frame's return. The segment keeps frames
+// whose times could leave a gap (fewer ESCs reached, earlier start) from
+// reaching this point unapplied (Segment::record_pass), so the latest one suffices.
+void Esc::apply_pass() noexcept {
+  const LinePass& p = *hook_.line;
+  hook_.synced = p.frame;
+  if (hook_.index >= p.reached) return;
+  now_ = p.at(hook_.index);
+  dc_.note_time(p.latest(hook_.index));
+}
+
 std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
+  touch();
   run_timers(now);
   now_ = now;
   std::optional<Nanoseconds> next = watchdogs_.next_deadline();
@@ -358,6 +379,7 @@ std::uint32_t Esc::loop_control(unsigned port) const noexcept {
 // valid frame arrives at it (Section I §3.4 Figure 4, "closed wait").
 void Esc::set_link(unsigned port, bool l) noexcept {
   if (port >= kMaxPorts) return;
+  touch();
   const bool was = link_[port];
   link_[port] = l && present_[port];
   if (was && !link_[port]) {
@@ -373,6 +395,7 @@ void Esc::set_link(unsigned port, bool l) noexcept {
 }
 
 void Esc::frame_at_closed_port(unsigned port) noexcept {
+  touch();
   if (port >= kMaxPorts || !closed_wait_[port] || !link_[port]) return;
   closed_wait_[port] = false;
   update_ports();
@@ -459,6 +482,7 @@ void Esc::count_rx_error(unsigned port, bool forwarded) noexcept {
 // is counted as the port's own only by the first ESC that finds it).
 void Esc::count_port_error(unsigned port, PortError error) noexcept {
   if (port >= kMaxPorts) return;
+  touch();
   std::uint8_t* m = mem_.get();
   switch (error) {
     case PortError::Forwarded:

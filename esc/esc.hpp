@@ -29,6 +29,7 @@
 #include "esc/dc/dc_unit.hpp"
 #include "esc/esc_config.hpp"
 #include "esc/fmmu.hpp"
+#include "esc/pass_hook.hpp"
 #include "esc/pdi.hpp"
 #include "esc/register_bits.hpp"
 #include "esc/registers.hpp"
@@ -129,7 +130,10 @@ class Esc final : public Pdi {
   // read through DcUnit as a PDI read); bytes beyond the RAM read as 0.
   std::uint16_t register_u16(std::uint16_t address) const noexcept;
   const EscConfig& config() const noexcept { return config_; }
-  DcUnit& dc() noexcept { return dc_; }
+  DcUnit& dc() noexcept {
+    touch();  // the caller may change the DC unit's events or times
+    return dc_;
+  }
   const SyncManager& sync_manager(unsigned n) const noexcept { return sms_[n]; }
   // True when (AL event request & AL event mask) != 0: the IRQ pin to the µC
   // (Section II 0x0204/0x0220). Cheap: a few loads. The mask is 0 after
@@ -145,7 +149,10 @@ class Esc final : public Pdi {
   // run; Nanoseconds::max() when none is armed. DC SYNC is in dc().poll().
   Nanoseconds next_timer() const noexcept { return next_timer_; }
   // Time of the latest access: frame, PDI access or poll.
-  Nanoseconds last_time() const noexcept { return now_; }
+  Nanoseconds last_time() const noexcept {
+    const_cast<Esc*>(this)->sync_pass();
+    return now_;
+  }
 
  private:
   // Register space 0x0000-0x0FFF from either side (esc/register_access.cpp).
@@ -165,6 +172,19 @@ class Esc final : public Pdi {
   bool mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Side side) noexcept;
   // Raw copy without side effects (bit-wise FMMU writes start from it).
   void peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept;
+
+  // Frames a segment let pass by (esc/pass_hook.hpp): the times they left
+  // are taken in before anything looks at this ESC (sync_pass), and any
+  // access from outside a frame also marks it for the segment to read again
+  // (touch), since it may change what the segment knows of it.
+  void sync_pass() noexcept {
+    if (hook_.line != nullptr && hook_.synced != hook_.line->frame) apply_pass();
+  }
+  void apply_pass() noexcept;
+  void touch() noexcept {
+    sync_pass();
+    if (hook_.dirty_word != nullptr) *hook_.dirty_word |= hook_.dirty_bit;
+  }
 
   // Datagram engine (inline in esc/datagram_engine.hpp, which esc::Segment
   // includes: a frame's pass through an ESC is compiled into its loop).
@@ -310,6 +330,7 @@ class Esc final : public Pdi {
   // a logical datagram outside it passes this ESC untouched.
   std::uint64_t logical_first_ = 0;
   std::uint64_t logical_end_ = 0;
+  std::uint32_t fmmu_epoch_ = 0;  // +1 at every update_fmmus (esc::Segment re-reads the spans)
   std::array<bool, kMaxPorts> link_{};
   std::array<bool, kMaxPorts> port_open_{};
   // What a line of ESCs (esc::Segment's line path) does after the processing
@@ -336,6 +357,7 @@ class Esc final : public Pdi {
   std::array<std::uint8_t, 2> reset_step_{};
   // AL control written by ECAT and not yet read by the PDI (Section II 0x0120).
   bool al_control_pending_ = false;
+  PassHook hook_;  // set by esc::Segment's line
 };
 
 // SyncManager interrupts (Section II 0x0210/0x0220).

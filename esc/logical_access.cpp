@@ -33,6 +33,7 @@ void put_bit(std::uint8_t* p, std::uint64_t bit, bool v) noexcept {
 // covers all of it), plain RAM (no enabled SM overlaps it), or mem_read/
 // mem_write - exactly what those would find byte by byte.
 void Esc::update_fmmus() noexcept {
+  ++fmmu_epoch_;
   fmmu_active_ = 0;
   route_reads_ = 0;
   route_writes_ = 0;

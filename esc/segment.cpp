@@ -4,6 +4,9 @@
 
 #include "esc/datagram_engine.hpp"
 
+#include <algorithm>
+#include <bit>
+
 namespace ecat::esc {
 
 using segment_detail::kNextPort;
@@ -16,7 +19,33 @@ std::size_t Segment::append(Esc& esc) {
   links_.emplace_back();
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
-  return escs_.size() - 1;
+  armed_.push_back(0);
+  fmmu_epochs_.push_back(esc.fmmu_epoch_ - 1);  // not read yet
+  const std::size_t i = escs_.size() - 1;
+  if (index_.resize(escs_.size())) {
+    for (std::size_t k = 0; k < i; ++k) hook(k);
+  }
+  hook(i);
+  return i;
+}
+
+// The ESC takes in this segment's line frames and marks itself for a full
+// pass when accessed from outside a frame (esc/pass_hook.hpp).
+void Segment::hook(std::size_t i) noexcept {
+  PassHook& h = escs_[i]->hook_;
+  escs_[i]->sync_pass();  // anything of an earlier segment first
+  h.line = &pass_;
+  h.dirty_word = index_.dirty_word(i);
+  h.dirty_bit = SkipIndex::bit(i);
+  h.index = static_cast<std::uint32_t>(i);
+  h.synced = pass_.frame;
+}
+
+Segment::~Segment() {
+  for (Esc* e : escs_) {
+    e->sync_pass();
+    e->hook_ = PassHook{};
+  }
 }
 
 void Segment::cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay) {
@@ -99,17 +128,30 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
     if (valid.error != FrameError::NotEtherCat) {
       // The first processing unit rejects the datagram structure (0x030C) and
       // marks the frame; every later port counts a forwarded error (0x0308+n)
-      // and every later unit 0x030C (Section I §14.1 Table 51, §14.2).
+      // and every later unit 0x030C (Section I §14.1 Table 51, §14.2). The
+      // port walk enters ESCs without the line's bookkeeping (as below).
+      for (Esc* e : escs_) e->sync_pass();
       (void)carry_faulty(DatagramView{}, 0, now, master_port, false);
+      index_.must_visit_all();
+      index_.entered_all();
     }
     Delivery d;
     d.outcome = Delivery::Outcome::Malformed;
     return d;
   }
   const DatagramView first(valid.first);
-  const Delivery d = !faults_.empty()             ? carry_faulty(first, valid.count, now, master_port, true)
-                     : line_ && master_port == 0 ? carry_line(first, valid.count, now)
-                                                 : carry_ports(first, valid.count, now, master_port);
+  Delivery d;
+  if (faults_.empty() && line_ && master_port == 0) {
+    d = carry_line(first, valid.count, now);
+  } else {
+    // The port walks enter ESCs without the line's bookkeeping: each takes in
+    // the line's last frame first, and all are entered in full afterwards.
+    for (Esc* e : escs_) e->sync_pass();
+    d = !faults_.empty() ? carry_faulty(first, valid.count, now, master_port, true)
+                         : carry_ports(first, valid.count, now, master_port);
+    index_.must_visit_all();
+    index_.entered_all();
+  }
   if (!d.returned()) [[unlikely]] {
     ++dropped_;
     return d;
@@ -124,35 +166,81 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
 // neighbour, so after the processing unit the frame goes on out of port 1,
 // back (ports 3, 1, 2 closed) or is lost (Esc::line_route_, kept by
 // update_ports); no port walk per ESC.
+//
+// Skipping (issue 16 item 5): the frame enters only the ESCs plan() marked
+// (SkipIndex::next); every ESC between two of them is passive - port 0
+// open, the frame going on out of port 1, nothing to OR into the IRQ field,
+// no latch armed, no timer due - and the frame's only effect on it, its
+// times, it takes in later (Esc::sync_pass). The ADP of an APxx is what it
+// would be after the increments of the ESCs before (the arriving ADP + the
+// position), set before each ESC entered and after the last.
 Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
   if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
-  std::size_t reached = 0;
-  Nanoseconds t = now;  // when the frame reaches the next ESC's port 0
-  for (Esc* esc : escs_) {
+  refresh_dirty();
+  const bool all = !skipping_ || !plan(first, count, now);
+  const std::size_t n = escs_.size();
+  std::size_t reached = 0;  // ESCs whose processing unit the frame entered
+  std::size_t passed = 0;   // ... and left again (the ADP increments)
+  std::size_t armed = 0;
+  bool ended = false;       // lost or destroyed inside the line
+  bool back = false;        // turned back by an ESC whose port 1 is closed
+  for (std::size_t i = all ? 0 : index_.next(0); i < n; i = all ? i + 1 : index_.next(i + 1)) {
+    Esc* esc = escs_[i];
+    esc->sync_pass();
     if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
+      passed = reached = i;
       esc->frame_at_closed_port(kUpstreamPort);  // a closed port takes nothing in
-      return d;
+      ended = true;
+      break;
     }
-    ++reached;
-    if (!esc->process_datagrams(first, count, t)) [[unlikely]] {
+    if (!all) {
+      for (std::size_t k = 0; k < auto_increments_; ++k) {
+        auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + i));
+      }
+    }
+    reached = i + 1;
+    index_.entered(i);
+    if (!esc->process_datagrams(first, count, now + hop_delay_ * static_cast<std::int64_t>(i))) [[unlikely]] {
+      passed = i;
       d.outcome = Delivery::Outcome::Destroyed;
-      return d;
+      note_entered(i);
+      ended = true;
+      break;
     }
-    t += hop_delay_;
+    passed = reached;
+    note_entered(i);
+    if (esc->dc_.receive_latch_armed()) armed_[armed++] = static_cast<std::uint32_t>(i);
     const Esc::LineRoute route = esc->line_route_;
-    if (route == Esc::LineRoute::Back) break;  // closed: the frame turns back here
-    if (route == Esc::LineRoute::Lost) [[unlikely]] return d;  // forced open with nothing connected
+    if (route == Esc::LineRoute::Back) {  // closed: the frame turns back here
+      back = true;
+      break;
+    }
+    if (route == Esc::LineRoute::Lost) [[unlikely]] {
+      ended = true;
+      break;
+    }
   }
+  if (!ended && !back) reached = passed = n;  // went on out of the last ESC's port 1 (skipped or not)
+  if (!all) {
+    for (std::size_t k = 0; k < auto_increments_; ++k) {
+      auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + passed));
+    }
+  }
+  const bool returned = !ended && d.outcome != Delivery::Outcome::Destroyed;
+  record_pass(now, static_cast<std::uint32_t>(reached), returned);
+  if (!returned) return d;
   // On the way back the frame passes each earlier slave's port 1.
   // After the last reached ESC (reached - 1 hops out) it takes as many back:
-  // ESC i sees it at 2 (reached - 1) - i hops.
+  // ESC i sees it at 2 (reached - 1) - i hops. Only an armed receive latch
+  // keeps the time (DcUnit::on_frame_arrival); the latest time every ESC
+  // has seen comes from the pass record.
   const Nanoseconds round = hop_delay_ * static_cast<std::int64_t>(2 * (reached - 1));
-  if (reached > 1) {
-    Nanoseconds back = now + round;
-    for (std::size_t i = 0; i + 1 < reached; ++i) {
-      escs_[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort), back);
-      back -= hop_delay_;
+  for (std::size_t k = 0; k < armed; ++k) {
+    const std::size_t i = armed_[k];
+    if (i + 1 < reached) {
+      escs_[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort),
+                                     now + round - hop_delay_ * static_cast<std::int64_t>(i));
     }
   }
   d.outcome = Delivery::Outcome::Returned;
@@ -160,6 +248,118 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
   d.at = now + round;
   d.processed = static_cast<unsigned>(reached);
   return d;
+}
+
+// The ESCs accessed from outside a frame since the last one (PDI, poll,
+// link, reset: Esc::touch) are read again; the ones still passive may be
+// passed by (their firmware ran, they are not addressed).
+void Segment::refresh_dirty() noexcept {
+  const std::span<std::uint64_t> dirty = index_.dirty_words();
+  for (std::size_t w = 0; w < dirty.size(); ++w) {
+    std::uint64_t bits = dirty[w];
+    dirty[w] = 0;
+    while (bits != 0) {
+      note_entered(w * SkipIndex::kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
+      bits &= bits - 1;
+    }
+  }
+}
+
+bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+  index_.begin_frame();
+  auto_increments_ = 0;
+  DatagramView dg = first;
+  for (std::size_t left = count;;) {
+    const Command cmd = dg.command();
+    const engine_detail::CommandTraits& traits = engine_detail::kCommandTraits[static_cast<std::uint8_t>(cmd)];
+    switch (traits.mode) {
+      case Addressing::None:
+        break;
+      case Addressing::Broadcast:
+        return false;
+      case Addressing::AutoIncrement: {
+        if (traits.rmw || auto_increments_ == kMaxAutoIncrement) return false;
+        const std::uint16_t adp = dg.adp();
+        auto_increment_[auto_increments_++] = AutoIncrement{dg, adp};
+        // Addressed where the ADP has been incremented to 0 (Section I Table 5).
+        // Past 65536 ESCs the 16-bit ADP wraps and reaches 0 again.
+        for (std::size_t at = static_cast<std::uint16_t>(-adp); at < escs_.size(); at += 0x10000) index_.mark(at);
+        break;
+      }
+      case Addressing::Configured:
+        if (traits.rmw) return false;
+        index_.mark_address(dg.adp());
+        break;
+      case Addressing::Logical:
+        index_.mark_logical(dg.logical_address(), dg.length());
+        break;
+    }
+    if (--left == 0) break;
+    dg = dg.next();
+  }
+  index_.mark_due(now, hop_delay_);
+  return true;
+}
+
+// The logical bytes of each active FMMU (Section I §6: [logical_start,
+// logical_start + length) holds every bit it maps), joined where they touch
+// or overlap, by start; past SkipIndex::kSpans ranges the rest go into the
+// last one. A datagram outside all of them makes no FMMU act (the routed
+// and the bit-granular path alike), so the ESC may be passed by.
+std::size_t Segment::logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept {
+  std::array<SkipIndex::Span, kMaxFmmus> all{};
+  std::size_t n = 0;
+  for (unsigned k = 0; k < e.config_.fmmu_count; ++k) {
+    if ((e.fmmu_active_ & (1u << k)) == 0) continue;
+    const Fmmu& f = e.fmmus_[k];
+    all[n++] = SkipIndex::Span{f.logical_start, std::uint64_t{f.logical_start} + f.length};
+  }
+  std::sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n),
+            [](const SkipIndex::Span& a, const SkipIndex::Span& b) { return a.first < b.first; });
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (count > 0 && (all[k].first <= out[count - 1].end || count == out.size())) {
+      out[count - 1].end = std::max(out[count - 1].end, all[k].end);
+    } else {
+      out[count++] = all[k];
+    }
+  }
+  return count;
+}
+
+void Segment::note_entered(std::size_t i) noexcept {
+  const Esc& e = *escs_[i];
+  SkipIndex::Passive p;
+  p.passive = e.config_.fast_paths && e.port_open_[kUpstreamPort] && e.line_route_ == Esc::LineRoute::Down &&
+              e.irq_field() == 0 && !e.dc_.receive_latch_armed() && !e.reset_requested_;
+  if (p.passive) {
+    const std::uint8_t* m = e.mem_.get();
+    p.next_timer = e.next_timer_;
+    p.station = load_le<std::uint16_t>(m + reg::kConfiguredStationAddress);
+    const bool alias_on = (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0;
+    p.alias = alias_on ? load_le<std::uint16_t>(m + reg::kConfiguredStationAlias) : p.station;
+  }
+  index_.update(i, p);
+  if (fmmu_epochs_[i] != e.fmmu_epoch_) {
+    fmmu_epochs_[i] = e.fmmu_epoch_;
+    SkipIndex::Spans spans{};
+    const std::size_t count = logical_spans(e, spans);
+    index_.set_spans(i, spans, count);
+  }
+}
+
+// Esc::apply_pass takes in only the latest frame: right as long as each
+// frame reaches the same ESCs, comes back as the one before, and starts no
+// earlier. Otherwise every ESC takes in the previous frame now.
+void Segment::record_pass(Nanoseconds start, std::uint32_t reached, bool returned) noexcept {
+  if (pass_.frame != 0 && (reached != pass_.reached || returned != pass_.returned || start < pass_.start)) {
+    for (Esc* e : escs_) e->sync_pass();
+  }
+  pass_.frame += 1;
+  pass_.start = start;
+  pass_.hop = hop_delay_;
+  pass_.reached = reached;
+  pass_.returned = returned;
 }
 
 // Any topology: the frame goes from port to port as on silicon. Received at

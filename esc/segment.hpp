@@ -25,6 +25,8 @@
 #include "common/clock.hpp"
 #include "common/frame_parser.hpp"
 #include "esc/esc.hpp"
+#include "esc/pass_hook.hpp"
+#include "esc/skip_index.hpp"
 
 namespace ecat::esc {
 
@@ -66,6 +68,10 @@ class Segment {
 
   Segment() = default;
   explicit Segment(Nanoseconds hop_delay) : hop_delay_(hop_delay) {}
+  // The Escs point at the segment (esc/pass_hook.hpp): it stays where it is.
+  Segment(const Segment&) = delete;
+  Segment& operator=(const Segment&) = delete;
+  ~Segment();
 
   // --- Set-up (the Escs must outlive the Segment) ---
   // Appends `esc` at the end of the line: its port 0 to the previous slave's
@@ -137,6 +143,17 @@ class Segment {
   // Runs every ESC's timers; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
+  // Skipping (issue 16 item 5, docs/esc.md): on a line, a frame enters only
+  // the ESCs it addresses or that are not passive; the others take in its
+  // times when next looked at. Off: every frame enters every ESC it
+  // reaches (the reference the tests compare with). On by default.
+  void set_skipping(bool on) noexcept { skipping_ = on; }
+  bool skipping() const noexcept { return skipping_; }
+  // The ESCs whose processing unit a frame entered (or that anything else
+  // may have changed) since the caller last cleared the bits: bit i of word
+  // i / 64 is ESC i. slave::Chain asks only those slaves' firmware.
+  std::span<std::uint64_t> entered() noexcept { return index_.entered_words(); }
+
   std::uint64_t frames_processed() const noexcept { return processed_; }
   std::uint64_t frames_dropped() const noexcept { return dropped_; }
   FrameError last_error() const noexcept { return last_error_; }
@@ -172,6 +189,16 @@ class Segment {
     std::uint64_t hit_frame = 0;
   };
   CableFaultState* fault_on(std::size_t slave, unsigned port) noexcept;
+  // Marks the ESCs a frame must enter (SkipIndex); false when it addresses
+  // every ESC (a broadcast, xRMW, or more APxx than kMaxAutoIncrement).
+  bool plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // What the index keeps of ESC i, read after a frame entered it.
+  void note_entered(std::size_t i) noexcept;
+  static std::size_t logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept;
+  void refresh_dirty() noexcept;
+  // The frame just carried becomes the line's latest (LinePass).
+  void record_pass(Nanoseconds start, std::uint32_t reached, bool returned) noexcept;
+  void hook(std::size_t i) noexcept;
 
   std::vector<Esc*> escs_;
   // Per slave: its EscConfig processing and forwarding delays (the port
@@ -189,6 +216,19 @@ class Segment {
   std::vector<CableFaultState> faults_;  // empty on a healthy segment
   std::uint64_t frame_number_ = 0;
   Nanoseconds hop_delay_ = kDefaultHopDelay;
+  // Skipping (line path only).
+  static constexpr std::size_t kMaxAutoIncrement = 32;
+  struct AutoIncrement {
+    DatagramView datagram;
+    std::uint16_t adp = 0;  // as the frame arrived
+  };
+  std::array<AutoIncrement, kMaxAutoIncrement> auto_increment_{};
+  std::size_t auto_increments_ = 0;
+  SkipIndex index_;
+  LinePass pass_;
+  std::vector<std::uint32_t> armed_;  // entered ESCs with the receive latch armed (one frame)
+  std::vector<std::uint32_t> fmmu_epochs_;  // Esc::fmmu_epoch_ when its spans were last read
+  bool skipping_ = true;
   bool line_ = true;
   std::uint64_t processed_ = 0;
   std::uint64_t dropped_ = 0;

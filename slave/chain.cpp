@@ -1,6 +1,7 @@
 #include "slave/chain.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -23,7 +24,15 @@ Expected<void, std::string> Chain::add(std::shared_ptr<const od::DeviceDescripti
   if (!s) return fail(s.error());
   segment_.add((*s)->esc());
   slaves_.push_back(std::move(*s));
+  added();
   return {};
+}
+
+void Chain::added() noexcept {
+  pending_.resize((slaves_.size() + 63) / 64, 0);
+  due_.resize(pending_.size(), 0);
+  wakes_.resize(slaves_.size());
+  rescan_ = true;
 }
 
 bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
@@ -44,6 +53,7 @@ Expected<void, std::string> Chain::attach(od::DeviceDescription device, const Sl
   if (!s) return fail(s.error());
   segment_.add((*s)->esc(), parent, parent_port, port, delay);
   slaves_.push_back(std::move(*s));
+  added();
   return {};
 }
 
@@ -73,10 +83,60 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // The firmware of a slave reacts to what the frame left behind when its
   // ESC raised the IRQ (or it has work due), as its interrupt handler would
   // within microseconds; the others stay asleep (a few loads each:
-  // VirtualSlave::after_frame_due).
-  for (auto& s : slaves_) {
-    if (s->after_frame_due(now)) s->after_frame(now);
+  // VirtualSlave::after_frame_due). Only a slave whose ESC a frame entered,
+  // a pending one, or - once the time reaches the earliest wake time - any
+  // can be due (issue 16 item 5): the others are not asked.
+  const std::span<std::uint64_t> entered = segment_.entered();
+  if (ask_all_ || rescan_) {
+    rescan_ = false;
+    std::fill(entered.begin(), entered.end(), 0);
+    for (std::size_t i = 0; i < slaves_.size(); ++i) {
+      after_frame(i, now);
+      note(i);  // whatever changed a slave since (set-up, a slave handed out)
+    }
+    return;
   }
+  // The ones whose time came leave the top of the heap (after_frame puts
+  // them back at their new time), then every candidate once, in order.
+  while (!wakes_.empty() && wakes_.top_time() <= now) {
+    const std::size_t i = wakes_.top();
+    due_[i / 64] |= std::uint64_t{1} << (i % 64);
+    wakes_.set(i, Nanoseconds::max());
+  }
+  for (std::size_t w = 0; w < pending_.size(); ++w) {
+    std::uint64_t bits = entered[w] | pending_[w] | due_[w];
+    entered[w] = 0;
+    due_[w] = 0;
+    while (bits != 0) {
+      const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+      bits &= bits - 1;
+      after_frame(i, now);
+    }
+  }
+}
+
+void Chain::after_frame(std::size_t i, Nanoseconds now) noexcept {
+  VirtualSlave& s = *slaves_[i];
+  if (s.after_frame_due(now)) {
+    s.after_frame(now);
+    note(i);
+    return;
+  }
+  // Not due: not pending, and its wake time is the one the heap holds -
+  // unless it was just taken out as due (then it goes back).
+  pending_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
+  if (wakes_.time(i) == Nanoseconds::max()) wakes_.set(i, s.wake_at());
+}
+
+void Chain::note(std::size_t i) noexcept {
+  const VirtualSlave& s = *slaves_[i];
+  const std::uint64_t bit = std::uint64_t{1} << (i % 64);
+  if (s.pending()) {
+    pending_[i / 64] |= bit;
+  } else {
+    pending_[i / 64] &= ~bit;
+  }
+  wakes_.set(i, s.wake_at());
 }
 
 void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
@@ -88,10 +148,13 @@ void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
   seen_ = std::max(seen_, now);
   std::optional<Nanoseconds> next;
-  for (auto& s : slaves_) {
-    const auto t = s->poll(now);
+  // Every slave's state moves: what run_firmware keeps is taken anew.
+  for (std::size_t i = 0; i < slaves_.size(); ++i) {
+    const auto t = slaves_[i]->poll(now);
     if (t && (!next || *t < *next)) next = t;
+    note(i);
   }
+  rescan_ = false;
   return next;
 }
 

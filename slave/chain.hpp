@@ -17,6 +17,7 @@
 #include "esc/segment.hpp"
 #include "slave/slave_stats.hpp"
 #include "slave/virtual_slave.hpp"
+#include "slave/wake_heap.hpp"
 
 namespace ecat::slave {
 
@@ -58,6 +59,15 @@ class Chain {
   esc::Delivery pass_frame_on(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept;
   void run_firmware(Nanoseconds now) noexcept;
 
+  // Skipping (issue 16 item 5, docs/esc.md): frames enter only the ESCs
+  // they address or that are not passive, and run_firmware asks only the
+  // slaves that may be due. Off: every ESC entered, every slave asked (the
+  // reference the tests compare with). On by default.
+  void set_skipping(bool on) noexcept {
+    segment_.set_skipping(on);
+    ask_all_ = !on;
+  }
+
   // Timers and firmware of every slave; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
@@ -73,9 +83,16 @@ class Chain {
   Nanoseconds time_seen() const noexcept { return seen_; }
 
   std::size_t size() const noexcept { return slaves_.size(); }
-  VirtualSlave& operator[](std::size_t i) noexcept { return *slaves_[i]; }
+  // A slave handed out may be changed: the next run_firmware asks every slave.
+  VirtualSlave& operator[](std::size_t i) noexcept {
+    rescan_ = true;
+    return *slaves_[i];
+  }
   const VirtualSlave& operator[](std::size_t i) const noexcept { return *slaves_[i]; }
-  esc::Segment& segment() noexcept { return segment_; }
+  esc::Segment& segment() noexcept {
+    rescan_ = true;
+    return segment_;
+  }
   const ChainStats& stats() const noexcept { return stats_; }
 
   // VCD trace of every slave's SYNC pulses, SM events, application cycle and
@@ -89,6 +106,11 @@ class Chain {
 
  private:
   void count_returned(std::span<const std::uint8_t> frame) noexcept;
+  void added() noexcept;
+  // Runs slave i's firmware if a frame left it work; keeps what it waits for.
+  void after_frame(std::size_t i, Nanoseconds now) noexcept;
+  // Keeps slave i's pending bit and its wake time.
+  void note(std::size_t i) noexcept;
 
   const Clock& clock_;
   std::vector<std::unique_ptr<VirtualSlave>> slaves_;
@@ -101,6 +123,15 @@ class Chain {
   esc::Segment segment_;
   ChainStats stats_;
   Nanoseconds seen_{Nanoseconds::min()};
+  // Which slaves run_firmware asks (issue 16 item 5): the ones whose ESC a
+  // frame entered (esc::Segment::entered), the pending ones (bit i of word
+  // i / 64: VirtualSlave::pending() when last asked), and the ones whose
+  // wake_at() (as last asked, in wakes_) has come (due_: this call's).
+  std::vector<std::uint64_t> pending_;
+  std::vector<std::uint64_t> due_;
+  WakeHeap wakes_;
+  bool rescan_ = true;  // every slave next time (set-up, poll, a slave handed out)
+  bool ask_all_ = false;  // set_skipping(false)
 };
 
 }  // namespace ecat::slave

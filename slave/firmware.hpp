@@ -64,8 +64,13 @@ class Firmware {
   // and the pass-by-pass work as the last poll() left them - they change
   // only in poll() (the firmware's own state) or by time.
   bool may_want_poll(Nanoseconds now, EscLines lines) const noexcept {
-    return lines.irq || now >= wake_ || pass_work_ || mask_lost(lines);
+    return now >= wake_time() || pending(lines);
   }
+  // may_want_poll's two halves (issue 16 item 5: a chain keeps them per
+  // slave and asks only the slaves a frame entered, the pending ones and
+  // the ones whose time came): the time alone, and what does not wait for it.
+  Nanoseconds wake_time() const noexcept { return wake_; }
+  bool pending(EscLines lines) const noexcept { return lines.irq || pass_work_ || mask_lost(lines); }
   // The time poll() last asked to run again at.
   std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }
   // The AL event mask the firmware last programmed.

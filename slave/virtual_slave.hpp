@@ -8,6 +8,7 @@
 // (issue 16: a chain of thousands of slaves keeps one copy).
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -65,9 +66,15 @@ class VirtualSlave {
   void after_frame(Nanoseconds now) noexcept;
   // Whether after_frame(now) may have anything to do: a few loads, so a
   // chain asks every slave after every frame cheaply (issue 8).
-  bool after_frame_due(Nanoseconds now) const noexcept {
-    return now >= esc_wake_ || (has_firmware_ && firmware_->may_want_poll(now, lines()));
+  bool after_frame_due(Nanoseconds now) const noexcept { return now >= wake_at() || pending(); }
+  // after_frame_due's two halves: when time alone makes it due (the ESC's
+  // or the firmware's deadline as the last poll left it), and whether it is
+  // due whatever the time (IRQ, work finished pass by pass). Both change only
+  // when the ESC is entered by a frame or the slave is polled (slave::Chain).
+  Nanoseconds wake_at() const noexcept {
+    return has_firmware_ ? std::min(esc_wake_, firmware_->wake_time()) : esc_wake_;
   }
+  bool pending() const noexcept { return has_firmware_ && firmware_->pending(lines()); }
 
   SlaveStatus status() const noexcept;
 

@@ -69,6 +69,15 @@ class DcUnit : private SyncUnit::Sink {
     early_mask_ = static_cast<std::uint8_t>(early_mask_ | (1u << port));
   }
   void begin_frame() noexcept { early_mask_ = 0; }
+  // A frame passed this ESC by without addressing it (issue 16 item 5:
+  // esc::Segment skips it and the ESC catches up later): only the latest
+  // time seen moves. Only valid while no receive latch is armed.
+  void note_time(Nanoseconds t) noexcept {
+    if (t > last_t_) last_t_ = t;
+  }
+  // A write to 0x0900 armed the receive-time latch; the next frame's
+  // arrival at port 0 disarms it.
+  bool receive_latch_armed() const noexcept { return receive_latch_armed_; }
   // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 

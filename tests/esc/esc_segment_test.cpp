@@ -204,5 +204,34 @@ TEST(SegmentFrames, NoHeapAllocationPerFrame) {
   EXPECT_EQ(g_allocations.load(), 0);
 }
 
+// The same for frames that pass ESCs by (issue 16 item 5): LRW, FPRD and
+// APRD without a broadcast take the skipping path (plan, index, lazy times),
+// with time going back once (every ESC takes in the previous frame).
+TEST(SegmentFrames, NoHeapAllocationPerSkippingFrame) {
+  Line line(70);
+  assign_stations(line);
+  for (std::uint16_t i = 0; i < 70; ++i) {
+    const auto st = static_cast<std::uint16_t>(0x1001 + i);
+    config_fmmu(line.segment, st, 0, 4u * i, 4, 0, 7, 0x1100, 0, 2);
+  }
+  std::array<std::uint8_t, 256> buf{};
+  FrameBuilder b(buf);
+  (void)b.append_zeros(Command::Lrw, 0, 4 * 30, 8);
+  (void)b.append_zeros(Command::Fprd, 1, device_address(0x1002, reg::kAlStatus), 2);
+  (void)b.append_zeros(Command::Aprd, 2, device_address(auto_increment_adp(65), reg::kAlStatus), 2);
+  Bytes frame = b.finish();
+  ASSERT_TRUE(line.segment.process_frame(frame, 0ns));  // warm-up
+  g_allocations = 0;
+  g_counting = true;
+  for (int i = 0; i < 100; ++i) {
+    const Nanoseconds t{i == 50 ? 10 : i * 100'000};
+    (void)line.segment.process_frame(frame, t);
+    line[5].write(0x1100, std::span(buf).first(4));
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(line[30].last_time(), Nanoseconds{99 * 100'000} + Segment::kDefaultHopDelay * 30);
+}
+
 }  // namespace
 }  // namespace ecat::esc::test
