@@ -84,6 +84,7 @@ class Repairer {
     repair_identity();
     repair_sm_types();
     repair_assignments();
+    repair_mapping_entry_types(ctx_, d_);
     repair_mappings();
     repair_eeprom_size();
   }

@@ -1,0 +1,98 @@
+// Corpus files that were known limits of the twin chain (tests/twins/
+// known-limits.txt), each imported from the vendor file itself and checked
+// the way a master sees it: the SDO upload bytes of the objects the repair
+// touched, the import warning with its file:line, and the start-up to Op.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "esi/twin_import.hpp"
+#include "inprocess_fixture.hpp"
+#include "master/coe_client.hpp"
+
+namespace ecat::test {
+namespace {
+
+std::string corpus(const std::string& file) { return std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-vendor/" + file; }
+
+struct Twin {
+  od::DeviceDescription device;
+  std::vector<esi::EsiWarning> warnings;
+};
+
+Twin import(const std::string& file, std::uint32_t product, std::uint32_t revision) {
+  Twin t;
+  esi::TwinImportOptions o;
+  o.selection.product_code = product;
+  o.selection.revision = revision;
+  auto d = esi::import_twin(corpus(file), o, &t.warnings);
+  EXPECT_TRUE(d) << d.error().to_string();
+  if (d) t.device = *d;
+  return t;
+}
+
+bool has_warning(const Twin& t, int line, const std::string& text) {
+  return std::any_of(t.warnings.begin(), t.warnings.end(),
+                     [&](const esi::EsiWarning& w) { return w.line == line && w.message == text; });
+}
+
+std::string all(const Twin& t) {
+  std::string s;
+  for (const auto& w : t.warnings) s += w.to_string("f") + "\n";
+  return s;
+}
+
+using Bytes8 = std::vector<std::uint8_t>;
+
+// Elmo Gold (elmo-gold-ecat.xml, Boot revision 1): DT1600 types sub 3
+// "Controlword" as UINT. The twin's 1600h:03 is UNSIGNED32 and holds the SII's
+// mapping 6040h:00, 16 bits; the master reads 1600h whole and reaches Op.
+TEST(TwinLimitsElmo, MappingEntriesTypedAsTheMappedObjectAreUnsigned32) {
+  Twin t = import("elmo-gold-ecat.xml", 0x00030924, 0x00000001);
+  EXPECT_TRUE(has_warning(t, 163,
+                          "1600h (PDO mapping) entries 03 (UNSIGNED16, 16 bits) are typed as the objects they map; "
+                          "a mapping entry is UNSIGNED32, so are the twin's"))
+      << all(t);
+  EXPECT_TRUE(has_warning(t, 270,
+                          "1A00h (PDO mapping) entries 03 (UNSIGNED16, 16 bits) are typed as the objects they map; "
+                          "a mapping entry is UNSIGNED32, so are the twin's"))
+      << all(t);
+  EXPECT_TRUE(has_warning(t, 422, "60FEh:00 has no default; the twin's reads 2, the highest subindex (CiA 301)")) << all(t);
+  InProcess p;
+  p.add(t.device);
+  ASSERT_EQ(p.bring_up(), "");
+  master::CoeClient coe(p.master, 0);
+  EXPECT_EQ(coe.upload(0x1600, 3).value_or(Bytes8{}), (Bytes8{0x10, 0x00, 0x40, 0x60}));
+  EXPECT_EQ(coe.upload(0x1A00, 3).value_or(Bytes8{}), (Bytes8{0x10, 0x00, 0x41, 0x60}));
+  EXPECT_EQ(coe.upload(0x60FE, 0).value_or(Bytes8{}), (Bytes8{0x02}));
+  auto mapping = coe.read_pdo_mapping(0x1600);
+  ASSERT_TRUE(mapping);
+  EXPECT_EQ(*mapping, (std::vector<std::uint32_t>{0x607A0020, 0x60FE0120, 0x60400010}));
+}
+
+// Elmo Gold, revision 1.4.20: 1018h has no default for subindex 0 (the drive
+// answers 4); DT1606 types its six entries as DINT/INT/UINT.
+TEST(TwinLimitsElmo, SubindexZeroWithoutDefaultReadsTheHighestSubindex) {
+  Twin t = import("elmo-gold-ecat.xml", 0x00030924, 0x00010420);
+  EXPECT_TRUE(has_warning(t, 4928, "1018h:00 has no default; the twin's reads 4, the highest subindex (CiA 301)"))
+      << all(t);
+  EXPECT_TRUE(has_warning(t, 1734,
+                          "1606h (PDO mapping) entries 01 (INTEGER32, 32 bits), 02 (INTEGER32, 32 bits), 03 "
+                          "(INTEGER32, 32 bits), 04 (INTEGER32, 32 bits), 05 (INTEGER16, 16 bits), 06 (UNSIGNED16, "
+                          "16 bits) are typed as the objects they map; a mapping entry is UNSIGNED32, so are the twin's"))
+      << all(t);
+  InProcess p;
+  p.add(t.device);
+  ASSERT_EQ(p.bring_up(), "");
+  master::CoeClient coe(p.master, 0);
+  EXPECT_EQ(coe.upload(0x1018, 0).value_or(Bytes8{}), (Bytes8{0x04}));
+  auto past = coe.upload(0x1018, 5);
+  ASSERT_FALSE(past);
+  EXPECT_EQ(past.error().code, master::SdoAbortCode::SubindexNotFound);
+  EXPECT_EQ(coe.upload(0x1606, 5).value_or(Bytes8{}), (Bytes8{0x10, 0x00, 0xB2, 0x60}));
+}
+
+}  // namespace
+}  // namespace ecat::test
