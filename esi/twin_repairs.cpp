@@ -8,6 +8,7 @@
 // RXPDO categories) and 16xxh/1Axxh (PDO mapping). Each repair is one warning
 // naming the object and its line; nothing is changed silently.
 #include <algorithm>
+#include <cctype>
 #include <map>
 
 #include <fmt/format.h>
@@ -411,6 +412,20 @@ class Repairer {
       warn(*o, fmt::format("1018h:{:02X} default {} differs from the SII {} #x{:08X} (Vendor/Type); the SII's is used",
                            sub, hex_value(e->default_value), what[sub - 1], want[sub - 1]));
       e->default_value = le_of(want[sub - 1], kIdentityBits / kBitsPerByte);
+    }
+    // 1018h:00 naming more entries than the file gives (Inovance IS620N:
+    // DefaultData 04, SubItems 0-3): the device answers SI0 = 4, so a master
+    // reads 1018h:04, which is the SII's serial number (ETG.1000.6 §5.4).
+    const od::Entry* si0 = o->find(0);
+    const std::uint64_t count = si0 ? value_of(si0->default_value) : 0;
+    for (std::uint8_t sub = 1; sub <= kIdentityEntries && sub <= count; ++sub) {
+      if (o->find(sub) || o->entries.size() < 2) continue;
+      if (!set_sub(*o, sub, want[sub - 1], kIdentityBits / kBitsPerByte, od::DataType::Unsigned32)) continue;
+      o->find(sub)->name = what[sub - 1];
+      o->find(sub)->name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(o->find(sub)->name[0])));
+      warn(*o, fmt::format("1018h:00 default {} names subindex {:02X}, which the file does not give; the twin's is the "
+                           "SII {} #x{:08X}",
+                           count, sub, what[sub - 1], want[sub - 1]));
     }
   }
 
