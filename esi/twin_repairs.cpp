@@ -78,8 +78,10 @@ class Repairer {
       : ctx_(ctx), d_(d), device_(device), device_line_(ctx.line(device)) {}
 
   void run() {
+    repair_sm_direction();
     renumber_out_of_range_pdos();
     repair_process_sm_sizes();
+    repair_mailbox_sm_sizes();
     adopt_dictionary_assignment();
     create_missing_pdo_objects();
     repair_identity();
@@ -236,6 +238,69 @@ class Repairer {
                                            kCopies * sm.max_size, sm.start_address, next, fits));
       sm.max_size = fits;
       if (sm.default_size > fits) sm.default_size = fits;
+    }
+  }
+
+  // A process-data SM whose text says one direction while its ControlByte
+  // and the PDOs assigned to it say the other (SMC EX250-SEN1: SM1
+  // "Outputs", ControlByte 00h, TxPdo 1A00h Sm="1"). The master writes the
+  // SII's control byte into the ESC (0x0804 bits 3:2: 00 = ECAT reads, 01 =
+  // ECAT writes), so the SM's direction in the device is the control byte's,
+  // and the PDO category puts the inputs there: the twin's SM is of that
+  // direction. A contradiction the PDOs do not settle is left to the loader.
+  void repair_sm_direction() {
+    constexpr std::uint8_t kModeMask = 0x03, kModeBuffered = 0x00, kDirectionMask = 0x0C, kDirectionWrite = 0x04;
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      auto& sm = d_.sync_managers[i];
+      if (sm.type != od::SmType::Outputs && sm.type != od::SmType::Inputs) continue;
+      if ((sm.control & kModeMask) != kModeBuffered) continue;
+      const bool control_writes = (sm.control & kDirectionMask) == kDirectionWrite;
+      const bool text_writes = sm.type == od::SmType::Outputs;
+      if (control_writes == text_writes) continue;
+      auto on_sm = [&](const std::vector<od::Pdo>& list) {
+        return std::any_of(list.begin(), list.end(), [&](const od::Pdo& p) { return p.sm && *p.sm == i; });
+      };
+      const bool control_pdos = on_sm(control_writes ? d_.rx_pdos : d_.tx_pdos);
+      const bool text_pdos = on_sm(text_writes ? d_.rx_pdos : d_.tx_pdos);
+      if (!control_pdos || text_pdos) continue;
+      const od::SmType taken = control_writes ? od::SmType::Outputs : od::SmType::Inputs;
+      ctx_.warn_at("Sm", sm_line(i),
+                   fmt::format("SM{} is called {} but its ControlByte #x{:02X} makes it {} and the {} assigned to it "
+                               "say so; taken as {}",
+                               i, text_writes ? "Outputs" : "Inputs", sm.control,
+                               control_writes ? "written by the master" : "read by the master",
+                               control_writes ? "RxPdos" : "TxPdos", control_writes ? "Outputs" : "Inputs"));
+      sm.type = taken;
+    }
+  }
+
+  // A mailbox SM whose DefaultSize (what a master configures, SII words
+  // 18h-1Bh) reaches the next SM's start (Beckhoff CX2040 revision
+  // 0x00111B82: SM0 1000h and SM1 1200h, 1024 bytes each, SM3 at 1400h; the
+  // other revisions of the device give 512): the ESC areas would overlap, a
+  // master's mailbox write to SM0 would run into SM1. The twin's mailbox is
+  // what fits before the next SM (MaxSize likewise), as the 3-buffer repair
+  // above does for process data.
+  void repair_mailbox_sm_sizes() {
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      auto& sm = d_.sync_managers[i];
+      if (sm.type != od::SmType::MailboxOut && sm.type != od::SmType::MailboxIn) continue;
+      const std::uint32_t size = sm.default_size ? sm.default_size : sm.max_size;
+      std::uint32_t next = 0;
+      for (const auto& o : d_.sync_managers) {
+        if (o.type != od::SmType::Unused && o.start_address > sm.start_address && (next == 0 || o.start_address < next)) {
+          next = o.start_address;
+        }
+      }
+      if (size == 0 || next == 0 || sm.start_address + size <= next) continue;
+      const auto fits = static_cast<std::uint16_t>(next - sm.start_address);
+      ctx_.warn_at("Sm", sm_line(i), fmt::format("SM{} ({}) of {} bytes from {:04X}h reaches the next SM at {:04X}h; the "
+                                                 "twin's mailbox is {} bytes",
+                                                 i, sm.type == od::SmType::MailboxOut ? "MBoxOut" : "MBoxIn", size,
+                                                 sm.start_address, next, fits));
+      if (sm.default_size > fits) sm.default_size = fits;
+      if (sm.max_size > fits) sm.max_size = fits;
+      if (sm.min_size > fits) sm.min_size = fits;
     }
   }
 

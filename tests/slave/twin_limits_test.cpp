@@ -94,5 +94,48 @@ TEST(TwinLimitsElmo, SubindexZeroWithoutDefaultReadsTheHighestSubindex) {
   EXPECT_EQ(coe.upload(0x1606, 5).value_or(Bytes8{}), (Bytes8{0x10, 0x00, 0xB2, 0x60}));
 }
 
+// SMC EX250-SEN1: SM1 at 1000h is called Outputs, ControlByte 00h (the
+// master reads it) and TxPdo 1A00h has Sm="1": the twin's SM1 is Inputs, and
+// the master reaches Op with 1A00h's input bytes there.
+TEST(TwinLimitsSmc, AnSmCalledOutputsWithAReadControlByteAndTxPdosIsInputs) {
+  Twin t = import("smc-ex250-sen1.xml", 0x00FA6053, 0x00000000);
+  EXPECT_TRUE(has_warning(t, 23,
+                          "SM1 is called Outputs but its ControlByte #x00 makes it read by the master and the TxPdos "
+                          "assigned to it say so; taken as Inputs"))
+      << all(t);
+  ASSERT_GE(t.device.sync_managers.size(), 2u);
+  EXPECT_EQ(t.device.sync_managers[1].type, od::SmType::Inputs);
+  EXPECT_EQ(t.device.sync_managers[1].start_address, 0x1000);
+  ASSERT_EQ(t.device.tx_pdos.size(), 1u);
+  EXPECT_EQ(t.device.tx_pdos[0].sm, std::optional<std::uint8_t>{1});
+  // No mailbox: the master's start-up to Op with WKC checks is the chain
+  // test's (twin_smc-ex250-sen1); here the twin is built and found.
+  InProcess p;
+  p.add(t.device);
+  EXPECT_EQ(p.master.scan().value_or(0), 1u);
+}
+
+// Beckhoff CX2040 revision 0x00111B82: mailbox SM0 1000h and SM1 1200h of
+// 1024 bytes each, SM3 at 1400h. The twin's mailboxes are 512 bytes (what
+// fits; the device's other revisions give 512), and SDO works through them.
+TEST(TwinLimitsCx2040, OverlappingMailboxSmsAreCutToWhatFits) {
+  Twin t = import("beckhoff-cxxxxx.xml", 0x07F86034, 0x00111B82);
+  EXPECT_TRUE(has_warning(t, 1149, "SM0 (MBoxOut) of 1024 bytes from 1000h reaches the next SM at 1200h; the twin's "
+                                   "mailbox is 512 bytes"))
+      << all(t);
+  EXPECT_TRUE(has_warning(t, 1150, "SM1 (MBoxIn) of 1024 bytes from 1200h reaches the next SM at 1400h; the twin's "
+                                   "mailbox is 512 bytes"))
+      << all(t);
+  ASSERT_GE(t.device.sync_managers.size(), 2u);
+  EXPECT_EQ(t.device.sync_managers[0].default_size, 512);
+  EXPECT_EQ(t.device.sync_managers[1].default_size, 512);
+  EXPECT_EQ(t.device.sync_managers[1].max_size, 512);
+  InProcess p;
+  p.add(t.device);
+  ASSERT_EQ(p.bring_up(), "");
+  master::CoeClient coe(p.master, 0);
+  EXPECT_EQ(coe.upload(0x1018, 2).value_or(Bytes8{}), (Bytes8{0x34, 0x60, 0xF8, 0x07}));
+}
+
 }  // namespace
 }  // namespace ecat::test

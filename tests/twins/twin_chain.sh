@@ -56,7 +56,7 @@ junit_skipped() {
 }
 
 declare -A seen
-declare -a schema_files schema_dev
+declare -a schema_files=() schema_dev=()
 i=0
 while IFS=$'\t' read -r type pc rev _name; do
   i=$((i + 1))
