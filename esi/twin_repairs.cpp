@@ -381,8 +381,16 @@ class Repairer {
           const bool mapping_object = (pe.index >= kRxMappingFirst && pe.index <= kRxMappingLast) ||
                                       (pe.index >= kTxMappingFirst && pe.index <= kTxMappingLast);
           if (mapping_object) continue;
+          if (e && e->bit_length > pe.bit_length && !od::is_string(e->type)) {
+            // Alternative PDOs of two lengths (EJ2521: 1601h maps the UDINT
+            // 7000h:12 as 16 bits, 1602h as 32): the object has one size, the
+            // shorter PDO carries its low bits, as the device's process data does.
+            warn(*o, fmt::format("{:04X}h:{:02X} ({} bits) is mapped by PDO {:04X}h with {} bits; the PDO carries its low "
+                                 "{} bits",
+                                 pe.index, pe.subindex, e->bit_length, p.index, pe.bit_length, pe.bit_length));
+          }
           if (e) {
-            if (!(e->access.bits & map_bit) && e->bit_length == pe.bit_length) {
+            if (!(e->access.bits & map_bit) && e->bit_length >= pe.bit_length) {
               e->access.bits |= map_bit;
               warn(*o, fmt::format("{:04X}h:{:02X} is mapped by PDO {:04X}h but not marked {}-mappable; marked",
                                    pe.index, pe.subindex, p.index, rx ? "RxPDO" : "TxPDO"));
@@ -417,9 +425,19 @@ class Repairer {
       obj.type = od::DataType::Record;
     }
     std::string added;
-    for (const Missing& m : list) {
+    for (const Missing& first_seen : list) {
+      if (obj.find(first_seen.entry->subindex)) continue;  // two PDOs map the same entry (the longest made it)
+      // ER1258: 1D09h:B0 (ESC register 09B0h, the 64-bit Latch0 time) mapped
+      // as 32 bits by 1A11h and as 64 by 1A12h: the object takes the longest
+      // length, the shorter PDO carries its low bits.
+      const Missing* longest = &first_seen;
+      for (const Missing& other : list) {
+        if (other.entry->subindex == first_seen.entry->subindex && other.entry->bit_length > longest->entry->bit_length) {
+          longest = &other;
+        }
+      }
+      const Missing& m = *longest;
       const od::PdoEntry& pe = *m.entry;
-      if (obj.find(pe.subindex)) continue;  // two PDOs map the same entry
       auto type = type_for_bits(pe.type, pe.bit_length);
       if (!type) {
         ctx_.warn_at(element, m.pdo->source_line,

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "esi/device_loader.hpp"
+#include "esi/esi_writer_device_xml.hpp"
 #include "esi/twin_import.hpp"
 #include "inprocess_fixture.hpp"
 #include "master/coe_client.hpp"
@@ -135,6 +137,44 @@ TEST(TwinLimitsCx2040, OverlappingMailboxSmsAreCutToWhatFits) {
   ASSERT_EQ(p.bring_up(), "");
   master::CoeClient coe(p.master, 0);
   EXPECT_EQ(coe.upload(0x1018, 2).value_or(Bytes8{}), (Bytes8{0x34, 0x60, 0xF8, 0x07}));
+}
+
+// Beckhoff EJ2521-0224: 7000h:12 "Target counter value" is UDINT (line 5494);
+// the 16-bit alternative RxPdo 1601h maps it with 16 bits, 1602h with 32.
+// The twin keeps the object at 32 bits, the 16-bit PDO maps its low bits,
+// and the device XML says so (part="low"); the device XML loads again.
+// (EJ2521 is still a known limit: SafeOp is refused with 0x0025, not yet
+// understood.)
+TEST(TwinLimitsEj2521, AShorterAlternativePdoMapsTheObjectsLowBits) {
+  Twin t = import("beckhoff-ej2xxx.xml", 0x09D92852, 0x001000E0);
+  EXPECT_TRUE(has_warning(t, 7454, "7000h:12 (32 bits) is mapped by PDO 1601h with 16 bits; the PDO carries its low 16 bits"))
+      << all(t);
+  const od::Entry* e = t.device.dictionary.find(0x7000, 0x12);
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->bit_length, 32);
+  const od::Object* m = t.device.dictionary.find(0x1601);
+  ASSERT_NE(m, nullptr);
+  ASSERT_NE(m->find(1), nullptr);
+  EXPECT_EQ(m->find(1)->default_value, (Bytes8{0x10, 0x12, 0x00, 0x70}));  // 7000h:12, 16 bits
+  const std::string xml = esi::write_device_xml(t.device);
+  EXPECT_NE(xml.find(R"(<Entry index="#x7000" sub="18" bits="16" part="low" name="Target counter value" />)"),
+            std::string::npos);
+  EXPECT_TRUE(esi::load_device_string(xml, "ej2521.xml"));
+}
+
+// A device file that says part="low" where the entry is as long as its
+// object is refused at the entry's line.
+TEST(TwinLimitsEj2521, PartLowNeedsFewerBitsThanTheObject) {
+  Twin t = import("beckhoff-ej2xxx.xml", 0x09D92852, 0x001000E0);
+  std::string xml = esi::write_device_xml(t.device);
+  const std::string from = R"(<Entry index="#x7000" sub="17" bits="16" name=)";
+  const auto at = xml.find(from);
+  ASSERT_NE(at, std::string::npos);
+  xml.replace(at, from.size(), R"(<Entry index="#x7000" sub="17" bits="16" part="low" name=)");
+  auto d = esi::load_device_string(xml, "ej2521.xml");
+  ASSERT_FALSE(d);
+  EXPECT_NE(d.error().to_string().find("part=\"low\" needs fewer bits (16) than the integer object's 16"), std::string::npos)
+      << d.error().to_string();
 }
 
 }  // namespace
