@@ -142,9 +142,8 @@ TEST(TwinLimitsCx2040, OverlappingMailboxSmsAreCutToWhatFits) {
 // Beckhoff EJ2521-0224: 7000h:12 "Target counter value" is UDINT (line 5494);
 // the 16-bit alternative RxPdo 1601h maps it with 16 bits, 1602h with 32.
 // The twin keeps the object at 32 bits, the 16-bit PDO maps its low bits,
-// and the device XML says so (part="low"); the device XML loads again.
-// (EJ2521 is still a known limit: SafeOp is refused with 0x0025, not yet
-// understood.)
+// and the device XML says so (part="low"); the device XML loads again, and
+// the firmware's SafeOp check accepts the fixed mapping (it refused 0x0025).
 TEST(TwinLimitsEj2521, AShorterAlternativePdoMapsTheObjectsLowBits) {
   Twin t = import("beckhoff-ej2xxx.xml", 0x09D92852, 0x001000E0);
   EXPECT_TRUE(has_warning(t, 7454, "7000h:12 (32 bits) is mapped by PDO 1601h with 16 bits; the PDO carries its low 16 bits"))
@@ -160,6 +159,12 @@ TEST(TwinLimitsEj2521, AShorterAlternativePdoMapsTheObjectsLowBits) {
   EXPECT_NE(xml.find(R"(<Entry index="#x7000" sub="18" bits="16" part="low" name="Target counter value" />)"),
             std::string::npos);
   EXPECT_TRUE(esi::load_device_string(xml, "ej2521.xml"));
+  InProcess p;
+  p.add(t.device);
+  ASSERT_EQ(p.bring_up(), "");
+  auto r = p.cycle_once(std::chrono::milliseconds(1));
+  ASSERT_TRUE(r);
+  EXPECT_TRUE(r->ok());
 }
 
 // A device file that says part="low" where the entry is as long as its
