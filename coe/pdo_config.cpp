@@ -85,14 +85,15 @@ std::uint32_t PdoConfig::max_bytes(PdoDirection d) const noexcept {
   return n;
 }
 
-Expected<void, SdoAbort> PdoConfig::check_entry(PdoDirection d, std::uint32_t value) const noexcept {
+Expected<void, SdoAbort> PdoConfig::check_entry(PdoDirection d, std::uint32_t value, bool fixed) const noexcept {
   const PdoMappingEntry m = PdoMappingEntry::decode(value);
   if (m.is_gap()) return {};
   const ObjectStore::Slot* s = store_.slot(m.index, m.subindex);
   if (!s) return fail(SdoAbort::NotMappable);
   const od::Access a = s->entry->access;
   if (!(d == PdoDirection::Rx ? a.rx_mappable() : a.tx_mappable())) return fail(SdoAbort::NotMappable);
-  if (s->entry->bit_length != m.bit_length) return fail(SdoAbort::NotMappable);
+  const bool low_part = fixed && m.bit_length < s->entry->bit_length && !od::is_string(s->entry->type);
+  if (s->entry->bit_length != m.bit_length && !low_part) return fail(SdoAbort::NotMappable);
   return {};
 }
 
@@ -103,7 +104,7 @@ Expected<std::uint32_t, SdoAbort> PdoConfig::mapping_bits(PdoDirection d, std::u
     const ObjectStore::Slot* s = store_.slot(index, k);
     if (!s) return fail(SdoAbort::ValueTooHigh);
     const std::uint32_t v = (k == sub) ? value : store_.get<std::uint32_t>(*s);
-    if (auto ok = check_entry(d, v); !ok) return fail(ok.error());
+    if (auto ok = check_entry(d, v, k != sub && !s->entry->access.writable()); !ok) return fail(ok.error());
     bits += PdoMappingEntry::decode(v).bit_length;
   }
   return bits;

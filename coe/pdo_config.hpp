@@ -69,7 +69,10 @@ class PdoConfig final : public ObjectHooks {
   std::uint32_t max_bytes(PdoDirection d) const noexcept;
 
  private:
-  Expected<void, SdoAbort> check_entry(PdoDirection d, std::uint32_t value) const noexcept;
+  // `fixed`: an entry of a read-only mapping (the device's own fixed PDO),
+  // which may map the low bits of a longer object (docs/twins.md,
+  // alternative PDOs of two lengths); an entry a master writes must match.
+  Expected<void, SdoAbort> check_entry(PdoDirection d, std::uint32_t value, bool fixed = false) const noexcept;
   // Bits of a mapping object with `count` entries, one entry replaced if `sub` != 0.
   Expected<std::uint32_t, SdoAbort> mapping_bits(PdoDirection d, std::uint16_t index, std::uint8_t count,
                                                  std::uint8_t sub = 0, std::uint32_t value = 0) const noexcept;

@@ -156,6 +156,17 @@ void SyncController::on_state_changed(AlState from, AlState to, AlStatusCode cod
     syncs_in_safeop_ = 0;
     last_sync_.reset();
     timeout_reported_ = false;
+    // A SYNC0/SYNC1 pulse latched before (0x098E/0x098F and the AL event bit
+    // stay set until the PDI reads the status, ESC Section II 0x098E; the
+    // firmware does not look in Init/PreOp) is from an earlier run of the
+    // SYNC unit (a master that left the unit running from Op to Init), not
+    // of the one just programmed: taken as a live pulse it starts the SYNC
+    // timeout long before the new start time and drops the slave with
+    // 0x0034. The firmware clears it as it starts the cycle, including from
+    // the AL event snapshot of the poll that made this transition.
+    (void)pdi_.read_u8(dc_register(esc::dcreg::kSync0Status));
+    (void)pdi_.read_u8(dc_register(esc::dcreg::kSync1Status));
+    discard_sync_events_ = true;  // and in the snapshot the current poll already took
   }
   if (to == AlState::Op) {
     error_counter_ = 0;
@@ -182,6 +193,13 @@ std::uint32_t SyncController::al_event_mask() const noexcept {
 
 SyncPoll SyncController::poll(Nanoseconds now, std::uint32_t al_events) noexcept {
   events_ = al_events;
+  if (discard_sync_events_) {
+    // The snapshot may predate the acknowledge at PreOp->SafeOp: its SYNC
+    // bits are taken from the register as it is now.
+    constexpr std::uint32_t kSyncEvents = esc::dcreg::kAlEventSync0 | esc::dcreg::kAlEventSync1;
+    events_ = (events_ & ~kSyncEvents) | (pdi_.read_u32(esc::reg::kAlEventRequest) & kSyncEvents);
+    discard_sync_events_ = false;
+  }
   last_now_ = now;
   if (!at_least_safeop(state_)) return poll_free_run(now);
   switch (trigger_mode()) {
@@ -277,7 +295,7 @@ SyncPoll SyncController::poll_dc(Nanoseconds now) noexcept {
     const Nanoseconds deadline = *last_sync_ + Nanoseconds{std::int64_t{sync0_cycle_} * kSyncTimeoutCycles};
     if (now >= deadline && !timeout_reported_ && esm_ != nullptr) {
       timeout_reported_ = true;
-      const bool unit_on = (pdi_.read_u8(dc_register(esc::dcreg::kActivation)) & esc::dcreg::kActivateSyncUnit) != 0;
+          const bool unit_on = (pdi_.read_u8(dc_register(esc::dcreg::kActivation)) & esc::dcreg::kActivateSyncUnit) != 0;
       const AlStatusCode code =
           unit_on || state_ != AlState::Op ? AlStatusCode::DcSyncTimeoutError : AlStatusCode::FatalSyncError;
       esm_->raise_error(code, AlState::SafeOp);

@@ -127,6 +127,9 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   std::uint16_t too_short_ = 0;
   bool sync_error_ = false;
   bool timeout_reported_ = false;
+  // Set at PreOp->SafeOp: the SYNC bits of the AL event snapshot the firmware
+  // took before the transition may be stale pulses; the next poll re-reads them.
+  bool discard_sync_events_ = false;
   Nanoseconds last_now_{0};
   std::uint32_t events_ = 0;  // AL event request of the current poll
   const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()

@@ -53,7 +53,17 @@ od::PdoEntry build_pdo_entry(const PdoSpec& pdo, const ElementSpec& e, const od:
     fail_at(e.where, fmt::format("{}: {} is not {}-mappable", what, entry_name(out.index, out.subindex),
                                  pdo.rx ? "RxPDO" : "TxPDO"));
   }
-  if (out.bit_length != entry->bit_length) {
+  // part="low": the entry maps the low bits of a longer integer object (an
+  // alternative PDO of a shorter length, Beckhoff EJ2521's 16-bit PDO of the
+  // 32-bit 7000h:12; docs/twins.md). Little-endian, so the first bytes.
+  const std::string part = attr_text(e, "part");
+  if (!part.empty() && part != "low") fail_at(where_of(e, "part"), fmt::format("{}: part '{}' is not 'low'", what, part));
+  const bool low_part = part == "low" && out.bit_length < entry->bit_length && !od::is_string(entry->type);
+  if (part == "low" && !low_part) {
+    fail_at(where_of(e, "part"), fmt::format("{}: part=\"low\" needs fewer bits ({}) than the integer object's {}", what,
+                                             out.bit_length, entry->bit_length));
+  }
+  if (out.bit_length != entry->bit_length && !low_part) {
     fail_at(where_of(e, "bits"), fmt::format("{}: bits {} differ from the object's size ({} bits)", what,
                                              out.bit_length, entry->bit_length));
   }

@@ -100,6 +100,12 @@ Expected<void, LoadError> read_esi_modules(const pugi::xml_node& info, const pug
 
 void repair_for_twin(const pugi::xml_node& device, const EsiContext& ctx, od::DeviceDescription& d);
 
+// 16xxh/1Axxh subindices 1..n typed other than UNSIGNED32 (the mapped
+// object's type, as Elmo Gold's file has them) become UNSIGNED32, one warning
+// per object (twin_mapping_entries.cpp). Run before the mapping defaults are
+// compared with the PDOs.
+void repair_mapping_entry_types(const EsiContext& ctx, od::DeviceDescription& d);
+
 // Reads Profile/Dictionary into the device (DataTypes resolved, Objects with
 // Info and Flags); objects the model cannot hold are skipped with a warning.
 void read_esi_dictionary(const pugi::xml_node& dictionary, const EsiContext& ctx,

@@ -173,6 +173,7 @@ class DictionaryReader {
       return position < infos.size() ? infos[position] : pugi::xml_node{};
     };
     bool array = false;
+    bool si0_given = true;  // only a subindex 0 read without a default is repaired
     int next_sub = 0;
     for (auto si : dt.children("SubItem")) {
       const std::string stype = si.child_value("Type");
@@ -219,13 +220,41 @@ class DictionaryReader {
         return false;
       }
       od::Entry e = make_entry(static_cast<std::uint8_t>(*sub), si.child_value("Name"), *b, access, si);
-      set_values(e, info_named(e.name, o.entries.size()).child("Info"));
+      const pugi::xml_node info = info_named(e.name, o.entries.size()).child("Info");
+      if (e.subindex == 0) si0_given = has_default(info);
+      set_values(e, info);
       o.entries.push_back(std::move(e));
       next_sub = static_cast<int>(*sub) + 1;
     }
     o.code = array ? od::ObjectCode::Array : od::ObjectCode::Record;
     o.type = array && o.entries.size() > 1 ? o.entries[1].type : record_type(o.index);
+    if (!si0_given) default_highest_subindex(o, obj);
     return true;
+  }
+
+  static bool has_default(const pugi::xml_node& info) {
+    return info.child("DefaultData") || info.child("DefaultValue") || info.child("DefaultString");
+  }
+
+  // Subindex 0 of a RECORD or ARRAY without a default in the file (Elmo
+  // Gold's 1018h, 60FEh): a device answers its highest subindex there
+  // (CiA 301 §7.4.3.1, "highest sub-index supported"; ETG.1000.6 §5.6.3.5),
+  // so the twin's reads that, with a warning. Not for the objects whose
+  // subindex 0 counts what is configured (16xxh/1Axxh mapped objects,
+  // 1C10h-1C2Fh assigned PDOs): an empty mapping or assignment is 0, and
+  // the twin repairs decide those from the SII's PDOs.
+  void default_highest_subindex(od::Object& o, const pugi::xml_node& obj) const {
+    constexpr std::uint16_t kRxMapFirst = 0x1600, kRxMapLast = 0x17FF, kTxMapFirst = 0x1A00, kTxMapLast = 0x1BFF;
+    constexpr std::uint16_t kAssignFirst = 0x1C10, kAssignLast = 0x1C2F;
+    const bool counts = (o.index >= kRxMapFirst && o.index <= kRxMapLast) ||
+                        (o.index >= kTxMapFirst && o.index <= kTxMapLast) ||
+                        (o.index >= kAssignFirst && o.index <= kAssignLast);
+    od::Entry* si0 = o.find(0);
+    const std::uint8_t highest = o.max_subindex();
+    if (counts || !si0 || highest == 0 || od::is_string(si0->type)) return;
+    si0->default_value = le_bytes(highest, (si0->bit_length + kBitsPerByte - 1u) / kBitsPerByte);
+    ctx_.warn(obj, fmt::format("{:04X}h:00 has no default; the twin's reads {}, the highest subindex (CiA 301)",
+                               o.index, highest));
   }
 
   // One value from Info: hexBinary Data, HexDecValue Value, or (default) a string.

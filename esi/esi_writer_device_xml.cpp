@@ -172,7 +172,10 @@ void append_object(pugi::xml_node objects, const od::Object& o) {
   }
 }
 
-void append_pdo(pugi::xml_node root, const char* element, const od::Pdo& p) {
+// `dict`: the dictionary the entries map into (nullptr: a module's, not
+// checked); an entry shorter than its object maps the object's low bits
+// (docs/twins.md, alternative PDOs of two lengths) and says so: part="low".
+void append_pdo(pugi::xml_node root, const char* element, const od::Pdo& p, const od::Dictionary* dict = nullptr) {
   auto n = root.append_child(element);
   attr(n, "index", hex(p.index, 4));
   attr(n, "name", p.name);
@@ -187,6 +190,8 @@ void append_pdo(pugi::xml_node root, const char* element, const od::Pdo& p) {
     attr(en, "index", hex(e.index, 4));
     attr(en, "sub", std::to_string(e.subindex));
     attr(en, "bits", std::to_string(e.bit_length));
+    const od::Entry* oe = dict && e.index != 0 ? dict->find(e.index, e.subindex) : nullptr;
+    if (oe && e.bit_length < oe->bit_length) attr(en, "part", "low");
     if (e.index != 0) attr_if(en, "name", e.name);
   }
 }
@@ -378,7 +383,7 @@ std::string write_device_xml(const od::DeviceDescription& d) {
   }
   for (const auto* list : {&d.rx_pdos, &d.tx_pdos}) {
     for (const auto& p : *list) {
-      if (!m || !m->placed_pdo(p.index)) append_pdo(root, p.is_rx() ? "RxPdo" : "TxPdo", p);
+      if (!m || !m->placed_pdo(p.index)) append_pdo(root, p.is_rx() ? "RxPdo" : "TxPdo", p, &d.dictionary);
     }
   }
   if (d.drive) append_drive(root, *d.drive);

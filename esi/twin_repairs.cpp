@@ -8,6 +8,7 @@
 // RXPDO categories) and 16xxh/1Axxh (PDO mapping). Each repair is one warning
 // naming the object and its line; nothing is changed silently.
 #include <algorithm>
+#include <cctype>
 #include <map>
 
 #include <fmt/format.h>
@@ -78,13 +79,16 @@ class Repairer {
       : ctx_(ctx), d_(d), device_(device), device_line_(ctx.line(device)) {}
 
   void run() {
+    repair_sm_direction();
     renumber_out_of_range_pdos();
     repair_process_sm_sizes();
+    repair_mailbox_sm_sizes();
     adopt_dictionary_assignment();
     create_missing_pdo_objects();
     repair_identity();
     repair_sm_types();
     repair_assignments();
+    repair_mapping_entry_types(ctx_, d_);
     repair_mappings();
     warn_pdi_type_with_mailbox();
     repair_eeprom_size();
@@ -242,6 +246,69 @@ class Repairer {
     }
   }
 
+  // A process-data SM whose text says one direction while its ControlByte
+  // and the PDOs assigned to it say the other (SMC EX250-SEN1: SM1
+  // "Outputs", ControlByte 00h, TxPdo 1A00h Sm="1"). The master writes the
+  // SII's control byte into the ESC (0x0804 bits 3:2: 00 = ECAT reads, 01 =
+  // ECAT writes), so the SM's direction in the device is the control byte's,
+  // and the PDO category puts the inputs there: the twin's SM is of that
+  // direction. A contradiction the PDOs do not settle is left to the loader.
+  void repair_sm_direction() {
+    constexpr std::uint8_t kModeMask = 0x03, kModeBuffered = 0x00, kDirectionMask = 0x0C, kDirectionWrite = 0x04;
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      auto& sm = d_.sync_managers[i];
+      if (sm.type != od::SmType::Outputs && sm.type != od::SmType::Inputs) continue;
+      if ((sm.control & kModeMask) != kModeBuffered) continue;
+      const bool control_writes = (sm.control & kDirectionMask) == kDirectionWrite;
+      const bool text_writes = sm.type == od::SmType::Outputs;
+      if (control_writes == text_writes) continue;
+      auto on_sm = [&](const std::vector<od::Pdo>& list) {
+        return std::any_of(list.begin(), list.end(), [&](const od::Pdo& p) { return p.sm && *p.sm == i; });
+      };
+      const bool control_pdos = on_sm(control_writes ? d_.rx_pdos : d_.tx_pdos);
+      const bool text_pdos = on_sm(text_writes ? d_.rx_pdos : d_.tx_pdos);
+      if (!control_pdos || text_pdos) continue;
+      const od::SmType taken = control_writes ? od::SmType::Outputs : od::SmType::Inputs;
+      ctx_.warn_at("Sm", sm_line(i),
+                   fmt::format("SM{} is called {} but its ControlByte #x{:02X} makes it {} and the {} assigned to it "
+                               "say so; taken as {}",
+                               i, text_writes ? "Outputs" : "Inputs", sm.control,
+                               control_writes ? "written by the master" : "read by the master",
+                               control_writes ? "RxPdos" : "TxPdos", control_writes ? "Outputs" : "Inputs"));
+      sm.type = taken;
+    }
+  }
+
+  // A mailbox SM whose DefaultSize (what a master configures, SII words
+  // 18h-1Bh) reaches the next SM's start (Beckhoff CX2040 revision
+  // 0x00111B82: SM0 1000h and SM1 1200h, 1024 bytes each, SM3 at 1400h; the
+  // other revisions of the device give 512): the ESC areas would overlap, a
+  // master's mailbox write to SM0 would run into SM1. The twin's mailbox is
+  // what fits before the next SM (MaxSize likewise), as the 3-buffer repair
+  // above does for process data.
+  void repair_mailbox_sm_sizes() {
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      auto& sm = d_.sync_managers[i];
+      if (sm.type != od::SmType::MailboxOut && sm.type != od::SmType::MailboxIn) continue;
+      const std::uint32_t size = sm.default_size ? sm.default_size : sm.max_size;
+      std::uint32_t next = 0;
+      for (const auto& o : d_.sync_managers) {
+        if (o.type != od::SmType::Unused && o.start_address > sm.start_address && (next == 0 || o.start_address < next)) {
+          next = o.start_address;
+        }
+      }
+      if (size == 0 || next == 0 || sm.start_address + size <= next) continue;
+      const auto fits = static_cast<std::uint16_t>(next - sm.start_address);
+      ctx_.warn_at("Sm", sm_line(i), fmt::format("SM{} ({}) of {} bytes from {:04X}h reaches the next SM at {:04X}h; the "
+                                                 "twin's mailbox is {} bytes",
+                                                 i, sm.type == od::SmType::MailboxOut ? "MBoxOut" : "MBoxIn", size,
+                                                 sm.start_address, next, fits));
+      if (sm.default_size > fits) sm.default_size = fits;
+      if (sm.max_size > fits) sm.max_size = fits;
+      if (sm.min_size > fits) sm.min_size = fits;
+    }
+  }
+
   int sm_line(std::size_t n) const {
     std::size_t k = 0;
     for (auto s : device_.children("Sm")) {
@@ -319,8 +386,16 @@ class Repairer {
           const bool mapping_object = (pe.index >= kRxMappingFirst && pe.index <= kRxMappingLast) ||
                                       (pe.index >= kTxMappingFirst && pe.index <= kTxMappingLast);
           if (mapping_object) continue;
+          if (e && e->bit_length > pe.bit_length && !od::is_string(e->type)) {
+            // Alternative PDOs of two lengths (EJ2521: 1601h maps the UDINT
+            // 7000h:12 as 16 bits, 1602h as 32): the object has one size, the
+            // shorter PDO carries its low bits, as the device's process data does.
+            warn(*o, fmt::format("{:04X}h:{:02X} ({} bits) is mapped by PDO {:04X}h with {} bits; the PDO carries its low "
+                                 "{} bits",
+                                 pe.index, pe.subindex, e->bit_length, p.index, pe.bit_length, pe.bit_length));
+          }
           if (e) {
-            if (!(e->access.bits & map_bit) && e->bit_length == pe.bit_length) {
+            if (!(e->access.bits & map_bit) && e->bit_length >= pe.bit_length) {
               e->access.bits |= map_bit;
               warn(*o, fmt::format("{:04X}h:{:02X} is mapped by PDO {:04X}h but not marked {}-mappable; marked",
                                    pe.index, pe.subindex, p.index, rx ? "RxPDO" : "TxPDO"));
@@ -355,9 +430,19 @@ class Repairer {
       obj.type = od::DataType::Record;
     }
     std::string added;
-    for (const Missing& m : list) {
+    for (const Missing& first_seen : list) {
+      if (obj.find(first_seen.entry->subindex)) continue;  // two PDOs map the same entry (the longest made it)
+      // ER1258: 1D09h:B0 (ESC register 09B0h, the 64-bit Latch0 time) mapped
+      // as 32 bits by 1A11h and as 64 by 1A12h: the object takes the longest
+      // length, the shorter PDO carries its low bits.
+      const Missing* longest = &first_seen;
+      for (const Missing& other : list) {
+        if (other.entry->subindex == first_seen.entry->subindex && other.entry->bit_length > longest->entry->bit_length) {
+          longest = &other;
+        }
+      }
+      const Missing& m = *longest;
       const od::PdoEntry& pe = *m.entry;
-      if (obj.find(pe.subindex)) continue;  // two PDOs map the same entry
       auto type = type_for_bits(pe.type, pe.bit_length);
       if (!type) {
         ctx_.warn_at(element, m.pdo->source_line,
@@ -429,6 +514,19 @@ class Repairer {
       warn(*o, fmt::format("1018h:00 default {} is below the identity entries 1018h:01-{:02X} the object defines; "
                            "SI0 is {}", hex_value(si0->default_value), highest, highest));
       si0->default_value = le_of(highest, si0->default_value.size());
+    }
+    // 1018h:00 naming more entries than the file gives (Inovance IS620N:
+    // DefaultData 04, SubItems 0-3): the device answers SI0 = 4, so a master
+    // reads 1018h:04, which is the SII's serial number (ETG.1000.6 §5.4).
+    const std::uint64_t count = si0 ? value_of(si0->default_value) : 0;
+    for (std::uint8_t sub = 1; sub <= kIdentityEntries && sub <= count; ++sub) {
+      if (o->find(sub) || o->entries.size() < 2) continue;
+      if (!set_sub(*o, sub, want[sub - 1], kIdentityBits / kBitsPerByte, od::DataType::Unsigned32)) continue;
+      o->find(sub)->name = what[sub - 1];
+      o->find(sub)->name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(o->find(sub)->name[0])));
+      warn(*o, fmt::format("1018h:00 default {} names subindex {:02X}, which the file does not give; the twin's is the "
+                           "SII {} #x{:08X}",
+                           count, sub, what[sub - 1], want[sub - 1]));
     }
   }
 

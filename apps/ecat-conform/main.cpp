@@ -18,6 +18,8 @@ namespace {
 
 constexpr int kExitFailures = 1;
 constexpr int kExitUsage = 2;
+// The master cycle a DC-only device's SYNC0 is derived from (ecat-master's default period).
+constexpr std::uint32_t kMasterCycleNs = 1'000'000;
 
 }  // namespace
 
@@ -28,6 +30,7 @@ int main(int argc, char** argv) {
   std::string device, iface, udp, junit, filter, pcap, pdi_name;
   std::size_t slave = 0;
   bool list = false;
+  bool free_run = false;
   auto* g = app.add_option_group("target", "what to test (exactly one)");
   auto* device_option = g->add_option("--device", device, "device file: test a virtual slave in-process");
   g->add_option("--iface", iface, "network interface: test the slave(s) on this link (needs CAP_NET_RAW)");
@@ -40,6 +43,8 @@ int main(int argc, char** argv) {
   app.add_option("--filter", filter, "run only tests whose name contains PATTERN (or matches a * ? glob)");
   app.add_option("--slave", slave, "position of the slave to test (default 0)");
   app.add_option("--pcap", pcap, "record every frame to this pcap file");
+  app.add_flag("--free-run", free_run,
+               "with --device: run a device whose ESI offers only DC OpModes in free run anyway (default: DC Sync0)");
   app.add_flag("--list", list, "list the tests and the clauses they check, then exit");
   CLI11_PARSE(app, argc, argv);
 
@@ -102,7 +107,11 @@ int main(int argc, char** argv) {
     options.wait = [&t](Nanoseconds d) { t.wait(d); };
     fmt::print("ecat-conform: {}\n", t.description());
     std::vector<master::conformance::Case> extra;
-    if (const od::DeviceDescription* d = t.device()) extra = conform::device_file_cases(*d);
+    if (const od::DeviceDescription* d = t.device()) {
+      extra = conform::device_file_cases(*d);
+      if (!free_run) options.dc = conform::dc_only_mode(*d, kMasterCycleNs);
+      if (options.dc) fmt::print("ecat-conform: DC Sync0 mode: {}\n", options.dc->why);
+    }
     const auto reports = master::conformance::run_suite(m, options, extra);
     fmt::print("{}", master::conformance::format_table(reports));
     if (!junit.empty()) {

@@ -45,4 +45,9 @@ Expected<std::unique_ptr<Target>, std::string> make_udp_target(const std::string
 // what the slave reports over the bus: SII and object dictionary.
 std::vector<master::conformance::Case> device_file_cases(const od::DeviceDescription& device);
 
+// DC Sync0 settings when the device's ESI offers only DC OpModes (dc_mode.cpp),
+// for a master cycle of `master_cycle_ns`; nullopt: the suite runs free run.
+std::optional<master::conformance::DcSync0> dc_only_mode(const od::DeviceDescription& device,
+                                                         std::uint32_t master_cycle_ns);
+
 }  // namespace ecat::conform

@@ -68,6 +68,7 @@ std::string transition(Context& ctx, AlState from, AlState to, std::string& setu
     }
   }
   ctx.cycle();
+  if (from == AlState::SafeOp && to == AlState::Op) ctx.run_until_sync0();
   auto st = ctx.master().request_state(ctx.slave(), to);
   if (!st) return std::string(describe(st.error()));
   return format_status(*st);

@@ -40,6 +40,9 @@ std::string format_status(const AlStatus& s) {
 namespace {
 constexpr unsigned kPrepareCycles = 3;
 constexpr unsigned kOpCycles = 5;
+// DC set-up as ecat-master --dc does it (apps/ecat-master/session.cpp).
+constexpr unsigned kDcDriftIterations = 1000;
+constexpr Nanoseconds kSync0StartDelay = std::chrono::milliseconds(20);
 
 std::string describe_error(MasterError e) { return std::string(describe(e)); }
 
@@ -63,6 +66,31 @@ Expected<void, std::string> Context::prepare_process_data() {
   }
   if (!sized) master_.size_process_data_from_sii(slave());
   if (auto r = master_.configure_process_data(); !r) return fail("process data set-up: " + describe_error(r.error()));
+  return program_sync0();
+}
+
+void Context::run_until_sync0() {
+  if (!options_.dc) return;
+  const Nanoseconds period{options_.dc->cycle_ns};
+  const auto periods = static_cast<unsigned>(kSync0StartDelay / period) + kOpCycles;
+  for (unsigned i = 0; i < periods; ++i) {
+    wait(period);
+    cycle();
+  }
+}
+
+Expected<void, std::string> Context::program_sync0() {
+  if (!options_.dc) return {};
+  if (!dc_configured_) {
+    if (auto r = master_.configure_dc(master_.clock().now()); !r) return fail("DC set-up: " + describe_error(r.error()));
+    if (auto r = master_.dc_static_drift_compensation(kDcDriftIterations); !r) {
+      return fail("DC drift compensation: " + describe_error(r.error()));
+    }
+    dc_configured_ = true;
+  }
+  if (auto r = master_.configure_sync0(slave(), options_.dc->cycle_ns, options_.dc->shift_ns, kSync0StartDelay); !r) {
+    return fail("SYNC0 set-up: " + describe_error(r.error()));
+  }
   return {};
 }
 
@@ -110,6 +138,7 @@ Expected<void, std::string> Context::go_to(AlState target) {
   }
   // Valid outputs before Op (esm-al-codes.md §3 SafeOp->Op).
   for (unsigned i = 0; i < kOpCycles; ++i) cycle();
+  run_until_sync0();
   if (auto r = master_.write_al_control(slave(), static_cast<std::uint16_t>(AlState::Op)); !r || r->error() ||
       !r->is(AlState::Op)) {
     return fail(std::string("request Op -> ") + (r ? format_status(*r) : describe_error(r.error())));

@@ -38,6 +38,18 @@ struct ExpectedIdentity {
   std::uint32_t revision = 0;
 };
 
+// DC Sync0 mode for a device whose ESI offers no OpMode without DC (Dc/OpMode
+// all with an AssignActivate that starts the SYNC unit, Inovance IS620N): a
+// configurator can only run it in DC, so the suite programs the DC clocks
+// once and SYNC0 before every PreOp->SafeOp (ETG.1020 §22.2; SOEM ecx_dcsync0),
+// as a master that follows the ESI must. Without it such a device refuses
+// SafeOp (0x0027/0x0028) and every case past PreOp fails for that reason.
+struct DcSync0 {
+  std::uint32_t cycle_ns = 0;
+  std::uint32_t shift_ns = 0;
+  std::string why;  // printed by the front end and kept in the report
+};
+
 struct SuiteOptions {
   std::string filter;  // substring or glob ('*', '?') on the case name; empty = all
   std::optional<ExpectedIdentity> identity;
@@ -47,6 +59,8 @@ struct SuiteOptions {
   std::function<void(Nanoseconds)> wait;
   // Max objects walked by the SDO-info/upload consistency case (0 = all).
   std::size_t max_objects = 0;
+  // Run the cases in DC Sync0 mode (see DcSync0); empty = free run.
+  std::optional<DcSync0> dc;
 };
 
 class Context {
@@ -68,10 +82,18 @@ class Context {
   Expected<void, std::string> prepare_process_data();
   // One cyclic exchange if process data is configured.
   void cycle();
+  // With options().dc: the DC clocks (once) and SYNC0 of the slave, before
+  // PreOp->SafeOp; nothing otherwise.
+  Expected<void, std::string> program_sync0();
+  // With options().dc, before SafeOp->Op: cycles one SYNC0 period apart until
+  // SYNC0 has started and outputs came with it (a DC slave refuses Op with
+  // 0x002D while no SYNC0 arrives); nothing otherwise.
+  void run_until_sync0();
 
  private:
   Master& master_;
   const SuiteOptions& options_;
+  bool dc_configured_ = false;
 };
 
 struct Case {

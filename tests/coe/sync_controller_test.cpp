@@ -172,6 +172,26 @@ TEST_F(SyncTest, SyncTimeoutInOp0x0034) {
   EXPECT_EQ(code(), 0x0034);
 }
 
+// A SYNC0 pulse latched while the slave was in PreOp (a master that left the
+// SYNC unit running from an earlier Op down to Init, then programmed a new
+// start 20 ms ahead) is no pulse of the new run: it neither counts towards Op
+// nor starts the SYNC timeout, which would drop SafeOp with 0x0034 long
+// before the first real pulse.
+TEST_F(SyncTest, PulseLatchedBeforeSafeOpIsNotASyncEvent) {
+  go_preop();
+  ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 2, 2).has_value());
+  pdi.raise_event(esc::dcreg::kAlEventSync0);  // the old run's last pulse, unread
+  dc_registers(0x03, 1'000'000);
+  request(0x0004);
+  ASSERT_EQ(status(), 0x0004);
+  EXPECT_EQ(pdi.events() & esc::dcreg::kAlEventSync0, 0u);  // acknowledged via 0x098E at PreOp->SafeOp
+  EXPECT_FALSE(sync.poll(t += kCycle).run);
+  sync.poll(t += 5 * kCycle);
+  EXPECT_EQ(status(), 0x0004);  // no SYNC timeout: SYNC has not started
+  EXPECT_EQ(code(), 0x0000);
+  EXPECT_TRUE(sync0(t += kCycle).run);  // the first real pulse counts
+}
+
 TEST_F(SyncTest, SyncUnitSwitchedOffInOp0x002C) {
   go_dc_op();
   new_outputs();

@@ -5,6 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "esi/esi_writer_device_xml.hpp"
+#include "esi/twin_import.hpp"
 #include "in_process_bus.hpp"
 #include "master_fixture.hpp"
 
@@ -58,6 +65,45 @@ TEST(ConformanceSuite, OneByteOutputsDevicePassesWatchdogExpiry) {
     }
   }
   EXPECT_TRUE(seen);
+}
+
+// Inovance IS620N (tests/data/esi-vendor/inovance-is620n.xml): its ESI offers
+// one OpMode, "DC" (AssignActivate 0x0300), and 1C32h:01 reads 0x0200 (no
+// sync mode; the file's DefaultData "0002"), so the drive refuses SafeOp
+// without SYNC0 (0x0028). In DC Sync0 mode - SYNC0 programmed before every
+// PreOp->SafeOp, as a master following the ESI does - every case passes,
+// config.watchdog_expiry seeing the SYNC supervision's 0x001A first.
+TEST(ConformanceSuite, DcOnlyDeviceRunsInDcSync0Mode) {
+  auto twin = esi::import_twin(std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-vendor/inovance-is620n.xml", {});
+  ASSERT_TRUE(twin) << twin.error().to_string();
+  const std::string file = ::testing::TempDir() + "is620n-" + std::to_string(::getpid()) + ".device.xml";
+  std::ofstream(file) << esi::write_device_xml(*twin);
+  for (bool dc : {false, true}) {
+    InProcessBus bus;
+    ASSERT_TRUE(bus.add(file));
+    Master master(bus.transport, bus.clock);
+    conformance::SuiteOptions options;
+    options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
+    options.filter = dc ? "" : "esm.preop_to_safeop";
+    if (dc) options.dc = conformance::DcSync0{1'000'000, 0, "the ESI offers only DC OpModes"};
+    const auto reports = conformance::run_suite(master, options);
+    ASSERT_FALSE(reports.empty());
+    if (!dc) {
+      ASSERT_EQ(reports.size(), 1u);
+      EXPECT_EQ(reports[0].result.seen, "PreOp+E 0x0028");
+      continue;
+    }
+    expect_no_fail(reports);
+    for (const auto& r : reports) {
+      if (r.name == "config.watchdog_expiry") {
+        EXPECT_EQ(r.result.seen, "SafeOp+E 0x001A");
+      }
+      if (r.name == "esm.safeop_to_op") {
+        EXPECT_EQ(r.result.seen, "Op");
+      }
+    }
+  }
+  std::remove(file.c_str());
 }
 
 // Issue 18: the same suite with the firmware reaching the ESC over SPI
