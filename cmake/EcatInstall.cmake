@@ -105,7 +105,8 @@ ecat_install_library(esc esc HEADERS
   # internal, included by the public ones
   esc/access_side.hpp esc/esm_deferral.hpp esc/esm_transition.hpp esc/fmmu.hpp
   esc/register_bits.hpp esc/sync_manager.hpp esc/watchdog.hpp esc/dc/dc_unit.hpp
-  esc/dc/latch_unit.hpp esc/dc/local_clock.hpp esc/dc/sync_unit.hpp esc/dc/time_loop.hpp)
+  esc/dc/latch_unit.hpp esc/dc/local_clock.hpp esc/dc/sync_unit.hpp esc/dc/time_loop.hpp
+  esc/pass_hook.hpp esc/skip_index.hpp)
 ecat_install_library(coe coe HEADERS
   # public
   coe/coe_server.hpp coe/object_store.hpp coe/sdo_server.hpp coe/sdo_info.hpp
@@ -141,6 +142,7 @@ ecat_install_library(master master HEADERS
   master/master.hpp master/coe_client.hpp master/master_error.hpp master/sdo_abort.hpp
   master/sii.hpp master/slave_info.hpp master/mailbox.hpp master/datagram_link.hpp
   master/topology.hpp master/dc_delay.hpp master/redundant_transport.hpp master/dc_phase.hpp
+  master/process_image_plan.hpp
   master/conformance/suite.hpp)
 ecat_install_library(pdi_spi pdi_spi HEADERS
   # public
@@ -151,7 +153,7 @@ ecat_install_library(pdi_spi pdi_spi HEADERS
   pdi_spi/lan9252_registers.hpp pdi_spi/et1100_spi_registers.hpp)
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/virtual_slave.hpp slave/slave_options.hpp
-  slave/slave_stats.hpp slave/firmware.hpp)
+  slave/slave_stats.hpp slave/firmware.hpp slave/wake_heap.hpp)
 
 # --- programs --------------------------------------------------------------------------
 ecat_install_program(ecat-esigen "ESI, SII EEPROM image and C++ tables from an EtherCAT device description")

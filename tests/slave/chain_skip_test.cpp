@@ -40,7 +40,9 @@ TEST(ChainSkip, MasterBringUpAndCyclesGiveTheSameFramesAsTheFullPass) {
     for (int c = 0; c < 200; ++c) ASSERT_TRUE(r->p.cycle_once(std::chrono::milliseconds(1))) << "cycle " << c;
   }
   ASSERT_EQ(fast.frames.size(), ref.frames.size());
-  EXPECT_GT(fast.frames.size(), 1000u);
+  // The 200 cycle frames plus a bring-up of several hundred (the batched
+  // scan, SII reads and mailbox traffic of 6 drives: 669 frames).
+  EXPECT_GT(fast.frames.size(), 200u + 400u);
   for (std::size_t k = 0; k < fast.frames.size(); ++k) {
     ASSERT_EQ(fast.frames[k], ref.frames[k]) << "frame " << k;
   }
