@@ -2,8 +2,8 @@
 // 0x0502-0x050F (ESC datasheet Section I §11; shared/spec/sii-eeprom.md).
 // Shared copy-on-write (issue 16 item 5: a slave costs the memory it uses):
 // slaves built from one description start with one image between them, and
-// the first write through the EEPROM interface (or any non-const access)
-// gives that ESC its own copy, so what one slave's EEPROM holds never
+// the first write through the EEPROM interface (mutable_data()) gives that
+// ESC its own copy, so what one slave's EEPROM holds never
 // changes another's. Reads see exactly the bytes a private copy would hold.
 #pragma once
 
@@ -34,9 +34,10 @@ class EepromImage {
   std::uint8_t operator[](std::size_t i) const noexcept { return (*bytes_)[i]; }
   std::span<const std::uint8_t> bytes() const noexcept { return {data(), size()}; }
 
-  // Writable bytes: the image is copied first when another holder shares it.
-  std::uint8_t* data() { return own().data(); }
-  std::uint8_t& operator[](std::size_t i) { return own()[i]; }
+  // Writable bytes: the image is copied first when it is shared. Named, not
+  // a non-const data()/operator[], so that reading a non-const image never
+  // copies it by accident.
+  std::uint8_t* mutable_data() { return own().data(); }
 
   // Whether a write would copy the bytes first (tests, memory checks).
   bool shared() const noexcept { return bytes_ && (!owned_ || bytes_.use_count() > 1); }
