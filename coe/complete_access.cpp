@@ -45,7 +45,9 @@ Expected<std::size_t, SdoAbort> complete_access_upload(ObjectStore& store, std::
                                                        od::EsmState state) noexcept {
   const ObjectStore::Slot* s0 = store.slot(index, 0);
   if (!s0) return fail(SdoAbort::NoObject);
-  const od::Object& object = *s0->object;
+  const od::Object* found = store.dictionary().find(index);
+  if (!found) return fail(SdoAbort::NoObject);
+  const od::Object& object = *found;
   if (!is_composite(object)) return fail(SdoAbort::UnsupportedAccess);
   if (ObjectHooks* h = store.hooks(index)) h->on_read(store, index, 0);
   const std::uint8_t count = store.get<std::uint8_t>(*s0);
@@ -77,7 +79,9 @@ Expected<void, SdoAbort> complete_access_download(ObjectStore& store, std::uint1
                                                   Bytes scratch) noexcept {
   ObjectStore::Slot* s0 = store.slot(index, 0);
   if (!s0) return fail(SdoAbort::NoObject);
-  const od::Object& object = *s0->object;
+  const od::Object* found = store.dictionary().find(index);
+  if (!found) return fail(SdoAbort::NoObject);
+  const od::Object& object = *found;
   if (!is_composite(object)) return fail(SdoAbort::UnsupportedAccess);
   const bool write_sub0 = from_sub0 && s0->entry->access.writable_in(state);
   if (from_sub0 && data.empty()) return fail(SdoAbort::LengthTooLow);

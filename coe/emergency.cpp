@@ -4,6 +4,9 @@
 
 namespace ecat::coe {
 
+static_assert(Emergency::kPayloadSize <= MailboxServer::kMaxUnsolicitedPayload,
+              "an emergency fits the unsolicited queue's slots");
+
 Expected<void, MailboxError> Emergency::raise(std::uint16_t error_code, std::uint8_t error_register,
                                               const std::array<std::uint8_t, kManufacturerBytes>& manufacturer,
                                               Nanoseconds now) noexcept {

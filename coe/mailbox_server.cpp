@@ -27,7 +27,8 @@ MailboxServer::MailboxServer(esc::Pdi& pdi, std::size_t max_mailbox_bytes, std::
     : pdi_(pdi),
       max_bytes_(max_mailbox_bytes),
       queue_(std::max<std::size_t>(queue_capacity, kReserveSlots + 1), max_mailbox_bytes),
-      unsolicited_(std::max<std::size_t>(queue_capacity, 1), max_mailbox_bytes),
+      unsolicited_(std::max<std::size_t>(queue_capacity, 1),
+                   std::min(max_mailbox_bytes, MailboxHeader::kSize + kMaxUnsolicitedPayload)),
       request_(max_mailbox_bytes),
       reply_(max_mailbox_bytes),
       sm1_image_(max_mailbox_bytes) {
@@ -255,7 +256,9 @@ void MailboxServer::queue_error(MailboxError error) noexcept {
 
 Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes payload) noexcept {
   if (!open_ || unsolicited_.full()) return fail(MailboxError::NoMoreMemory);
-  if (payload.size() + MailboxHeader::kSize > sm1_length_) return fail(MailboxError::InvalidSize);
+  if (payload.size() + MailboxHeader::kSize > sm1_length_ || payload.size() > kMaxUnsolicitedPayload) {
+    return fail(MailboxError::InvalidSize);
+  }
   std::uint8_t header[MailboxHeader::kSize];
   // The slave is the client of an unsolicited message: Address 0, the
   // master, and never a gateway's tag (docs/coe.md "Mailbox header of replies").

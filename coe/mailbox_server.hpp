@@ -44,6 +44,10 @@ class MailboxServer {
  public:
   static constexpr std::size_t kMaxServices = 4;
   static constexpr std::size_t kDefaultQueueCapacity = 8;
+  // Largest unsolicited payload send() takes: a CoE emergency, CoE header +
+  // 8 bytes (ETG.1000.6 §5.6.4). The unsolicited queue's slots are this
+  // size + the mailbox header, not a whole mailbox (issue 16 item 5).
+  static constexpr std::size_t kMaxUnsolicitedPayload = 2 + 8;
   // SM numbers of the mailboxes (ETG.1000.6 §5.6.7.4.1: SM0 write, SM1 read).
   static constexpr unsigned kWriteMailboxSm = 0;
   static constexpr unsigned kReadMailboxSm = 1;
@@ -59,7 +63,8 @@ class MailboxServer {
   void poll(Nanoseconds now) noexcept;
 
   // Queues an unsolicited message (CoE emergency). Fails with NoMoreMemory
-  // when its queue is full or the mailbox is closed (Init).
+  // when its queue is full or the mailbox is closed (Init), InvalidSize when
+  // it does not fit SM1 or is longer than kMaxUnsolicitedPayload.
   Expected<void, MailboxError> send(MailboxType type, ConstBytes payload) noexcept;
 
   // AL event request bits poll() acts on: SM0 written (a request), SM1 read

@@ -33,7 +33,8 @@ ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : di
     r.first = static_cast<std::uint32_t>(slots_.size());
     for (const od::Entry& e : o.entries) {
       Slot s;
-      s.object = &o;
+      s.index = o.index;
+      s.code = o.code;
       s.entry = &e;
       s.offset = offset;
       s.capacity = capacity_of(e, options);
@@ -41,7 +42,7 @@ ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : di
       max_capacity_ = std::max(max_capacity_, s.capacity);
       slots_.push_back(s);
     }
-    r.count = static_cast<std::uint32_t>(o.entries.size());
+    r.count = static_cast<std::uint16_t>(o.entries.size());
     objects_.push_back(r);
   }
   buffer_.assign(offset, 0);

@@ -37,12 +37,15 @@ class ObjectStore {
 
   // Where one entry's value lives. Stable for the life of the store, so the
   // drive and the PDO image may keep pointers to it.
+  // 24 bytes: one per entry and slave, thousands of slaves in a chain
+  // (issue 16 item 5); the object's index and code rather than a pointer.
   struct Slot {
-    const od::Object* object = nullptr;
     const od::Entry* entry = nullptr;
     std::uint32_t offset = 0;    // into the value buffer
     std::uint32_t capacity = 0;  // bytes reserved
     std::uint32_t length = 0;    // bytes currently valid (== capacity unless a string)
+    std::uint16_t index = 0;     // of the entry's object
+    od::ObjectCode code = od::ObjectCode::Var;  // of the entry's object
     bool variable() const noexcept { return od::is_string(entry->type); }
   };
 
@@ -143,11 +146,11 @@ class ObjectStore {
   std::span<const Slot> slots() const noexcept { return slots_; }
 
  private:
-  struct ObjectRange {
-    std::uint16_t index = 0;
-    std::uint32_t first = 0;  // into slots_
-    std::uint32_t count = 0;
+  struct ObjectRange {  // 16 bytes (issue 16 item 5)
     ObjectHooks* hooks = nullptr;
+    std::uint32_t first = 0;  // into slots_
+    std::uint16_t index = 0;
+    std::uint16_t count = 0;  // subindexes 0..255 at most
   };
   const ObjectRange* range(std::uint16_t index) const noexcept;
   SdoAbort missing(std::uint16_t index) const noexcept {

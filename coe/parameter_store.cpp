@@ -55,7 +55,7 @@ ParameterStore::ParameterStore(ObjectStore& store, std::string path, StorageQuot
 }
 
 bool ParameterStore::persistent(const ObjectStore::Slot& slot) noexcept {
-  const std::uint16_t index = slot.object->index;
+  const std::uint16_t index = slot.index;
   return slot.entry->access.writable() && !slot.entry->access.is_const && index != kStoreParameters &&
          index != kRestoreDefaults;
 }
@@ -68,7 +68,7 @@ std::vector<std::uint8_t> ParameterStore::serialize() const {
     const ConstBytes v = store_.value(s);
     std::uint8_t rec[kRecordHeader];
     ByteWriter w(rec);
-    w.u16(s.object->index);
+    w.u16(s.index);
     w.u8(s.entry->subindex);
     w.u32(static_cast<std::uint32_t>(v.size()));
     out.insert(out.end(), rec, rec + kRecordHeader);

@@ -201,11 +201,11 @@ void DriveBinding::read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_
   in.ip_record_new = ip_record_hook_.take() || ip_record_mapped_;
   auto* base = reinterpret_cast<std::uint8_t*>(&in);
   for (std::size_t k = 0; k < mapped_count_; ++k) {
-    const Mapped& m = mapped_[k];
-    if (m.bytes != nullptr) {
-      copy_value(base + m.field_offset, m.bytes, m.size);
+    const Mapped m = mapped_[k];
+    if (m.size != 0) {
+      copy_value(base + m.field_offset, in_bytes_[m.input], m.size);
     } else {
-      m.reader(*this, in);
+      reader(m.input)(*this, in);
     }
   }
 }
@@ -235,12 +235,10 @@ void DriveBinding::read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pd
       if (item.entry != in_[i]) continue;
       Mapped& m = mapped_[mapped_count_++];
       m = Mapped{};
+      m.input = static_cast<std::uint8_t>(i);
       if (std::endian::native == std::endian::little && in_bytes_[i] != nullptr) {
-        m.bytes = in_bytes_[i];
         m.field_offset = static_cast<std::uint16_t>(reinterpret_cast<const std::uint8_t*>(&(layout.*fld.member)) - base);
         m.size = static_cast<std::uint8_t>(sizeof(layout.*fld.member));
-      } else {
-        m.reader = reader(i);
       }
       break;
     }

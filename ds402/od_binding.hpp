@@ -122,14 +122,16 @@ class DriveBinding {
   static void read_one(const DriveBinding& b, DriveInputs& in) noexcept;
   using Reader = void (*)(const DriveBinding&, DriveInputs&) noexcept;
   static Reader reader(std::size_t i) noexcept;
-  // A mapped input: its value bytes and the field they go to, or (another
-  // width) the typed reader to call.
+  // A mapped input: its index (into in_bytes_ and the reader table) and, when
+  // its value bytes are copied in place, the field they go to and their size
+  // (0: another width, the typed reader is called). 4 bytes, not a pointer
+  // pair: kInputCount of them per drive (issue 16 item 5).
   struct Mapped {
-    const std::uint8_t* bytes = nullptr;
-    Reader reader = nullptr;
     std::uint16_t field_offset = 0;
     std::uint8_t size = 0;
+    std::uint8_t input = 0;
   };
+  static_assert(kInputCount <= 0x100, "Mapped::input is one byte");
   std::array<Mapped, kInputCount> mapped_{};
   std::size_t mapped_count_ = 0;
   DriveObjectHooks hooks_;

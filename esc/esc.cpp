@@ -19,7 +19,7 @@ constexpr std::size_t kSiiWordExtPdiConfig = 3;
 constexpr std::size_t kSiiWordAlias = 4;
 constexpr std::size_t kSiiWordChecksum = 7;
 
-std::uint16_t sii_word(const std::vector<std::uint8_t>& sii, std::size_t w) {
+std::uint16_t sii_word(const EepromImage& sii, std::size_t w) {
   return load_le<std::uint16_t>(sii.data() + 2 * w);
 }
 }  // namespace

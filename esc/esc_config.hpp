@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/clock.hpp"
+#include "esc/eeprom_image.hpp"
 
 namespace ecat::esc {
 
@@ -55,8 +56,9 @@ struct EscConfig {
 
   // SII EEPROM image (bytes, little-endian words). Words 0..4 initialise
   // 0x0140/0x0141, 0x0150/0x0151, 0x0982 (via DcUnit), 0x0152 and the alias
-  // 0x0012 at power-on, as an ET1100 does after its EEPROM load.
-  std::vector<std::uint8_t> sii;
+  // 0x0012 at power-on, as an ET1100 does after its EEPROM load. Shared
+  // copy-on-write between ESCs given the same image (esc/eeprom_image.hpp).
+  EepromImage sii;
   SiiWriteBack sii_write_back;
   // Time the SII interface stays busy after a command (0: finishes at once,
   // which every common master accepts - shared/spec/masters.md §6 #8).

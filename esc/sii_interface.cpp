@@ -144,7 +144,7 @@ SiiInterface::Action SiiInterface::execute(std::uint16_t cmd) noexcept {
       c |= kAcknowledgeError;
     } else {
       const std::uint16_t value = load_le<std::uint16_t>(regs_ + sii_reg::kData);
-      store_le(config_->sii.data() + at, value);
+      store_le(config_->sii.mutable_data() + at, value);  // copies a shared image first
       if (config_->sii_write_back) config_->sii_write_back(static_cast<std::uint16_t>(address), value);
     }
   } else if (cmd == kCommandReload) {

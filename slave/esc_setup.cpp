@@ -2,6 +2,7 @@
 
 #include "esi/sii_writer.hpp"
 #include "od/process_directions.hpp"
+#include "slave/shared_eeprom.hpp"
 
 namespace ecat::slave {
 namespace {
@@ -41,7 +42,7 @@ Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription
     ports = static_cast<std::uint8_t>(ports | esc::port_descriptor_bits(static_cast<unsigned>(n), t));
   }
   c.port_descriptor = ports;
-  c.sii = std::move(*sii);
+  c.sii = shared_eeprom_image(std::move(*sii));
   return c;
 }
 

@@ -15,7 +15,8 @@
 namespace ecat::slave {
 
 // The ESC as the device file describes it, with its SII image made by
-// esi::write_sii from the same description.
+// esi::write_sii from the same description (shared copy-on-write with every
+// other ESC of equal image: slave/shared_eeprom.hpp).
 Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription& device);
 
 // What the ESM checks at Init->PreOp (mailbox SMs) and PreOp->SafeOp (SM2/SM3

@@ -30,6 +30,23 @@ TEST(Emergency, ClosedMailboxStillUpdatesTheRegister) {
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x1001, 0), 0x01);
 }
 
+TEST(Emergency, UnsolicitedMessagesLongerThanAnEmergencyAreRefused) {
+  // The unsolicited queue's slots hold an emergency (mailbox header + 10
+  // bytes, issue 16 item 5): a longer message is refused, not cut.
+  test::Rig rig;
+  rig.mailbox.poll(Nanoseconds{0});
+  const Frame longest(MailboxServer::kMaxUnsolicitedPayload, 0x5A);
+  const Frame longer(MailboxServer::kMaxUnsolicitedPayload + 1, 0x5A);
+  EXPECT_EQ(rig.mailbox.send(MailboxType::CoE, longer).error(), MailboxError::InvalidSize);
+  ASSERT_TRUE(rig.mailbox.send(MailboxType::CoE, longest));
+  rig.mailbox.poll(Nanoseconds{0});
+  auto msg = rig.fetch();
+  ASSERT_TRUE(msg);
+  ASSERT_EQ(msg->size(), 6 + longest.size());
+  EXPECT_EQ(Frame(msg->begin() + 6, msg->end()), longest);
+  EXPECT_EQ((*msg)[0], longest.size());
+}
+
 TEST(Emergency, FullQueueIsReportedNotOverwritten) {
   test::Rig rig(test::make_device(), 3);
   Emergency emcy(rig.mailbox, rig.store);

@@ -113,8 +113,8 @@ TEST_F(RegTest, AlStatusChangeRaisesEcatEventClearedByRead) {
 
 TEST_F(RegTest, DeviceEmulationCopiesAlControl) {
   EscConfig cfg = make_config();
-  cfg.sii[1] = 0x01;  // 0x0141 bit 0
-  cfg.sii[14] = sii_crc(std::span(cfg.sii.data(), kSiiConfigAreaBytes));
+  cfg.sii.mutable_data()[1] = 0x01;  // 0x0141 bit 0
+  cfg.sii.mutable_data()[14] = sii_crc(cfg.sii.bytes().first(kSiiConfigAreaBytes));
   Line l(1, cfg);
   transact(l.segment, Command::Apwr, ap(0, reg::kAlControl), le16(0x0008));
   EXPECT_EQ(l[0].register_u16(reg::kAlStatus), 0x0008);
@@ -203,7 +203,7 @@ TEST_F(RegTest, MiiHasNoPhy) {
 
 TEST_F(RegTest, BadSiiChecksum) {
   EscConfig cfg = make_config();
-  cfg.sii[14] ^= 0xFF;
+  cfg.sii.mutable_data()[14] ^= 0xFF;
   Line l(1, cfg);
   const std::uint16_t c = l[0].register_u16(reg::kEepromControlStatus);
   EXPECT_EQ(c & sii_bits::kChecksumError, sii_bits::kChecksumError);

@@ -85,6 +85,41 @@ TEST_F(SiiTest, SoemStyleWordWriteAndWriteBack) {
   EXPECT_EQ(transact(l.segment, Command::Fprd, fp(kStation, reg::kEepromData), 2).data, le16(0xBEEF));
 }
 
+TEST(SiiSharedImage, WriteCopiesTheImageForThatEscOnly) {
+  // Two ESCs made from one config share its SII image (esc::EepromImage,
+  // issue 16 item 5); a word written through ESC 0's EEPROM interface
+  // changes ESC 0's image only, and survives ESC 0's reload.
+  Line l(2);
+  assign_stations(l);
+  EXPECT_EQ(l[0].config().sii.data(), l[1].config().sii.data());
+  EXPECT_TRUE(l[0].config().sii.shared());
+  const std::uint8_t before_lo = l[1].config().sii[0x40];
+  const std::uint8_t before_hi = l[1].config().sii[0x41];
+  transact(l.segment, Command::Fpwr, fp(kStation, reg::kEepromData), le16(0xBEEF));
+  EXPECT_EQ(transact(l.segment, Command::Fpwr, fp(kStation, reg::kEepromControlStatus), Data{0x01, 0x02, 0x20, 0, 0, 0}).wkc, 1);
+  EXPECT_NE(l[0].config().sii.data(), l[1].config().sii.data());
+  EXPECT_EQ(l[0].config().sii[0x40], 0xEF);
+  EXPECT_EQ(l[0].config().sii[0x41], 0xBE);
+  EXPECT_EQ(l[1].config().sii[0x40], before_lo);
+  EXPECT_EQ(l[1].config().sii[0x41], before_hi);
+  EXPECT_EQ(l[0].config().sii.size(), l[1].config().sii.size());
+  // ESC 1 reads the old word, ESC 0 the new one, also after a reload command (0x0400).
+  const Data read_word_0x20{0x00, 0x01, 0x20, 0x00};
+  transact(l.segment, Command::Fpwr, fp(kStation + 1, reg::kEepromControlStatus), read_word_0x20);
+  EXPECT_EQ(transact(l.segment, Command::Fprd, fp(kStation + 1, reg::kEepromData), 2).data,
+            (Data{before_lo, before_hi}));
+  transact(l.segment, Command::Fpwr, fp(kStation, reg::kEepromControlStatus), Data{0x00, 0x04});
+  transact(l.segment, Command::Fpwr, fp(kStation, reg::kEepromControlStatus), read_word_0x20);
+  EXPECT_EQ(transact(l.segment, Command::Fprd, fp(kStation, reg::kEepromData), 2).data, le16(0xBEEF));
+  // A second write goes into ESC 0's own copy in place.
+  const std::uint8_t* own = l[0].config().sii.data();
+  transact(l.segment, Command::Fpwr, fp(kStation, reg::kEepromData), le16(0x1234));
+  transact(l.segment, Command::Fpwr, fp(kStation, reg::kEepromControlStatus), Data{0x01, 0x02, 0x20, 0, 0, 0});
+  EXPECT_EQ(l[0].config().sii.data(), own);
+  EXPECT_EQ(l[0].config().sii[0x40], 0x34);
+  EXPECT_EQ(l[1].config().sii[0x40], before_lo);
+}
+
 TEST_F(SiiTest, ErrorsAndClear) {
   // Write without enable -> bit 14; idle command clears the error bits.
   wr(reg::kEepromControlStatus, Data{0x00, 0x02, 0x20, 0x00}, 0us);
