@@ -106,7 +106,7 @@ ecat_install_library(esc esc HEADERS
   esc/access_side.hpp esc/esm_deferral.hpp esc/esm_transition.hpp esc/fmmu.hpp
   esc/register_bits.hpp esc/sync_manager.hpp esc/watchdog.hpp esc/dc/dc_unit.hpp
   esc/dc/latch_unit.hpp esc/dc/local_clock.hpp esc/dc/sync_unit.hpp esc/dc/time_loop.hpp
-  esc/pass_hook.hpp esc/skip_index.hpp)
+  esc/pass_hook.hpp esc/skip_index.hpp esc/eeprom_image.hpp)
 ecat_install_library(coe coe HEADERS
   # public
   coe/coe_server.hpp coe/object_store.hpp coe/sdo_server.hpp coe/sdo_info.hpp
