@@ -20,6 +20,7 @@
 #include "fake_esc.hpp"
 #include "test_sii_image.hpp"
 #include "transport/transport.hpp"
+#include "tests/support/frame_queue.hpp"
 
 namespace ecat::master::test {
 
@@ -35,14 +36,9 @@ class FakeRing {
       return {};
     }
     Expected<std::size_t, transport::TransportError> receive(Bytes buffer, Nanoseconds) override {
-      if (queue.empty()) return fail(transport::TransportError::Timeout);
-      auto f = std::move(queue.front());
-      queue.pop_front();
-      if (f.size() > buffer.size()) return fail(transport::TransportError::BufferTooSmall);
-      std::copy(f.begin(), f.end(), buffer.begin());
-      return f.size();
+      return queue.pop(buffer);
     }
-    std::deque<std::vector<std::uint8_t>> queue;
+    ecat::test::FrameQueue queue;
     std::size_t sent = 0;
 
    private:

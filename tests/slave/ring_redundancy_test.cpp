@@ -20,6 +20,7 @@
 #include "master/master.hpp"
 #include "master/redundant_transport.hpp"
 #include "slave/chain.hpp"
+#include "tests/support/frame_queue.hpp"
 
 namespace ecat::test {
 namespace {
@@ -42,14 +43,9 @@ class MasterPort final : public transport::Transport {
   MasterPort(Ring& ring, unsigned port) : ring_(ring), port_(port) {}
   Expected<void, transport::TransportError> send(ConstBytes frame) override;
   Expected<std::size_t, transport::TransportError> receive(Bytes buffer, Nanoseconds) override {
-    if (queue.empty()) return fail(transport::TransportError::Timeout);
-    auto f = std::move(queue.front());
-    queue.pop_front();
-    if (f.size() > buffer.size()) return fail(transport::TransportError::BufferTooSmall);
-    std::copy(f.begin(), f.end(), buffer.begin());
-    return f.size();
+    return queue.pop(buffer);
   }
-  std::deque<std::vector<std::uint8_t>> queue;
+  ecat::test::FrameQueue queue;
 
  private:
   Ring& ring_;
