@@ -38,4 +38,17 @@ inline constexpr std::uint8_t kReadNext = 0x00;
 inline constexpr std::uint8_t kReadTermination = 0xFF;
 inline constexpr std::uint8_t kWaitStateByte = 0xFF;
 
+inline constexpr unsigned kBitsPerByte = 8;  // SPI clocks per byte
+
+// PDI error code 0x030E of the SPI slave, "reasons for last PDI error"
+// (ESC datasheet Section II §2.9.5.1 "SPI slave error code"; 0x030D counts
+// each access with an interface error, §2.9.4). Bits 15:8 (0x030F) are
+// for SEL_MISO/SEL_MOSI accesses, which these chips do not have: 0.
+inline constexpr std::uint8_t kPdiErrorClockCountMask = 0x07;           // 2:0 SPI clocks of the access, modulo 8
+inline constexpr std::uint8_t kPdiErrorReadBusyViolation = 1u << 3;      // not detected by the emulation (no timing)
+inline constexpr std::uint8_t kPdiErrorReadTerminationMissing = 1u << 4;
+inline constexpr std::uint8_t kPdiErrorAccessAfterTermination = 1u << 5;  // bytes clocked after the termination byte
+inline constexpr unsigned kPdiErrorCommandShift = 6;                      // 7:6 CMD[2:1] of the access
+inline constexpr std::uint8_t kPdiErrorCommandBits = 0x3;
+
 }  // namespace ecat::pdi_spi::et1100
