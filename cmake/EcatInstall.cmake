@@ -101,7 +101,7 @@ ecat_install_library(esc esc HEADERS
   # public
   esc/esc.hpp esc/segment.hpp esc/pdi.hpp esc/esc_config.hpp esc/registers.hpp
   esc/al_status_code.hpp esc/esm.hpp esc/esm_config.hpp esc/esm_hooks.hpp
-  esc/sii_interface.hpp esc/dc/vcd_trace.hpp
+  esc/sii_interface.hpp esc/dc/vcd_trace.hpp esc/inner_delay_figures.hpp
   # internal, included by the public ones
   esc/access_side.hpp esc/esm_deferral.hpp esc/esm_transition.hpp esc/fmmu.hpp
   esc/register_bits.hpp esc/sync_manager.hpp esc/watchdog.hpp esc/dc/dc_unit.hpp

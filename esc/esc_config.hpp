@@ -4,8 +4,10 @@
 // Defaults describe an ET1100 with 2 MII ports, 8 FMMUs, 8 SMs, 8 KiB RAM.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "common/clock.hpp"
@@ -74,6 +76,12 @@ struct EscConfig {
   // both. 0 (the default): the cables carry all the time (esc::Segment).
   Nanoseconds processing_delay{0};
   Nanoseconds forwarding_delay{0};
+  // Forwarding delay per receiving port 1..3 where set ([0] unused), in
+  // place of forwarding_delay: E-bus and MII ports differ (an MII port adds
+  // its PHY's delays, Section I §5). The slave layer sets them from the ESC
+  // type's figures (esc/inner_delay_figures.hpp, docs/esc.md "Forwarding
+  // delay figures per ESC type").
+  std::array<std::optional<Nanoseconds>, kMaxPorts> port_forwarding_delay{};
 
   // Fast paths (issue 8): register bytes without side effects copied as a
   // block, byte-aligned FMMUs routed straight to their SM. false sends every

@@ -13,9 +13,14 @@ using segment_detail::kNextPort;
 
 std::size_t Segment::append(Esc& esc) {
   escs_.push_back(&esc);
-  const InnerDelay inner{esc.config().processing_delay, esc.config().forwarding_delay};
+  InnerDelay inner{esc.config().processing_delay, {}};
+  bool delayed = inner.processing != Nanoseconds{0};
+  for (unsigned p = 1; p < kMaxPorts; ++p) {
+    inner.forwarding[p] = esc.config().port_forwarding_delay[p].value_or(esc.config().forwarding_delay);
+    delayed = delayed || inner.forwarding[p] != Nanoseconds{0};
+  }
   inner_.push_back(inner);
-  if (inner.processing != Nanoseconds{0} || inner.forwarding != Nanoseconds{0}) line_ = false;  // carry_ports adds them
+  if (delayed) line_ = false;  // carry_ports adds them
   links_.emplace_back();
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
@@ -402,7 +407,7 @@ Delivery Segment::carry_ports(DatagramView first, std::size_t count, Nanoseconds
     unsigned q = p;
     bool via_unit = false;
     // Time inside the ESC: forwarding from a port 1..3, processing through the unit.
-    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding;
+    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding[p];
     for (;;) {
       if (q == kUpstreamPort) {
         if (via_unit) break;  // every port closed: out of port 0

@@ -201,11 +201,13 @@ class Segment {
   void hook(std::size_t i) noexcept;
 
   std::vector<Esc*> escs_;
-  // Per slave: its EscConfig processing and forwarding delays (the port
-  // walks add them; a line with any of them non-zero takes the port walk).
+  // Per slave: its EscConfig processing delay and forwarding delay per
+  // receiving port (port_forwarding_delay where set, else forwarding_delay;
+  // the port walks add them; a line with any of them non-zero takes the
+  // port walk).
   struct InnerDelay {
     Nanoseconds processing{0};
-    Nanoseconds forwarding{0};
+    std::array<Nanoseconds, kMaxPorts> forwarding{};  // [0] unused
   };
   std::vector<InnerDelay> inner_;
   std::vector<std::array<Link, kMaxPorts>> links_;

@@ -127,7 +127,7 @@ Delivery Segment::carry_faulty(DatagramView first, std::size_t count, Nanosecond
     }
     unsigned q = p;
     bool via_unit = false;
-    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding;
+    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding[p];
     for (;;) {
       if (q == kUpstreamPort) {
         if (via_unit) break;  // every port closed: out of port 0

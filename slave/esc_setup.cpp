@@ -16,7 +16,8 @@ const od::SyncManagerConfig* find_sm(const od::DeviceDescription& device, od::Sm
 
 }  // namespace
 
-Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription& device) {
+Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription& device,
+                                                     std::span<const esc::InnerDelayFigures> delay_figures) {
   auto sii = esi::write_sii(device);
   if (!sii) return fail(sii.error());
 
@@ -42,6 +43,14 @@ Expected<esc::EscConfig, std::string> esc_config_for(const od::DeviceDescription
     ports = static_cast<std::uint8_t>(ports | esc::port_descriptor_bits(static_cast<unsigned>(n), t));
   }
   c.port_descriptor = ports;
+  // Time inside the ESC from its type's figures, per port type (docs/esc.md
+  // "Forwarding delay figures per ESC type").
+  // A type the table does not name keeps the EscConfig defaults (0).
+  if (const esc::InnerDelayFigures* figures = esc::find_inner_delays(delay_figures, c.type)) {
+    const esc::InnerDelays inner = esc::inner_delays_for(figures, esc::port_types(ports));
+    c.processing_delay = inner.processing;
+    for (unsigned n = 1; n < esc::kMaxPorts; ++n) c.port_forwarding_delay[n] = inner.forwarding[n];
+  }
   c.sii = shared_eeprom_image(std::move(*sii));
   return c;
 }

@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "coe/storage_quota.hpp"
 #include "common/clock.hpp"
+#include "esc/inner_delay_figures.hpp"
 #include "pdi_spi/lan9252_pdi.hpp"
 
 namespace ecat::slave {
@@ -38,9 +40,14 @@ struct SlaveOptions {
   pdi_spi::Lan9252Options lan9252{};  // with PdiKind::Lan9252
   // Time a frame spends inside this slave's ESC (esc::EscConfig
   // processing_delay / forwarding_delay; docs/esc.md "Forwarding delays
-  // inside an ESC"); unset: the ESC's default (0).
+  // inside an ESC"); unset: the default of the device's ESC type and port
+  // types from delay_figures. forwarding_delay, when set, applies to every
+  // port 1..3 (it replaces the per-port defaults).
   std::optional<Nanoseconds> processing_delay;
   std::optional<Nanoseconds> forwarding_delay;
+  // The per-ESC-type figures the defaults come from (docs/esc.md "Forwarding
+  // delay figures per ESC type"); a test may give its own table.
+  std::span<const esc::InnerDelayFigures> delay_figures = esc::datasheet_inner_delays();
 };
 
 }  // namespace ecat::slave

@@ -25,10 +25,13 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   std::unique_ptr<VirtualSlave> s(new VirtualSlave());
   if (auto ok = check_drive(*device); !ok) return fail(ok.error());
   s->device_ = std::move(device);
-  auto config = esc_config_for(*s->device_);
+  auto config = esc_config_for(*s->device_, options.delay_figures);
   if (!config) return fail(config.error());
   if (options.processing_delay) config->processing_delay = *options.processing_delay;
-  if (options.forwarding_delay) config->forwarding_delay = *options.forwarding_delay;
+  if (options.forwarding_delay) {  // the slave's own figure, every port alike
+    config->forwarding_delay = *options.forwarding_delay;
+    config->port_forwarding_delay.fill(std::nullopt);
+  }
   s->esc_ = std::make_unique<esc::Esc>(std::move(*config), clock);
   s->esc_->dc().set_clock(options.clock_ppm, options.clock_start);
   s->has_firmware_ = od::runs_firmware(*s->device_);
