@@ -21,16 +21,22 @@ namespace ecat::esc {
 struct LinePass {
   std::uint64_t frame = 0;  // its number, from 1; 0: none yet
   Nanoseconds start{0};     // when it reached the first ESC
-  Nanoseconds hop{0};       // cable delay between neighbours
+  // From one ESC's port 0 to the next one's: its processing delay and the
+  // cable; from one ESC's port 1 to the previous one's: its forwarding
+  // delay and the cable (every ESC of a line takes the same times inside).
+  Nanoseconds out{0};
+  Nanoseconds back{0};
   std::uint32_t reached = 0;  // ESCs whose processing unit it entered (0..reached-1)
   bool returned = false;      // it came back through them (their port-1 arrival times)
 
   // When it reached ESC `index`'s port 0, and the latest time that ESC saw
-  // it (on its way back when it returned: 2 (reached - 1) - index hops).
-  Nanoseconds at(std::uint32_t index) const noexcept { return start + hop * static_cast<std::int64_t>(index); }
+  // it: when it returned, its arrival at port 1 on the way back - the last
+  // reached ESC turned it round (reached steps out), then reached - 2 -
+  // index steps back; the last reached ESC saw it only at port 0.
+  Nanoseconds at(std::uint32_t index) const noexcept { return start + out * static_cast<std::int64_t>(index); }
   Nanoseconds latest(std::uint32_t index) const noexcept {
-    if (!returned) return at(index);
-    return start + hop * static_cast<std::int64_t>(2 * (reached - 1) - index);
+    if (!returned || index + 1 >= reached) return at(index);
+    return start + out * static_cast<std::int64_t>(reached) + back * static_cast<std::int64_t>(reached - 2 - index);
   }
 };
 

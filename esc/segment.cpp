@@ -14,13 +14,19 @@ using segment_detail::kNextPort;
 std::size_t Segment::append(Esc& esc) {
   escs_.push_back(&esc);
   InnerDelay inner{esc.config().processing_delay, {}};
-  bool delayed = inner.processing != Nanoseconds{0};
   for (unsigned p = 1; p < kMaxPorts; ++p) {
     inner.forwarding[p] = esc.config().port_forwarding_delay[p].value_or(esc.config().forwarding_delay);
-    delayed = delayed || inner.forwarding[p] != Nanoseconds{0};
   }
   inner_.push_back(inner);
-  if (delayed) line_ = false;  // carry_ports adds them
+  // The line path takes one time inside for every ESC (a line of one type;
+  // a frame on a line returns through port 1, so forwarding[1] is its back
+  // step); ESCs that differ take the port walk, which adds each one's own.
+  if (inner_.size() == 1) {
+    out_step_ = hop_delay_ + inner.processing;
+    back_step_ = hop_delay_ + inner.forwarding[kDownstreamPort];
+  } else if (inner.processing != inner_.front().processing || inner.forwarding != inner_.front().forwarding) {
+    line_ = false;
+  }
   links_.emplace_back();
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
@@ -206,7 +212,7 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
     }
     reached = i + 1;
     index_.entered(i);
-    if (!esc->process_datagrams(first, count, now + hop_delay_ * static_cast<std::int64_t>(i))) [[unlikely]] {
+    if (!esc->process_datagrams(first, count, now + out_step_ * static_cast<std::int64_t>(i))) [[unlikely]] {
       passed = i;
       d.outcome = Delivery::Outcome::Destroyed;
       note_entered(i);
@@ -235,22 +241,25 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
   const bool returned = !ended && d.outcome != Delivery::Outcome::Destroyed;
   record_pass(now, static_cast<std::uint32_t>(reached), returned);
   if (!returned) return d;
-  // On the way back the frame passes each earlier slave's port 1.
-  // After the last reached ESC (reached - 1 hops out) it takes as many back:
-  // ESC i sees it at 2 (reached - 1) - i hops. Only an armed receive latch
-  // keeps the time (DcUnit::on_frame_arrival); the latest time every ESC
-  // has seen comes from the pass record.
-  const Nanoseconds round = hop_delay_ * static_cast<std::int64_t>(2 * (reached - 1));
+  // On the way back the frame passes each earlier slave's port 1: the last
+  // reached ESC turns it round through its unit (reached steps out, the
+  // last one into ESC reached - 2's port 1), then one step back per ESC
+  // (LinePass::latest). Only an armed receive latch keeps the time
+  // (DcUnit::on_frame_arrival); the latest time every ESC has seen comes
+  // from the pass record. ESC 0 sends it to the master after its
+  // forwarding delay (the master's cable takes 0).
+  const auto r = static_cast<std::int64_t>(reached);
+  const Nanoseconds turned = now + out_step_ * r;
   for (std::size_t k = 0; k < armed; ++k) {
     const std::size_t i = armed_[k];
     if (i + 1 < reached) {
       escs_[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort),
-                                     now + round - hop_delay_ * static_cast<std::int64_t>(i));
+                                     turned + back_step_ * (r - 2 - static_cast<std::int64_t>(i)));
     }
   }
   d.outcome = Delivery::Outcome::Returned;
   d.master_port = 0;
-  d.at = now + round;
+  d.at = turned + back_step_ * (r - 1) - hop_delay_;
   d.processed = static_cast<unsigned>(reached);
   return d;
 }
@@ -302,7 +311,7 @@ bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexc
     if (--left == 0) break;
     dg = dg.next();
   }
-  index_.mark_due(now, hop_delay_);
+  index_.mark_due(now, out_step_);
   return true;
 }
 
@@ -362,7 +371,8 @@ void Segment::record_pass(Nanoseconds start, std::uint32_t reached, bool returne
   }
   pass_.frame += 1;
   pass_.start = start;
-  pass_.hop = hop_delay_;
+  pass_.out = out_step_;
+  pass_.back = back_step_;
   pass_.reached = reached;
   pass_.returned = returned;
 }

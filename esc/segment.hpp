@@ -67,7 +67,7 @@ class Segment {
   static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
 
   Segment() = default;
-  explicit Segment(Nanoseconds hop_delay) : hop_delay_(hop_delay) {}
+  explicit Segment(Nanoseconds hop_delay) : hop_delay_(hop_delay), out_step_(hop_delay), back_step_(hop_delay) {}
   // The Escs point at the segment (esc/pass_hook.hpp): it stays where it is.
   Segment(const Segment&) = delete;
   Segment& operator=(const Segment&) = delete;
@@ -120,7 +120,8 @@ class Segment {
   unsigned corruption_pending(std::size_t slave, unsigned port) const noexcept;
 
   // True while the segment is a line built by add(Esc&) alone whose ESCs
-  // take no time inside (EscConfig::processing_delay/forwarding_delay 0).
+  // all take the same time inside (EscConfig::processing_delay and
+  // forwarding_delay equal: a line of one ESC type).
   bool is_line() const noexcept { return line_; }
 
   std::size_t size() const noexcept { return escs_.size(); }
@@ -203,7 +204,7 @@ class Segment {
   std::vector<Esc*> escs_;
   // Per slave: its EscConfig processing delay and forwarding delay per
   // receiving port (port_forwarding_delay where set, else forwarding_delay;
-  // the port walks add them; a line with any of them non-zero takes the
+  // the port walks add them; a line whose ESCs differ in them takes the
   // port walk).
   struct InnerDelay {
     Nanoseconds processing{0};
@@ -218,6 +219,10 @@ class Segment {
   std::vector<CableFaultState> faults_;  // empty on a healthy segment
   std::uint64_t frame_number_ = 0;
   Nanoseconds hop_delay_ = kDefaultHopDelay;
+  // The line path's steps (LinePass::out/back): the cable plus the first
+  // ESC's processing delay out, plus its forwarding delay back.
+  Nanoseconds out_step_ = kDefaultHopDelay;
+  Nanoseconds back_step_ = kDefaultHopDelay;
   // Skipping (line path only).
   static constexpr std::size_t kMaxAutoIncrement = 32;
   struct AutoIncrement {

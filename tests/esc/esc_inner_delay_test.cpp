@@ -43,7 +43,7 @@ Data latch_frame() {
 // through its unit and closed ports (P).
 TEST(EscInnerDelay, LineTimesAddProcessingOutAndForwardingBack) {
   Line line(3, delayed());
-  EXPECT_FALSE(line.segment.is_line());  // internal delays take the port walk
+  EXPECT_TRUE(line.segment.is_line());  // one time inside for all: the line path adds it
   Data f = latch_frame();
   const Delivery d = line.segment.send(f, 0ns);
   ASSERT_TRUE(d.returned());
@@ -59,6 +59,103 @@ TEST(EscInnerDelay, LineTimesAddProcessingOutAndForwardingBack) {
   EXPECT_EQ(receive_times(line[2]), (T{static_cast<std::uint32_t>(at2), 0, 0, 0}));
   EXPECT_EQ(d.at.count(), at_master);
   EXPECT_EQ(at_master, 5300);  // 3 P + 2 F + 4 hops, written out
+}
+
+// The same line as a port walk: cabled with an explicit cable delay
+// (Segment::add with a parent), which leaves the line path.
+struct WalkedLine {
+  explicit WalkedLine(std::size_t n, EscConfig cfg) {
+    for (std::size_t i = 0; i < n; ++i) {
+      escs.push_back(std::make_unique<Esc>(cfg, clock));
+      if (i == 0) {
+        segment.add(*escs.back());
+      } else {
+        segment.add(*escs.back(), i - 1, kDownstreamPort, kUpstreamPort, kHop);
+      }
+    }
+  }
+  ManualClock clock;
+  std::vector<std::unique_ptr<Esc>> escs;
+  Segment segment;
+};
+
+// A line of one ESC type keeps the line path (and its skipping) with the
+// times inside: every frame comes back with the same bytes at the same
+// time as on the port walk, and every ESC - also the ones a frame passed
+// by - ends with the same memory (receive times 0x0900-0x090F, the DC
+// times a read of 0x0910 returns).
+TEST(EscInnerDelay, ALineOfOneTypeGivesThePortWalksFramesAndTimes) {
+  constexpr std::size_t kN = 5;
+  Line fast(kN, delayed());
+  WalkedLine walked(kN, delayed());
+  ASSERT_TRUE(fast.segment.is_line());
+  ASSERT_FALSE(walked.segment.is_line());
+  struct Step {
+    Command c;
+    std::uint32_t address;
+    std::uint16_t length;
+  };
+  const std::vector<Step> steps = {
+      {Command::Bwr, device_address(0, reg::kDcBase), 4},                          // latch all receive times
+      {Command::Aprd, device_address(auto_increment_adp(3), reg::kAlStatus), 2},   // only slave 3: the rest passed by
+      {Command::Aprd, device_address(auto_increment_adp(1), reg::kDcBase), 16},    // slave 1's receive times
+      {Command::Aprd, device_address(auto_increment_adp(4), reg::kDcBase + 0x10), 8},  // slave 4's system time
+      {Command::Bwr, device_address(0, reg::kDcBase), 4},                          // latch again, later
+      {Command::Aprd, device_address(auto_increment_adp(2), reg::kDcBase), 16},
+  };
+  Nanoseconds t{0};
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    t += 50'000ns;
+    TestFrame a;
+    TestFrame b;
+    a.add(steps[k].c, steps[k].address, steps[k].length);
+    b.add(steps[k].c, steps[k].address, steps[k].length);
+    fast.clock.set(t);
+    walked.clock.set(t);
+    a.send(fast.segment, t);
+    b.send(walked.segment, t);
+    EXPECT_EQ(a.data(0), b.data(0)) << "step " << k;
+    EXPECT_EQ(a.wkc(0), b.wkc(0)) << "step " << k;
+  }
+  // The times of the last frame: out P + hop per slave, back F + hop.
+  Data f = latch_frame();
+  const Delivery df = fast.segment.send(f, t + 50'000ns);
+  Data g = latch_frame();
+  const Delivery dw = walked.segment.send(g, t + 50'000ns);
+  EXPECT_EQ(df.at, dw.at);
+  EXPECT_EQ(df.at - (t + 50'000ns), kN * kP + (kN - 1) * kF + 2 * (kN - 1) * kHop);
+  // The latest time each ESC saw the frame, as a passed-by ESC takes it
+  // from the line's pass record (LinePass::latest), is the port walk's
+  // port-1 arrival (the turning ESC: its port-0 arrival).
+  LinePass pass;
+  pass.start = t + 50'000ns;
+  pass.out = kP + kHop;
+  pass.back = kF + kHop;
+  pass.reached = static_cast<std::uint32_t>(kN);
+  pass.returned = true;
+  for (std::size_t i = 0; i < kN; ++i) {
+    const auto times = receive_times(*walked.escs[i]);
+    const auto port = i + 1 < kN ? 1 : 0;
+    const auto latest = static_cast<std::uint32_t>(pass.latest(static_cast<std::uint32_t>(i)).count());
+    EXPECT_EQ(latest, times[port]) << "slave " << i;
+    EXPECT_EQ(static_cast<std::uint32_t>(pass.at(static_cast<std::uint32_t>(i)).count()), times[0]) << "slave " << i;
+  }
+  for (std::size_t i = 0; i < kN; ++i) {
+    ASSERT_EQ(fast[i].memory_size(), walked.escs[i]->memory_size());
+    EXPECT_TRUE(std::equal(fast[i].memory(), fast[i].memory() + fast[i].memory_size(), walked.escs[i]->memory()))
+        << "slave " << i;
+    EXPECT_EQ(fast[i].last_time(), walked.escs[i]->last_time()) << "slave " << i;
+  }
+}
+
+// ESCs that differ in their times inside take the port walk.
+TEST(EscInnerDelay, ALineOfMixedTypesTakesThePortWalk) {
+  Line line(2, delayed());
+  EscConfig other = delayed();
+  other.forwarding_delay = kF + 10ns;
+  line.escs.push_back(std::make_unique<Esc>(other, line.clock));
+  line.segment.add(*line.escs.back());
+  EXPECT_FALSE(line.segment.is_line());
 }
 
 // Zero delays keep the line loop and the times of the cables alone.
