@@ -66,6 +66,13 @@ TEST(EscUnitCount, RegistersOfAMissingSyncManagerReadZeroAndIgnoreWrites) {
     esc.read(reg::sync_manager(n), pdi);
     EXPECT_EQ(Data(pdi.begin(), pdi.end()), absent);
   }
+  for (unsigned n : {4u, 15u}) {
+    const SyncManager& sm = esc.sync_manager(n);
+    EXPECT_FALSE(sm.enabled());
+    EXPECT_EQ(sm.start(), 0u);
+    EXPECT_EQ(sm.length(), 0u);
+    EXPECT_EQ(sm.control(), 0u);
+  }
   // Activating a missing SM raised no SM activation event (Section II
   // 0x0220 bit 4), which the last present SM does.
   EXPECT_EQ(al_event(esc) & kAlEventSmActivation, 0u);
