@@ -170,7 +170,7 @@ class Plant {
   };
   // The three closed forms of one cycle length. They depend only on the
   // parameters and the cycle length, so plants with equal inputs share one
-  // immutable table (issue 16 item 5: 1.5 KiB per drive otherwise): built
+  // immutable table (issue 16 item 5: 1,272 bytes per drive otherwise): built
   // by the first plant that needs it, kept while a plant uses it
   // (shared_closed_forms, plant.cpp).
   struct ClosedForms {
