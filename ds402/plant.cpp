@@ -1,7 +1,11 @@
 #include "ds402/plant.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <numbers>
 
 namespace ecat::ds402 {
@@ -59,15 +63,57 @@ void Plant::configure(double dt) noexcept {
   h_ = dt / n_;
   inv_n_ = 1.0 / n_;
   lag_factor_ = 1.0 - std::exp(-h_ / p_.current_time_constant);
-  closed_forms_ready_ = false;
+  closed_forms_.reset();
   standstill_ready_ = false;
 }
 
 void Plant::build_closed_forms() noexcept {
-  build_linear(position_loop_, LoopDemand::Kind::Position);
-  build_linear(velocity_loop_, LoopDemand::Kind::Velocity);
-  build_linear(torque_loop_, LoopDemand::Kind::Torque);
-  closed_forms_ready_ = true;
+  try {
+    closed_forms_ = shared_closed_forms();
+  } catch (...) {
+    // Out of memory (or a failed lock): no closed forms, the cycles run
+    // the sub-steps, which give the same result (and the next cycle tries again).
+    closed_forms_.reset();
+  }
+}
+
+namespace {
+// Everything build_linear() reads, bit for bit (NaN and -0 included): equal
+// keys build equal tables.
+using ClosedFormKey = std::array<std::uint64_t, 9>;
+}  // namespace
+
+// The table for this plant's inputs: the one another plant built, if one
+// still uses it, else a new one. The registry holds weak references, so a
+// table lives as long as a plant uses it; entries of released tables are
+// dropped when the next table is added. Runs once per new cycle length (not
+// per cycle), under a lock: plants may step in several threads.
+std::shared_ptr<const Plant::ClosedForms> Plant::shared_closed_forms() const {
+  struct Registry {
+    std::mutex mutex;
+    std::map<ClosedFormKey, std::weak_ptr<const ClosedForms>> tables;
+  };
+  static Registry registry;
+  const ClosedFormKey key{static_cast<std::uint64_t>(n_),
+                          std::bit_cast<std::uint64_t>(h_),
+                          std::bit_cast<std::uint64_t>(lag_factor_),
+                          std::bit_cast<std::uint64_t>(rad_per_inc_),
+                          std::bit_cast<std::uint64_t>(kv_),
+                          std::bit_cast<std::uint64_t>(ki_),
+                          std::bit_cast<std::uint64_t>(p_.position_gain),
+                          std::bit_cast<std::uint64_t>(p_.viscous_friction),
+                          std::bit_cast<std::uint64_t>(p_.total_inertia())};
+  const std::lock_guard lock(registry.mutex);
+  if (const auto it = registry.tables.find(key); it != registry.tables.end()) {
+    if (auto shared = it->second.lock()) return shared;
+  }
+  auto forms = std::make_shared<ClosedForms>();
+  build_linear(forms->position_loop, LoopDemand::Kind::Position);
+  build_linear(forms->velocity_loop, LoopDemand::Kind::Velocity);
+  build_linear(forms->torque_loop, LoopDemand::Kind::Torque);
+  std::erase_if(registry.tables, [](const auto& entry) { return entry.second.expired(); });
+  registry.tables[key] = forms;
+  return forms;
 }
 
 // Weights of the standstill closed form: λ(1 - λ)^(n-k) for k = n down to 1.
@@ -190,7 +236,7 @@ void Plant::build_linear(Linear& m, LoopDemand::Kind mode) const noexcept {
 void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) noexcept {
   if (dt != dt_) {
     configure(dt);
-  } else if (!closed_forms_ready_) {
+  } else if (!closed_forms_) {
     build_closed_forms();  // the same cycle length twice in a row
   }
   previous_position_ = position_;
@@ -201,7 +247,7 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
     last_path_ = Path::Rest;
   } else if (velocity_ == 0.0 && standstill(demand, limits, start_ref)) {
     last_path_ = Path::Standstill;
-  } else if (velocity_ != 0.0 && closed_forms_ready_ &&
+  } else if (velocity_ != 0.0 && closed_forms_ &&
              (demand.kind == LoopDemand::Kind::Torque || demand.kind == LoopDemand::Kind::Off
                                        ? closed_form_torque(demand, limits)
                                        : closed_form(demand, limits, start_ref))) {
@@ -292,7 +338,7 @@ bool Plant::at_rest(const LoopDemand& d, const LoopLimits& lim, double start_ref
 // sub-step. Otherwise false, and the sub-steps run one by one.
 bool Plant::closed_form(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept {
   const bool position = d.kind == LoopDemand::Kind::Position;
-  const Linear& m = position ? position_loop_ : velocity_loop_;
+  const Linear& m = position ? closed_forms_->position_loop : closed_forms_->velocity_loop;
   if (!m.valid || !(std::abs(velocity_ * rad_per_inc_) >= kStandstill)) return false;
   const double turning = velocity_ > 0 ? 1.0 : -1.0;
   const double u[kN] = {position ? (d.position - start_ref) * inv_n_ : 0.0,
@@ -436,7 +482,7 @@ bool Plant::standstill(const LoopDemand& d, const LoopLimits& lim, double start_
 // velocity stays within ±limit − demand/Kv, and the rotor turns one way.
 // Switched off (coasting) is the same with a command of 0 and no limits.
 bool Plant::closed_form_torque(const LoopDemand& d, const LoopLimits& lim) noexcept {
-  const Linear& m = torque_loop_;
+  const Linear& m = closed_forms_->torque_loop;
   const double b = p_.viscous_friction * rad_per_inc_;
   if (!m.valid || !(b > 0) || !(std::abs(velocity_ * rad_per_inc_) >= kStandstill)) return false;
   const bool off = d.kind == LoopDemand::Kind::Off;

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -130,6 +131,11 @@ class Plant {
   // Position at the start of the last step (for edge detection).
   double previous_position() const noexcept { return previous_position_; }
 
+  // The closed-form table the last steps used (null before it is built for
+  // the current cycle length). Plants whose table inputs (parameters and
+  // cycle length) are equal share one (see ClosedForms).
+  const void* closed_forms() const noexcept { return closed_forms_.get(); }
+
  private:
   // The sub-step model of the position/velocity loops while it is linear:
   // state s = (E, v, T, I) with E = position reference at the start of the
@@ -162,6 +168,16 @@ class Plant {
     double v_chord[4];
     bool valid;  // false: a zero-length cycle or an overflowing A^n; always sub-steps
   };
+  // The three closed forms of one cycle length. They depend only on the
+  // parameters and the cycle length, so plants with equal inputs share one
+  // immutable table (issue 16 item 5: 1,272 bytes per drive otherwise): built
+  // by the first plant that needs it, kept while a plant uses it
+  // (shared_closed_forms, plant.cpp).
+  struct ClosedForms {
+    Linear position_loop;
+    Linear velocity_loop;
+    Linear torque_loop;  // state (0, v, T, 0): the torque modes' lag and mechanics
+  };
   // The standstill closed form: over n sub-steps of the torque lag,
   // T_n = decay·T_0 + Σ_k weight_k·tc_k with tc_k = c0 + c1·k + c2·k².
   struct Standstill {
@@ -171,6 +187,7 @@ class Plant {
   bool standstill(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void configure(double dt) noexcept;
   void build_closed_forms() noexcept;
+  std::shared_ptr<const ClosedForms> shared_closed_forms() const;
   void build_standstill() noexcept;
   void build_linear(Linear& m, LoopDemand::Kind mode) const noexcept;
   void linear_sub_step(double s[4], const double u[4], LoopDemand::Kind mode) const noexcept;
@@ -202,18 +219,16 @@ class Plant {
   // cycle time rarely changes, so exp() and the divisions run once per new
   // cycle time): n_ sub-steps of h_, the current-loop lag factor
   // 1 - exp(-h/tau); the closed-form models are built when that cycle time
-  // comes a second time in a row, the standstill weights when first needed.
+  // comes a second time in a row (closed_forms_), the standstill weights
+  // when first needed.
   double dt_ = -1;
   int n_ = 1;
   double h_ = 0;
   double inv_n_ = 1;
   double lag_factor_ = 0;
-  bool closed_forms_ready_ = false;  // the three Linear below are for dt_
-  bool standstill_ready_ = false;    // standstill_ is for dt_
+  bool standstill_ready_ = false;  // standstill_ is for dt_
   Standstill standstill_{};
-  Linear position_loop_{};
-  Linear velocity_loop_{};
-  Linear torque_loop_{};  // state (0, v, T, 0): the torque modes' lag and mechanics
+  std::shared_ptr<const ClosedForms> closed_forms_;  // for dt_; null: not built yet
 };
 
 }  // namespace ecat::ds402

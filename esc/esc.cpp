@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstring>
+#include <memory>
+#include <type_traits>
 
 #include "esc/registers.hpp"
 
@@ -38,7 +41,8 @@ Esc::Esc(EscConfig config, const Clock& clock)
   // ram_end() is clipped before it reaches memory (mem_read/mem_write, the
   // SMs' memory_end, the FMMU routes, peek, register_u16).
   mem_ = map_memory(memory_size());
-  for (unsigned n = 0; n < kMaxSyncManagers; ++n) {
+  allocate_units();
+  for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
     sms_[n].bind(mem_.get() + reg::sync_manager(n), mem_.get(), ram_end());
   }
   sii_.bind(mem_.get() + reg::kEepromConfiguration, config_);
@@ -47,6 +51,46 @@ Esc::Esc(EscConfig config, const Clock& clock)
 }
 
 Esc::~Esc() = default;
+
+namespace {
+// `n` value-initialised T at `at` (storage of units_), `at` moved past them.
+template <typename T>
+T* construct_units(std::byte*& at, std::size_t n) {
+  static_assert(std::is_trivially_destructible_v<T>, "units_ is freed without destroying its objects");
+  static_assert(alignof(T) <= alignof(std::max_align_t) && sizeof(T) % alignof(std::uint64_t) == 0,
+                "every table starts aligned for the next");
+  T* first = reinterpret_cast<T*>(at);
+  std::uninitialized_value_construct_n(first, n);
+  at += n * sizeof(T);
+  return first;
+}
+}  // namespace
+
+// Routes first (the frame path reads them), then SMs, then FMMUs.
+void Esc::allocate_units() {
+  const std::size_t fmmus = config_.fmmu_count;
+  const std::size_t sms = config_.sync_manager_count;
+  units_ = std::make_unique_for_overwrite<std::byte[]>(2 * fmmus * sizeof(FmmuRoute) + sms * sizeof(SyncManager) +
+                                                        fmmus * sizeof(Fmmu));
+  std::byte* at = units_.get();
+  routes_ = construct_units<FmmuRoute>(at, fmmus);
+  write_routes_ = construct_units<FmmuRoute>(at, fmmus);
+  sms_ = construct_units<SyncManager>(at, sms);
+  fmmus_ = construct_units<Fmmu>(at, fmmus);
+}
+
+const SyncManager& Esc::sync_manager(unsigned n) const noexcept {
+  if (n < config_.sync_manager_count) return sms_[n];
+  // Registers as those of a missing SM read (see reset()); only read
+  // through the const reference once bound.
+  static std::array<std::uint8_t, reg::kSyncManagerStride> absent_registers{};
+  static const SyncManager absent = [] {
+    SyncManager sm;
+    sm.bind(absent_registers.data(), nullptr, 0);
+    return sm;
+  }();
+  return absent;
+}
 
 std::uint32_t Esc::dl_control() const noexcept { return load_le<std::uint32_t>(mem_.get() + reg::kDlControl); }
 
@@ -97,8 +141,16 @@ void Esc::reset() noexcept {
   store_le(m + reg::kWatchdogTimePdi, kWatchdogTimeReset);
   store_le(m + reg::kWatchdogTimeProcessData, kWatchdogTimeReset);
   m[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
-  for (auto& sm : sms_) sm.reset_state();
-  for (auto& f : fmmus_) f = Fmmu{};
+  for (unsigned n = 0; n < config_.sync_manager_count; ++n) sms_[n].reset_state();
+  // An SM the ESC lacks keeps no state, and its registers are never
+  // written; its status byte reads as that of an SM with control 0 after
+  // reset (3-buffer mode, no buffer written: 0x30), as it did when every
+  // ESC reset 16 SMs.
+  for (unsigned n = config_.sync_manager_count; n < kMaxSyncManagers; ++n) {
+    m[reg::sync_manager(n) + reg::sm::kStatus] =
+        static_cast<std::uint8_t>(sm_bits::kNoBufferWritten << sm_bits::kStatusBufferShift);
+  }
+  std::fill_n(fmmus_, config_.fmmu_count, Fmmu{});
   sm_enabled_ = 0;
   sm_watchdog_only_ = 0;
   pdi_buffer_hints_ = {};

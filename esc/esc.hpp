@@ -134,7 +134,10 @@ class Esc final : public Pdi {
     touch();  // the caller may change the DC unit's events or times
     return dc_;
   }
-  const SyncManager& sync_manager(unsigned n) const noexcept { return sms_[n]; }
+  // SM n; one this ESC does not have (n >= the count in 0x0005) is a
+  // disabled SM whose registers are what those registers read (0, status
+  // 0x30).
+  const SyncManager& sync_manager(unsigned n) const noexcept;
   // True when (AL event request & AL event mask) != 0: the IRQ pin to the µC
   // (Section II 0x0204/0x0220). Cheap: a few loads. The mask is 0 after
   // reset, so firmware that relies on irq() must write 0x0204 first.
@@ -277,8 +280,16 @@ class Esc final : public Pdi {
 
   EscConfig config_;
   const Clock& clock_;
-  std::array<SyncManager, kMaxSyncManagers> sms_{};
-  std::array<Fmmu, kMaxFmmus> fmmus_{};
+  // The SM, FMMU and route tables, sized to the units this ESC has
+  // (config_.sync_manager_count / fmmu_count = 0x0005 / 0x0004), not to
+  // the 16 the register block has room for (issue 16 item 5: memory per
+  // slave). One allocation (allocate_units) holds the routes, the SMs and
+  // the FMMUs; the registers of a unit the ESC lacks read 0 and are never
+  // written (register_write_mask), so no state is kept for it.
+  std::unique_ptr<std::byte[]> units_;
+  SyncManager* sms_ = nullptr;  // [sync_manager_count]
+  Fmmu* fmmus_ = nullptr;       // [fmmu_count]
+  void allocate_units();
   std::uint32_t sm_enabled_ = 0;    // bit n: SM n enabled (guards its area)
   std::uint32_t sm_watchdog_only_ = 0;  // bit n: SM n of length 1 or over registers, watchdog trigger only
   // Whether [first, end) holds the byte of a watchdog-trigger-only SM.
@@ -306,7 +317,8 @@ class Esc final : public Pdi {
   // The route of one FMMU direction with its whole-buffer decoding (logical_access.cpp).
   FmmuRoute whole_route(FmmuRoute r, std::uint32_t length, bool ecat_write) const noexcept;
   void whole_events(const FmmuRoute& r) noexcept;
-  std::array<FmmuRoute, 2 * kMaxFmmus> routes_{};  // reads, then writes from kMaxFmmus
+  FmmuRoute* routes_ = nullptr;        // [fmmu_count] read routes, route_reads_ of them in use
+  FmmuRoute* write_routes_ = nullptr;  // [fmmu_count] write routes, route_writes_ in use
   unsigned route_reads_ = 0;
   unsigned route_writes_ = 0;
   SiiInterface sii_;

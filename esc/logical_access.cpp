@@ -71,13 +71,13 @@ void Esc::update_fmmus() noexcept {
       // Section II 0x0802) goes through mem_write, which restarts the watchdog.
       FmmuRoute w = r;
       if (w.target == kRouteRam && touches_watchdog_only_sm(w.physical, p1)) w.target = kRouteGeneral;
-      routes_[kMaxFmmus + route_writes_++] = whole_route(w, f.length, true);
+      write_routes_[route_writes_++] = whole_route(w, f.length, true);
     }
   }
   for (unsigned a = 0; a < route_reads_; ++a) {
     for (unsigned b = 0; b < route_writes_; ++b) {
       const FmmuRoute& rd = routes_[a];
-      const FmmuRoute& wr = routes_[kMaxFmmus + b];
+      const FmmuRoute& wr = write_routes_[b];
       if (rd.first < wr.end && wr.first < rd.end) fmmus_routed_ = false;
     }
   }

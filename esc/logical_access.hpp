@@ -87,7 +87,7 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
     // ESC write protection (0x0031) covers the RAM (Section I §13).
     const bool ram_protected = (mem_[reg::kEscWriteProtection] & bits::kWriteProtect) && !esc_write_enabled_;
     for (unsigned i = 0; i < route_writes_; ++i) {
-      const FmmuRoute& r = routes_[kMaxFmmus + i];
+      const FmmuRoute& r = write_routes_[i];
       const std::uint64_t lo = std::max(dg0, r.first);
       const std::uint64_t hi = std::min(dg1, r.end);
       if (lo >= hi) continue;
