@@ -8,10 +8,10 @@
 // touch ~6,000, so nearly every access to a drive's state walks the page
 // tables first. Measured on this project's CSP cycle: 1.3-2.3 us per drive
 // at 1000 drives on 4 KiB pages against 0.8 us on 2 MiB pages, where 100
-// drives cost 0.8-0.9 us either way (docs/performance.md, "Scale, part 6").
+// drives cost 0.8-0.9 us either way (docs/performance.md, "Scale, part 7").
 //
 // How: Linux transparent huge pages (Documentation/admin-guide/mm/transhuge
-// .rst). With the system setting "madvise" (Debian's default) only ranges
+// .rst). With the system setting "madvise" (as on the machines measured) only ranges
 // marked MADV_HUGEPAGE get them. The heap ([heap], grown by brk) is marked
 // and what it holds is collapsed at once with MADV_COLLAPSE (Linux 6.1+; on
 // older kernels khugepaged collapses the marked range in the background).

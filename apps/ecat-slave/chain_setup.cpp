@@ -60,7 +60,7 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
   }
   if (options.huge_pages) {
     // Built: the slaves' state goes on 2 MiB pages (docs/performance.md
-    // "Scale, part 6"). Only a chain whose state fills whole 2 MiB pages
+    // "Scale, part 7"). Only a chain whose state fills whole 2 MiB pages
     // gains, so only such a chain reports what did not take.
     const slave::HugePageReport hp = slave::back_heap_with_huge_pages();
     if (!options.quiet && !hp.note.empty() && hp.heap && hp.heap->size() >= kHugePageWorthBytes) {
