@@ -19,7 +19,6 @@ void BM_Cycle_Csp(benchmark::State& state) {
     state.SkipWithError(e.what());
     return;
   }
-  huge_pages_from_env(state);
   for (auto _ : state) line->cycle();
   // The drives must have followed: still enabled after the measured cycles.
   if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) {
@@ -47,7 +46,6 @@ void BM_Cycle_CspFullPass(benchmark::State& state) {
     return;
   }
   line->chain().set_skipping(false);
-  huge_pages_from_env(state);
   for (auto _ : state) line->cycle();
   if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) state.SkipWithError("drive dropped out");
   state.counters["ns_per_drive"] = benchmark::Counter(static_cast<double>(state.iterations() * n),

@@ -41,7 +41,6 @@ void measure(benchmark::State& state, bool io) {
     auto dev = io ? io_device() : nullptr;
     const long before = rss_kib();
     auto line = io ? std::make_unique<DriveLine>(n, dev) : std::make_unique<DriveLine>(n);
-    huge_pages_from_env(state);  // as bench_cycle and ecat-slave run it
     for (int i = 0; i < kCycles; ++i) line->cycle();
     per_slave = static_cast<double>(rss_kib() - before) / static_cast<double>(n);
     esc_kib = static_cast<double>(line->chain()[0].esc().memory_size()) / 1024.0;

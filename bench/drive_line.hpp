@@ -10,9 +10,6 @@
 // Set-up allocates freely; cycle() does not allocate in this file.
 #pragma once
 
-#include <benchmark/benchmark.h>
-
-#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -21,7 +18,6 @@
 #include "bench/mini_master.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
-#include "slave/huge_page_heap.hpp"
 
 namespace ecat::bench {
 
@@ -46,19 +42,6 @@ inline constexpr Nanoseconds kCyclePeriod{1'000'000};
 // monitoring all run each cycle (their cost does not depend on the motion),
 // and no set-up of the user-unit scaling or limit switches is needed however
 // long the benchmark runs.
-
-// After the chain is built, its heap goes on 2 MiB pages as ecat-slave's
-// does (slave/huge_page_heap.hpp); ECAT_BENCH_HUGE_PAGES=0 leaves it on
-// 4 KiB pages, to measure what they cost. The MiB of the heap on huge
-// pages is reported as a counter, so every figure says how it was made.
-inline void huge_pages_from_env(benchmark::State& state) {
-  double mib = 0;
-  const char* s = std::getenv("ECAT_BENCH_HUGE_PAGES");
-  if (s == nullptr || std::string(s) != "0") {
-    mib = static_cast<double>(slave::back_heap_with_huge_pages().huge_bytes_after) / (1024.0 * 1024.0);
-  }
-  state.counters["huge_MiB"] = mib;
-}
 
 class DriveLine {
  public:

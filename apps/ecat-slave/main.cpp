@@ -111,9 +111,6 @@ int main(int argc, char** argv) {
   cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");
   cli.add_flag("--keep-privileges", o.keep_privileges, "Do not drop root after opening the raw socket");
-  cli.add_flag("!--no-huge-pages", o.huge_pages,
-               "Keep the slaves' state on 4 KiB pages (default: the heap goes on 2 MiB transparent huge pages "
-               "once the chain is built, which keeps the cost per slave flat in chains of hundreds)");
   cli.add_flag("-q,--quiet", o.quiet, "Print only errors");
   pc->needs(esi);
   rev->needs(esi);

@@ -68,7 +68,6 @@ struct SlaveProgramOptions {
   std::string plot_svg;
   std::vector<double> ppm;  // per slave oscillator error
   bool keep_privileges = false;
-  bool huge_pages = true;  // the heap on 2 MiB pages once the chain is built (slave/huge_page_heap.hpp)
   bool quiet = false;
 };
 
