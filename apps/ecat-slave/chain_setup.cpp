@@ -1,18 +1,8 @@
 #include "apps/ecat-slave/chain_setup.hpp"
 
-#include <cstdio>
-
 #include <fmt/format.h>
 
-#include "slave/huge_page_heap.hpp"
-
 namespace ecat::app {
-namespace {
-
-// Below this the heap holds at most a few 2 MiB pages: nothing to say.
-constexpr std::size_t kHugePageWorthBytes = std::size_t{8} << 20;
-
-}  // namespace
 
 Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgramOptions& options,
                                                                std::vector<od::DeviceDescription> devices,
@@ -57,15 +47,6 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
   }
   if (!options.trace_vcd.empty()) {
     if (auto ok = chain->open_trace(options.trace_vcd); !ok) return fail(ok.error());
-  }
-  if (options.huge_pages) {
-    // Built: the slaves' state goes on 2 MiB pages (docs/performance.md
-    // "Scale, part 7"). Only a chain whose state fills whole 2 MiB pages
-    // gains, so only such a chain reports what did not take.
-    const slave::HugePageReport hp = slave::back_heap_with_huge_pages();
-    if (!options.quiet && !hp.note.empty() && hp.heap && hp.heap->size() >= kHugePageWorthBytes) {
-      std::fprintf(stderr, "ecat-slave: heap left on 4 KiB pages: %s\n", hp.note.c_str());
-    }
   }
   return chain;
 }
