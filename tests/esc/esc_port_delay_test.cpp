@@ -35,25 +35,36 @@ Data latch_frame() {
   return Data(f.frame().begin(), f.frame().end());
 }
 
+// The coupler `c` with an E-bus device on port 1 (cable kCableE) and an
+// MII device on port 2 (cable kCableM).
+struct CouplerWithTwo {
+  explicit CouplerWithTwo(const EscConfig& c) : coupler(c, clock), e(make_config(), clock), m(make_config(), clock) {
+    segment.add(coupler);
+    segment.add(e, 0, 1, kUpstreamPort, kCableE);
+    segment.add(m, 0, 2, kUpstreamPort, kCableM);
+  }
+  ManualClock clock;
+  Esc coupler;
+  Esc e;
+  Esc m;
+  Segment segment;
+};
+
 // A coupler whose E-bus port 1 and MII port 2 forward with different delays,
 // an ESC without inner delays on each: the frame goes 0 -> unit (P) -> port 1
 // (port 3 absent) -> E and back -> port 1 forwarded (F E-bus) -> port 2 -> M
 // and back -> port 2 forwarded (F MII) -> port 0 -> master.
 TEST(EscPortDelay, ForwardingDelayFollowsThePortOfEntry) {
-  ManualClock clock;
   EscConfig c = make_config();
   c.port_descriptor = kCouplerPorts;
   c.processing_delay = kP;
   c.forwarding_delay = Nanoseconds{9999};  // replaced on ports 1 and 2
   c.port_forwarding_delay[1] = kFebus;
   c.port_forwarding_delay[2] = kFmii;
-  Esc coupler(c, clock), e(make_config(), clock), m(make_config(), clock);
-  Segment s;
-  s.add(coupler);
-  s.add(e, 0, 1, kUpstreamPort, kCableE);
-  s.add(m, 0, 2, kUpstreamPort, kCableM);
+  CouplerWithTwo t(c);
+  Esc& coupler = t.coupler;
   Data f = latch_frame();
-  const Delivery d = s.send(f, 0ns);
+  const Delivery d = t.segment.send(f, 0ns);
   ASSERT_TRUE(d.returned());
   const std::uint32_t at_e = 300 + 150;           // P + cable
   const std::uint32_t back_1 = at_e + 150;        // E turns it round in 0
@@ -61,26 +72,21 @@ TEST(EscPortDelay, ForwardingDelayFollowsThePortOfEntry) {
   const std::uint32_t back_2 = at_m + 700;
   using T = std::array<std::uint32_t, 4>;
   EXPECT_EQ(receive_times(coupler), (T{0, back_1, back_2, 0}));
-  EXPECT_EQ(receive_times(e), (T{at_e, 0, 0, 0}));
-  EXPECT_EQ(receive_times(m), (T{at_m, 0, 0, 0}));
+  EXPECT_EQ(receive_times(t.e), (T{at_e, 0, 0, 0}));
+  EXPECT_EQ(receive_times(t.m), (T{at_m, 0, 0, 0}));
   EXPECT_EQ(d.at.count(), back_2 + 410);  // F MII, the master's cable 0
   EXPECT_EQ(d.at.count(), 2530);          // P + 2 cE + F_E + 2 cM + F_M, written out
 }
 
 // A port without its own figure forwards with forwarding_delay.
 TEST(EscPortDelay, UnsetPortTakesTheCommonForwardingDelay) {
-  ManualClock clock;
   EscConfig c = make_config();
   c.port_descriptor = kCouplerPorts;
   c.forwarding_delay = Nanoseconds{90};
   c.port_forwarding_delay[2] = kFmii;  // port 1 unset
-  Esc coupler(c, clock), e(make_config(), clock), m(make_config(), clock);
-  Segment s;
-  s.add(coupler);
-  s.add(e, 0, 1, kUpstreamPort, kCableE);
-  s.add(m, 0, 2, kUpstreamPort, kCableM);
+  CouplerWithTwo t(c);
   Data f = latch_frame();
-  EXPECT_EQ(s.send(f, 0ns).at.count(), 2 * 150 + 90 + 2 * 700 + 410);
+  EXPECT_EQ(t.segment.send(f, 0ns).at.count(), 2 * 150 + 90 + 2 * 700 + 410);
 }
 
 TEST(InnerDelayFigures, PortTypesFromThePortDescriptor) {
