@@ -16,9 +16,13 @@
 #include "esi/esi_reader.hpp"
 #include "esi/esi_writer_device_xml.hpp"
 #include "esi/twin_import.hpp"
+#include "twin_warnings.hpp"
 
 namespace ecat::esi {
 namespace {
+
+using test::all;
+using test::has_warning;
 
 const char* const kEsi = R"(<?xml version="1.0"?>
 <EtherCATInfo Version="1.2">
@@ -153,19 +157,6 @@ std::uint64_t value(const od::DeviceDescription& d, std::uint16_t index, std::ui
   const od::Entry* e = d.dictionary.find(index, sub);
   EXPECT_NE(e, nullptr) << std::hex << index << ":" << int(sub);
   return e ? le(e->default_value) : ~0ull;
-}
-
-bool has_warning(const std::vector<EsiWarning>& w, int line, const std::string& part) {
-  for (const auto& x : w) {
-    if (x.line == line && x.message.find(part) != std::string::npos) return true;
-  }
-  return false;
-}
-
-std::string all(const std::vector<EsiWarning>& w) {
-  std::string s;
-  for (const auto& x : w) s += x.to_string("t.xml") + "\n";
-  return s;
 }
 
 class TwinRepairs : public ::testing::Test {

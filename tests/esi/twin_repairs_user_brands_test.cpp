@@ -16,9 +16,12 @@
 #include "esi/esi_writer.hpp"
 #include "esi/esi_writer_device_xml.hpp"
 #include "od/firmware.hpp"
+#include "twin_warnings.hpp"
 
 namespace ecat::esi {
 namespace {
+
+using namespace test;
 
 // One device; `type_attrs` go on <Type>, `body` after GroupType.
 std::string esi(const std::string& type_attrs, const std::string& body) {
@@ -76,42 +79,6 @@ const char* const kMailbox = R"(
         <Sm MinSize="34" MaxSize="192" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
         <Sm MinSize="34" MaxSize="192" DefaultSize="128" StartAddress="#x1100" ControlByte="#x22" Enable="1">MBoxIn</Sm>
         <Mailbox><CoE/></Mailbox>)";
-
-int line_of(const std::string& text, const std::string& needle) {
-  const auto at = text.find(needle);
-  if (at == std::string::npos) return -1;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
-
-std::string all(const std::vector<EsiWarning>& w) {
-  std::string s;
-  for (const auto& x : w) s += x.to_string("t.xml") + "\n";
-  return s;
-}
-
-bool has_warning(const std::vector<EsiWarning>& w, int line, const std::string& part) {
-  return std::any_of(w.begin(), w.end(), [&](const EsiWarning& x) {
-    return x.line == line && x.message.find(part) != std::string::npos;
-  });
-}
-
-bool warns_about(const std::vector<EsiWarning>& w, const std::string& part) {
-  return std::any_of(w.begin(), w.end(),
-                     [&](const EsiWarning& x) { return x.message.find(part) != std::string::npos; });
-}
-
-struct Read {
-  std::vector<EsiWarning> warnings;
-  od::DeviceDescription d;
-};
-
-Read read(const std::string& text) {
-  Read r;
-  auto d = read_esi_string(text, "t.xml", {}, &r.warnings);
-  EXPECT_TRUE(d) << d.error().to_string();
-  if (d) r.d = *d;
-  return r;
-}
 
 std::uint32_t u32(const od::Value& v) {
   std::uint32_t x = 0;

@@ -16,9 +16,12 @@
 #include "esi/device_loader.hpp"
 #include "esi/esi_reader.hpp"
 #include "esi/esi_writer_device_xml.hpp"
+#include "twin_warnings.hpp"
 
 namespace ecat::esi {
 namespace {
+
+using namespace test;
 
 // One device; `body` goes after GroupType (Profile, Sm, PDOs, Eeprom).
 std::string esi(const std::string& body) {
@@ -40,24 +43,6 @@ std::string esi(const std::string& body) {
 )";
 }
 
-int line_of(const std::string& text, const std::string& needle) {
-  const auto at = text.find(needle);
-  if (at == std::string::npos) return -1;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
-
-std::string all(const std::vector<EsiWarning>& w) {
-  std::string s;
-  for (const auto& x : w) s += x.to_string("t.xml") + "\n";
-  return s;
-}
-
-bool has_warning(const std::vector<EsiWarning>& w, int line, const std::string& part) {
-  return std::any_of(w.begin(), w.end(), [&](const EsiWarning& x) {
-    return x.line == line && x.message.find(part) != std::string::npos;
-  });
-}
-
 const char* const kMailboxSms = R"(
         <Sm MinSize="140" MaxSize="140" DefaultSize="140" StartAddress="#x1800" ControlByte="#x26" Enable="1">MBoxOut</Sm>
         <Sm MinSize="140" MaxSize="140" DefaultSize="140" StartAddress="#x1900" ControlByte="#x22" Enable="1">MBoxIn</Sm>)";
@@ -72,19 +57,6 @@ const char* const kRxPdo = R"(
         <TxPdo Fixed="1" Sm="3"><Index>#x1A00</Index><Name>In</Name>
           <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>s</Name><DataType>UINT</DataType></Entry>
         </TxPdo>)";
-
-struct Read {
-  std::vector<EsiWarning> warnings;
-  od::DeviceDescription d;
-};
-
-Read read(const std::string& text) {
-  Read r;
-  auto d = read_esi_string(text, "t.xml", {}, &r.warnings);
-  EXPECT_TRUE(d) << d.error().to_string();
-  if (d) r.d = *d;
-  return r;
-}
 
 void expect_loads(const od::DeviceDescription& d) {
   auto back = load_device_string(write_device_xml(d), "twin.xml");
