@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "esc/al_status_code.hpp"
 #include "esi/esi_writer_device_xml.hpp"
 #include "esi/twin_import.hpp"
 #include "in_process_bus.hpp"
@@ -23,6 +24,9 @@ namespace {
 
 constexpr std::uint32_t kEk1828 = 0x07242C52;
 constexpr std::uint32_t kEk1828Revision = 0x00100000;
+
+// The AL status code as the master reads it from 0x0134.
+constexpr std::uint16_t code(esc::AlStatusCode c) { return static_cast<std::uint16_t>(c); }
 
 std::string ek1828_device_xml() {
   esi::TwinImportOptions o;
@@ -167,7 +171,7 @@ TEST_F(MultiSmTwin, SecondOutputsSmWithAnotherLengthRefusedWith0x001D) {
   ASSERT_TRUE(st);
   EXPECT_TRUE(st->is(AlState::PreOp));
   EXPECT_TRUE(st->error());
-  EXPECT_EQ(st->code, 0x001D);
+  EXPECT_EQ(st->code, code(esc::AlStatusCode::InvalidOutputConfiguration));
 }
 
 TEST_F(MultiSmTwin, InputsSmLeftOffRefusedWith0x001E) {
@@ -177,7 +181,7 @@ TEST_F(MultiSmTwin, InputsSmLeftOffRefusedWith0x001E) {
   auto st = master.request_state(0, AlState::SafeOp);
   ASSERT_TRUE(st);
   EXPECT_TRUE(st->is(AlState::PreOp));
-  EXPECT_EQ(st->code, 0x001E);
+  EXPECT_EQ(st->code, code(esc::AlStatusCode::InvalidInputConfiguration));
 }
 
 // NI 9144 (vendor corpus ni-9144.xml): an inputs-only device with an outputs
@@ -246,7 +250,7 @@ TEST(OutputsSmWithoutOutputs, EnabledSm2WithAnEmptyAssignmentIsRefusedWith0x001D
   auto st = master.request_state(0, AlState::SafeOp);
   ASSERT_TRUE(st);
   EXPECT_TRUE(st->is(AlState::PreOp));
-  EXPECT_EQ(st->code, 0x001D);
+  EXPECT_EQ(st->code, code(esc::AlStatusCode::InvalidOutputConfiguration));
   // Left off (length 0, disabled) as SOEM writes it for no outputs: SafeOp.
   ASSERT_TRUE(master.acknowledge_error(0));
   ASSERT_TRUE(master.write_sync_manager(0, 2, sm2_start, 0, 0x64, false));
