@@ -33,7 +33,7 @@ Esc::Esc(EscConfig config, const Clock& clock)
   config_.sync_manager_count = std::min(config_.sync_manager_count, kMaxSyncManagers);
   config_.port_count = std::min(config_.port_count, kMaxPorts);
   for (unsigned p = 0; p < kMaxPorts; ++p) {
-    present_[p] = config_.port_descriptor != 0 ? ((config_.port_descriptor >> (2 * p)) & kPortTypeMask) != 0
+    present_[p] = config_.port_descriptor != 0 ? port_type_in(config_.port_descriptor, p) != PortType::NotImplemented
                                                : p < config_.port_count;
   }
   config_.process_ram_size = std::min(config_.process_ram_size, kMaxProcessRam);

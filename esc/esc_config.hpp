@@ -28,6 +28,10 @@ inline constexpr unsigned kPortTypeMask = 0b11;
 inline constexpr std::uint8_t port_descriptor_bits(unsigned port, PortType t) {
   return static_cast<std::uint8_t>(static_cast<unsigned>(t) << (2 * port));
 }
+// The type of `port` in a port descriptor (the inverse of port_descriptor_bits).
+inline constexpr PortType port_type_in(std::uint8_t port_descriptor, unsigned port) {
+  return static_cast<PortType>((port_descriptor >> (2 * port)) & kPortTypeMask);
+}
 
 // Called when the master writes an SII word through 0x0502 (write command),
 // so the owner can persist it. Set-up only; never called on the cyclic path

@@ -44,7 +44,7 @@ const InnerDelayFigures* find_inner_delays(std::span<const InnerDelayFigures> ta
 std::array<PortType, kMaxPorts> port_types(std::uint8_t port_descriptor) noexcept {
   std::array<PortType, kMaxPorts> t{};
   for (unsigned p = 0; p < kMaxPorts; ++p) {
-    t[p] = static_cast<PortType>((port_descriptor >> (2 * p)) & kPortTypeMask);
+    t[p] = port_type_in(port_descriptor, p);
   }
   return t;
 }
