@@ -33,7 +33,16 @@ function(ecat_test name dir)
   target_compile_options(${name} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-mismatched-new-delete>)
   target_compile_definitions(${name} PRIVATE
     ECAT_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    ECAT_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared"
+    ECAT_ESI_SCHEMAS="${ECAT_ESI_SCHEMAS_PATH}"
     ECAT_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  if(ECAT_PCH)
+    target_precompile_headers(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support/test_pch.hpp)
+  endif()
+  # The tests' own code at another optimisation level than the libraries
+  # under test (scripts/test: -O1 in the Clang -O3 stage); empty: the build type's.
+  if(ECAT_TEST_CXX_FLAGS)
+    separate_arguments(test_flags UNIX_COMMAND "${ECAT_TEST_CXX_FLAGS}")
+    target_compile_options(${name} PRIVATE ${test_flags})
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS unit)
 endfunction()

@@ -4,14 +4,48 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string_view>
 
 namespace ecat::esi::test {
+namespace {
+
+constexpr const char* kSchemasVariable = "ECAT_ESI_SCHEMAS";
+
+std::vector<std::string> split_paths(std::string_view list) {
+  std::vector<std::string> out;
+  while (!list.empty()) {
+    const auto colon = list.find(':');
+    const auto item = list.substr(0, colon);
+    if (!item.empty()) out.emplace_back(item);
+    if (colon == std::string_view::npos) break;
+    list.remove_prefix(colon + 1);
+  }
+  return out;
+}
+
+const char* named_by_user() {
+  const char* v = std::getenv(kSchemasVariable);
+  return v && *v ? v : nullptr;
+}
+
+}  // namespace
 
 bool have_xmllint() { return std::system("xmllint --version > /dev/null 2>&1") == 0; }
 
-bool can_validate_esi() {
-  return have_xmllint() && std::filesystem::exists(esi_schema_v114()) &&
-         std::filesystem::exists(esi_schema_v117());
+std::vector<std::string> esi_schemas() {
+  if (const char* user = named_by_user()) return split_paths(user);
+  std::vector<std::string> present;
+  for (auto& path : split_paths(ECAT_ESI_SCHEMAS))
+    if (std::filesystem::exists(path)) present.push_back(std::move(path));
+  return present;
+}
+
+bool can_validate_esi() { return have_xmllint() && !esi_schemas().empty(); }
+
+std::string why_no_esi_schema() {
+  if (!have_xmllint()) return "xmllint is not installed";
+  return std::string("no ETG ESI schema at ") + ECAT_ESI_SCHEMAS +
+         " (set ECAT_ESI_SCHEMAS=/path/EtherCATInfo.xsd[:more] or configure -DECAT_ESI_SCHEMAS=...)";
 }
 
 std::string xmllint_schema(const std::string& file, const std::string& schema, bool& ok) {
@@ -26,11 +60,6 @@ std::string xmllint_schema(const std::string& file, const std::string& schema, b
   while (std::fgets(buf, sizeof buf, p)) out += buf;
   ok = pclose(p) == 0;
   return out;
-}
-
-std::string esi_schema_v114() { return std::string(ECAT_SHARED_DIR) + "/esi-schema/EtherCATInfo.xsd"; }
-std::string esi_schema_v117() {
-  return std::string(ECAT_SHARED_DIR) + "/esi-schema/v1.17/EtherCATInfo.xsd";
 }
 
 std::string write_test_file(const std::string& name, const std::string& text) {

@@ -10,9 +10,9 @@ build=${2:?builddir}
 gen="$build/bin/ecat-esigen"
 [ -x "$gen" ] || { echo "skip: $gen not built"; exit 77; }
 command -v xmllint > /dev/null || { echo "skip: xmllint not installed"; exit 77; }
-schema114="$src/../shared/esi-schema/EtherCATInfo.xsd"
-schema117="$src/../shared/esi-schema/v1.17/EtherCATInfo.xsd"
-[ -f "$schema114" ] || { echo "skip: ESI schema not found at $schema114"; exit 77; }
+# shellcheck source=lib/esi_schemas.sh
+. "$src/tests/scripts/lib/esi_schemas.sh" "$src"
+[ ${#esi_schemas[@]} -gt 0 ] || { echo "skip: $esi_schema_why"; exit 77; }
 
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -25,8 +25,10 @@ expect_rc() {  # expected-rc description command...
   [ "$rc" -eq "$want" ] || fail "$what: exit $rc, expected $want ($(head -c 300 "$out/stderr"))"
 }
 valid_esi() {
-  xmllint --noout --schema "$schema114" "$1" 2> "$out/lint" || fail "$1 invalid (1.14): $(head -3 "$out/lint")"
-  xmllint --noout --schema "$schema117" "$1" 2> "$out/lint" || fail "$1 invalid (1.17): $(head -3 "$out/lint")"
+  local schema
+  for schema in "${esi_schemas[@]}"; do
+    xmllint --noout --schema "$schema" "$1" 2> "$out/lint" || fail "$1 invalid ($schema): $(head -3 "$out/lint")"
+  done
 }
 
 # 1. Built-in default device: every output.

@@ -5,7 +5,8 @@
 #   load        the device XML loads again (ecat-esigen DEVICE.xml)
 #   agree       ecat-conform in-process, the sii.* / od.* / esi.* cases: no FAIL
 #   schema      the re-emitted ESI is valid against ETG.2000 1.14 and 1.17
-#               (skipped, as in esigen_cli.sh, where shared/esi-schema is absent)
+#               (or the schemas ECAT_ESI_SCHEMAS names; skipped, as in esigen_cli.sh,
+#               where no schema is found: tests/scripts/lib/esi_schemas.sh)
 #   stable      device XML -> ESI -> model -> device XML -> ESI gives the same ESI
 #   op          ecat-master --in-process: Init -> PreOp -> SafeOp -> Op, then cycles
 #               with the expected WKC on every one (exit 1 otherwise)
@@ -26,11 +27,10 @@ for b in "$gen" "$conform" "$master"; do
   [ -x "$b" ] || { echo "skip: $b not built"; exit 77; }
 done
 command -v xmllint > /dev/null || { echo "skip: xmllint not installed"; exit 77; }
-shared=${ECAT_SHARED_DIR:-$src/../shared}
-schema114="$shared/esi-schema/EtherCATInfo.xsd"
-schema117="$shared/esi-schema/v1.17/EtherCATInfo.xsd"
+# shellcheck source=../scripts/lib/esi_schemas.sh
+. "$src/tests/scripts/lib/esi_schemas.sh" "$src"
 have_schema=0
-[ -f "$schema114" ] && [ -f "$schema117" ] && have_schema=1
+[ ${#esi_schemas[@]} -gt 0 ] && have_schema=1
 cycles=${TWIN_CYCLES:-200}
 
 out=$(mktemp -d)
@@ -190,14 +190,20 @@ done < "$out/list.tsv"
 # 4. (after the loop) the schema step of every device at once; xmllint names
 # each file that fails ("F fails to validate") and the errors carry its path.
 if [ ${#schema_files[@]} -gt 0 ]; then
-  xmllint --noout --schema "$schema114" "${schema_files[@]}" > "$out/lint114" 2>&1
-  xmllint --noout --schema "$schema117" "${schema_files[@]}" > "$out/lint117" 2>&1
+  lints=()
+  for si in "${!esi_schemas[@]}"; do
+    xmllint --noout --schema "${esi_schemas[$si]}" "${schema_files[@]}" > "$out/lint$si" 2>&1
+    lints+=("$out/lint$si")
+  done
   for k in "${!schema_files[@]}"; do
     f=${schema_files[$k]}
     n=${schema_dev[$k]}
-    if grep -q -F "$f fails to validate" "$out/lint114" "$out/lint117" ||
-       ! grep -q -F "$f validates" "$out/lint114" || ! grep -q -F "$f validates" "$out/lint117"; then
-      msg="ESI invalid: $(grep -h -F "$f:" "$out/lint114" "$out/lint117" | head -2 | sed "s|$out/||g" | tr '\n' ' ')"
+    valid=1
+    for l in "${lints[@]}"; do
+      if grep -q -F "$f fails to validate" "$l" || ! grep -q -F "$f validates" "$l"; then valid=0; fi
+    done
+    if [ $valid -eq 0 ]; then
+      msg="ESI invalid: $(grep -h -F "$f:" "${lints[@]}" | head -2 | sed "s|$out/||g" | tr '\n' ' ')"
       status=1
       echo "FAIL: $file device $n: $msg"
       # the device's line gets FAIL and the message
