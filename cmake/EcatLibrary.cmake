@@ -37,6 +37,12 @@ function(ecat_test name dir)
     ECAT_BINARY_DIR="${PROJECT_BINARY_DIR}")
   if(ECAT_PCH)
     target_precompile_headers(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support/test_pch.hpp)
+    # GCC 12 with a precompiled libstdc++ reports std::string concatenation
+    # in test bodies as -Warray-bounds (the -Wrestrict false positive of
+    # CMakeLists.txt, GCC bugs 105329/105651, gone in 13): visible, not fatal.
+    if(ECAT_WERROR AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+      target_compile_options(${name} PRIVATE -Wno-error=array-bounds)
+    endif()
   endif()
   # The tests' own code at another optimisation level than the libraries
   # under test (scripts/test: -O1 in the Clang -O3 stage); empty: the build type's.
