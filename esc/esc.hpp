@@ -109,6 +109,15 @@ class Esc final : public Pdi {
   // port's loop control is Auto or Auto-close, and puts an Auto-close port
   // into "closed wait" (Section I §3.4, Figure 4; Section II 0x0310).
   void set_link(unsigned port, bool link) noexcept;
+  // Fault injection (slave::FaultCatalogue): the running process-data
+  // watchdog expires at `now` - the next poll(now) shows it as silicon does
+  // (0x0440 = 0, 0x0442 + 1, outputs 0x0F00 cleared, AL event bit 6).
+  // False when the watchdog is not running.
+  bool expire_process_data_watchdog(Nanoseconds now) noexcept {
+    if (!watchdogs_.expire_process_data(now)) return false;
+    refresh_timers();
+    return true;
+  }
   bool link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
   // Whether `port` exists on this ESC (0x0007 bits 2n+1:2n not 00).
   bool port_present(unsigned port) const noexcept { return port < kMaxPorts && present_[port]; }
