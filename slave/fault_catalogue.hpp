@@ -53,6 +53,7 @@ struct FaultKind {
   bool needs_slave = false;
   bool needs_port = false;
   std::span<const FaultParam> params;
+  bool takes_slave = false;  // a slave is optional (needs_slave implies it)
 };
 
 using FaultId = std::uint32_t;
