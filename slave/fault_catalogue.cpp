@@ -8,6 +8,7 @@
 #include "common/le.hpp"
 #include "ds402/drive.hpp"
 #include "esc/registers.hpp"
+#include "esc/sii_interface.hpp"
 #include "od/firmware.hpp"
 #include "slave/faults/esm_guard.hpp"
 #include "slave/faults/frame_faults.hpp"
@@ -77,6 +78,13 @@ constexpr std::array kKinds{
                              "neighbours count a lost link); cleared, it powers up: Init, station address 0, power-up "
                              "registers, SII loaded from its EEPROM, firmware restarted",
               true, false, kNoParams},
+    FaultKind{"sii_bad_checksum", "the SII checksum (word 7) in the EEPROM goes bad and the EEPROM reloads: 0x0502 "
+                                  "bits 11 (checksum error) and 12 (not loaded), 0x0110 bit 0 = 0; cleared, restored "
+                                  "and reloaded",
+              true, false, kNoParams},
+    FaultKind{"sii_busy_stuck", "the SII interface sticks busy: the master's next EEPROM command leaves 0x0502 bit "
+                                "15 set and every later one is ignored (SII timeouts); cleared, the command completes",
+              true, false, kNoParams},
     FaultKind{"drive_fault", "the CiA 402 drive faults: statusword Fault, 603Fh = code, 1001h, an EMCY with the code; "
                              "fault reset works again once cleared",
               true, false, kDriveParams},
@@ -140,7 +148,7 @@ std::int64_t param(const FaultRequest& r, const char* name, std::int64_t fallbac
 // --- State of the engaged faults ---
 
 struct FaultCatalogue::Impl {
-  enum class Where : std::uint8_t { Link, Corrupt, Frame, Esm, Drive, Power };
+  enum class Where : std::uint8_t { Link, Corrupt, Frame, Esm, Drive, Power, SiiChecksum, SiiBusy };
   struct Record {
     EngagedFault fault;
     Where where = Where::Link;
@@ -148,6 +156,7 @@ struct FaultCatalogue::Impl {
     unsigned port = 0;
     ds402::Drive* drive = nullptr;
     std::vector<unsigned> ports_cut;  // Power: the cables it took down
+    std::uint8_t saved_byte = 0;      // SiiChecksum: the EEPROM byte it replaced
   };
   std::map<FaultId, Record> records;
   FaultId next = 1;
@@ -380,6 +389,24 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       if (seg.peer(rec.slave, p) && seg.link_up(rec.slave, p)) rec.ports_cut.push_back(p);
     }
     for (unsigned p : rec.ports_cut) (void)seg.set_link(rec.slave, p, false);
+  } else if (k == "sii_bad_checksum" || k == "sii_busy_stuck") {
+    rec.where = k == "sii_busy_stuck" ? Impl::Where::SiiBusy : Impl::Where::SiiChecksum;
+    if (auto other = same_place(rec.where)) return fail(fmt::format("{}: already engaged as fault {}", k, *other));
+    esc::Esc& e = chain_[rec.slave].esc();
+    if (rec.where == Impl::Where::SiiBusy) {
+      e.set_sii_stuck(true, std::max(chain_.time_seen(), Nanoseconds{0}));
+    } else {
+      // Word 7's low byte: the CRC over words 0-6 (ETG.1000.6 §5.4), made wrong.
+      const auto sii = e.config().sii.bytes();
+      if (sii.size() < esc::kSiiConfigAreaBytes + 2) {
+        return fail(fmt::format("{}: slave {} has no SII checksum", k, rec.slave));
+      }
+      const std::uint8_t crc = esc::sii_crc(sii.first(esc::kSiiConfigAreaBytes));
+      auto bad = static_cast<std::uint8_t>(crc ^ 0xFF);
+      const std::uint16_t high = static_cast<std::uint16_t>(sii[esc::kSiiConfigAreaBytes + 1] << 8);
+      if ((high | bad) == esc::kSiiChecksumDisabled) bad = static_cast<std::uint8_t>(bad ^ 0x01);
+      rec.saved_byte = e.patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, bad).value_or(0);
+    }
   } else if (k == "drive_fault") {
     if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
     if (auto ok = in_range(k, request, "error_register", 0, 0xFF); !ok) return fail(ok.error());
@@ -430,6 +457,13 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
       break;
     case Impl::Where::Drive:
       rec.drive->set_external_fault(std::nullopt);
+      break;
+    case Impl::Where::SiiChecksum:
+      (void)chain_[rec.slave].esc().patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, rec.saved_byte);
+      break;
+    case Impl::Where::SiiBusy:
+      chain_[rec.slave].esc().set_sii_stuck(false, std::max(chain_.time_seen(), Nanoseconds{0}));
+      if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());  // the command completes
       break;
     case Impl::Where::Power: {
       // The old firmware (and the guard's ESM) is gone: the guard goes with it.

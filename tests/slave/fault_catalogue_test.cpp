@@ -84,7 +84,7 @@ TEST(FaultCatalogue, ListsExactlyTheImplementedKinds) {
   }
   EXPECT_EQ(names, (std::set<std::string>{"link_cut", "corrupt_frames", "drop_frames", "wkc_offset", "al_error",
                                           "refuse_transition", "watchdog_expiry", "power_cycle",
-                                          "drive_fault"}));
+                                          "sii_bad_checksum", "sii_busy_stuck", "drive_fault"}));
   EXPECT_EQ(FaultCatalogue::find_kind("melt"), nullptr);
 }
 
@@ -387,6 +387,52 @@ TEST(FaultCatalogue, PowerCycle) {
   auto st = r.master.request_state(1, master::AlState::PreOp);
   ASSERT_TRUE(st);
   EXPECT_EQ(st->raw, kPreOp);
+}
+
+// sii_bad_checksum (ETG.1000.6 §5.4; Section II 0x0502, 0x0110).
+TEST(FaultCatalogue, SiiBadChecksum) {
+  Rig r;
+  ASSERT_EQ(r.master.scan().value_or(0), 3u);
+  constexpr std::uint16_t kSiiControl = 0x0502, kChecksumError = 0x0800, kNotLoaded = 0x1000;
+  constexpr std::uint16_t kChecksumWord = 7;
+  std::array<std::uint8_t, 8> before{}, after{};
+  ASSERT_TRUE(r.master.sii_read(r.station(1), kChecksumWord, before));
+  EXPECT_EQ(r.reg16(1, kSiiControl) & (kChecksumError | kNotLoaded), 0);
+  EXPECT_EQ(r.reg16(1, kDlStatus) & 0x0001, 1);
+  const FaultId id = r.engage(request("sii_bad_checksum", 1));
+  EXPECT_EQ(r.reg16(1, kSiiControl) & (kChecksumError | kNotLoaded), kChecksumError | kNotLoaded);
+  EXPECT_EQ(r.reg16(1, kDlStatus) & 0x0001, 0);  // EEPROM not loaded
+  EXPECT_EQ(r.reg16(0, kSiiControl) & kChecksumError, 0);  // the others keep theirs (a shared image is copied)
+  ASSERT_TRUE(r.master.sii_read(r.station(1), kChecksumWord, after));
+  EXPECT_EQ(after[0], before[0] ^ 0xFF);  // the CRC byte, every bit wrong
+  EXPECT_EQ(after[1], before[1]);
+  ASSERT_TRUE(r.master.sii_read(r.station(0), kChecksumWord, after));
+  EXPECT_EQ(after, before);
+  ASSERT_TRUE(r.faults.clear(id));
+  EXPECT_EQ(r.reg16(1, kSiiControl) & (kChecksumError | kNotLoaded), 0);
+  EXPECT_EQ(r.reg16(1, kDlStatus) & 0x0001, 1);
+  ASSERT_TRUE(r.master.sii_read(r.station(1), kChecksumWord, after));
+  EXPECT_EQ(after, before);
+}
+
+// sii_busy_stuck: the master's EEPROM reads time out with busy set.
+TEST(FaultCatalogue, SiiBusyStuck) {
+  Rig r;
+  ASSERT_EQ(r.master.scan().value_or(0), 3u);
+  constexpr std::uint16_t kSiiControl = 0x0502, kBusy = 0x8000;
+  std::array<std::uint8_t, 8> word{};
+  const FaultId id = r.engage(request("sii_busy_stuck", 2));
+  auto got = r.master.sii_read(r.station(2), 0, word);
+  ASSERT_FALSE(got);
+  EXPECT_EQ(got.error(), master::MasterError::SiiTimeout);
+  EXPECT_EQ(r.reg16(2, kSiiControl) & kBusy, kBusy);
+  EXPECT_TRUE(r.master.sii_read(r.station(1), 0, word));  // its neighbour reads fine
+  ASSERT_TRUE(r.faults.clear(id));
+  EXPECT_EQ(r.reg16(2, kSiiControl) & kBusy, 0);
+  std::array<std::uint8_t, 8> mine{}, neighbour{};
+  ASSERT_TRUE(r.master.sii_read(r.station(2), 0, mine));
+  ASSERT_TRUE(r.master.sii_read(r.station(1), 0, neighbour));
+  EXPECT_EQ(mine, neighbour);  // the same device
 }
 
 // drive_fault (CiA 402-2 §8.1.3, CiA 301 §7.2.7): over-current 2310h.
