@@ -85,6 +85,12 @@ constexpr std::array kKinds{
     FaultKind{"sii_busy_stuck", "the SII interface sticks busy: the master's next EEPROM command leaves 0x0502 bit "
                                 "15 set and every later one is ignored (SII timeouts); cleared, the command completes",
               true, false, kNoParams},
+    FaultKind{"mailbox_counter_frozen", "the slave's mailbox replies stop incrementing their counter (header byte 5 "
+                                        "bits 4-6): each carries the counter of the one before",
+              true, false, kNoParams},
+    FaultKind{"mailbox_held", "the slave takes mailbox requests but no reply or emergency goes into SM1 (0x080D bit 3 "
+                              "stays clear, the master times out); cleared, the held replies go out in order",
+              true, false, kNoParams},
     FaultKind{"drive_fault", "the CiA 402 drive faults: statusword Fault, 603Fh = code, 1001h, an EMCY with the code; "
                              "fault reset works again once cleared",
               true, false, kDriveParams},
@@ -148,7 +154,18 @@ std::int64_t param(const FaultRequest& r, const char* name, std::int64_t fallbac
 // --- State of the engaged faults ---
 
 struct FaultCatalogue::Impl {
-  enum class Where : std::uint8_t { Link, Corrupt, Frame, Esm, Drive, Power, SiiChecksum, SiiBusy };
+  enum class Where : std::uint8_t {
+    Link,
+    Corrupt,
+    Frame,
+    Esm,
+    Drive,
+    Power,
+    SiiChecksum,
+    SiiBusy,
+    MailboxCounter,
+    MailboxHeld,
+  };
   struct Record {
     EngagedFault fault;
     Where where = Where::Link;
@@ -376,7 +393,8 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     rec.where = Impl::Where::Power;
     for (const auto& [other, r] : im.records) {
       if (r.slave != rec.slave) continue;
-      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive) {
+      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive || r.where == Impl::Where::MailboxCounter ||
+          r.where == Impl::Where::MailboxHeld) {
         return fail(fmt::format("{}: slave {} has fault {} ({}) engaged on its firmware: clear it first", k, rec.slave,
                                 other, r.fault.request.kind));
       }
@@ -406,6 +424,18 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       const std::uint16_t high = static_cast<std::uint16_t>(sii[esc::kSiiConfigAreaBytes + 1] << 8);
       if ((high | bad) == esc::kSiiChecksumDisabled) bad = static_cast<std::uint8_t>(bad ^ 0x01);
       rec.saved_byte = e.patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, bad).value_or(0);
+    }
+  } else if (k == "mailbox_counter_frozen" || k == "mailbox_held") {
+    rec.where = k == "mailbox_held" ? Impl::Where::MailboxHeld : Impl::Where::MailboxCounter;
+    if (!od::runs_firmware(chain_[rec.slave].device())) {
+      return fail(fmt::format("{}: slave {} has no firmware (an ESC without PDI): no mailbox", k, rec.slave));
+    }
+    if (auto other = same_place(rec.where)) return fail(fmt::format("{}: already engaged as fault {}", k, *other));
+    coe::MailboxServer& mbx = chain_[rec.slave].firmware().coe().mailbox();
+    if (rec.where == Impl::Where::MailboxHeld) {
+      mbx.set_replies_held(true);
+    } else {
+      mbx.set_counter_frozen(true);
     }
   } else if (k == "drive_fault") {
     if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
@@ -464,6 +494,12 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
     case Impl::Where::SiiBusy:
       chain_[rec.slave].esc().set_sii_stuck(false, std::max(chain_.time_seen(), Nanoseconds{0}));
       if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());  // the command completes
+      break;
+    case Impl::Where::MailboxCounter:
+      chain_[rec.slave].firmware().coe().mailbox().set_counter_frozen(false);
+      break;
+    case Impl::Where::MailboxHeld:
+      chain_[rec.slave].firmware().coe().mailbox().set_replies_held(false);
       break;
     case Impl::Where::Power: {
       // The old firmware (and the guard's ESM) is gone: the guard goes with it.
