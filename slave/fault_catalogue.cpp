@@ -339,6 +339,27 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       return fail(fmt::format("{}: slave {} has no firmware (an ESC without PDI): no state machine", k, rec.slave));
     }
     rec.where = Impl::Where::Esm;
+    if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
+    if (auto ok = in_range(k, request, "count", 1, 1000); !ok) return fail(ok.error());
+    std::optional<esc::AlState> state;
+    if (request.params.contains("state")) {
+      state = al_state_of(param(request, "state", 0));
+      const bool al_error_state = state && *state != esc::AlState::Op && *state != esc::AlState::Bootstrap;
+      if (k == "al_error" && !al_error_state) {
+        return fail(
+            fmt::format("{}: state {} is not 1 (Init), 2 (PreOp) or 4 (SafeOp)", k, param(request, "state", 0)));
+      }
+      if (k == "refuse_transition" && (!state || *state == esc::AlState::Init)) {
+        return fail(
+            fmt::format("{}: state {} is not an upward target (2, 3, 4 or 8)", k, param(request, "state", 0)));
+      }
+    }
+    const Nanoseconds now = chain_.time_seen();
+    if (k == "watchdog_expiry" && now == Nanoseconds::min()) {
+      return fail(fmt::format("{}: the process-data watchdog of slave {} is not running (disabled, no SM "
+                              "with its trigger written yet, or already expired)",
+                              k, rec.slave));
+    }
     esc::Esm& esm = s.firmware().esm();
     if (im.guards.size() < chain_.size()) im.guards.resize(chain_.size());  // slaves added after construction
     if (!im.guards[rec.slave]) {
@@ -354,34 +375,15 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     }
     faults::EsmGuard& guard = *im.guards[rec.slave];
     if (k == "al_error") {
-      if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
       const auto code = static_cast<std::uint16_t>(param(request, "code", 0));
-      std::optional<esc::AlState> state = forced_state(code);
-      if (request.params.contains("state")) {
-        state = al_state_of(param(request, "state", 0));
-        if (!state || *state == esc::AlState::Op || *state == esc::AlState::Bootstrap) {
-          return fail(
-              fmt::format("{}: state {} is not 1 (Init), 2 (PreOp) or 4 (SafeOp)", k, param(request, "state", 0)));
-        }
-      }
-      esm.raise_error(static_cast<esc::AlStatusCode>(code), *state);
-      guard.hold(id, *state, static_cast<esc::AlStatusCode>(code));
+      const esc::AlState forced = state.value_or(forced_state(code));
+      esm.raise_error(static_cast<esc::AlStatusCode>(code), forced);
+      guard.hold(id, forced, static_cast<esc::AlStatusCode>(code));
     } else if (k == "refuse_transition") {
-      if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
-      if (auto ok = in_range(k, request, "count", 1, 1000); !ok) return fail(ok.error());
-      std::optional<esc::AlState> to;
-      if (request.params.contains("state")) {
-        to = al_state_of(param(request, "state", 0));
-        if (!to || *to == esc::AlState::Init) {
-          return fail(
-              fmt::format("{}: state {} is not an upward target (2, 3, 4 or 8)", k, param(request, "state", 0)));
-        }
-      }
-      guard.refuse(id, to, static_cast<esc::AlStatusCode>(param(request, "code", 0)),
+      guard.refuse(id, state, static_cast<esc::AlStatusCode>(param(request, "code", 0)),
                    static_cast<unsigned>(param(request, "count", 1)));
     } else {
-      const Nanoseconds now = chain_.time_seen();
-      if (now == Nanoseconds::min() || !s.esc().expire_process_data_watchdog(now)) {
+      if (!s.esc().expire_process_data_watchdog(now)) {
         return fail(fmt::format("{}: the process-data watchdog of slave {} is not running (disabled, no SM "
                                 "with its trigger written yet, or already expired)",
                                 k, rec.slave));
@@ -531,12 +533,17 @@ esc::Delivery FaultCatalogue::pass_faulty(std::span<std::uint8_t> frame, Nanosec
   }
   // Faults that ran their course clear themselves (the observer hears it).
   // The lists are reserved at engage time: nothing here allocates.
-  std::array<FaultId, 16> spent{};
-  std::size_t n = 0;
-  for (FaultId s : im.frames.spent()) {
-    if (n < spent.size()) spent[n++] = s;
+  // clear() does not touch the spent list, but an observer may engage a
+  // fault (the list may then move): re-read it each time.
+  for (std::size_t i = 0; i < im.frames.spent().size(); ++i) {
+    try {
+      (void)clear(im.frames.spent()[i]);
+    } catch (...) {  // an observer that throws: the fault is cleared all the same
+    }
   }
   im.frames.clear_spent();
+  std::array<FaultId, 16> spent{};  // more cables spent in one frame: found on the next
+  std::size_t n = 0;
   for (const auto& [id, r] : im.records) {
     if (r.where == Impl::Where::Corrupt && n < spent.size() &&
         chain_.segment().corruption_pending(r.slave, r.port) == 0) {
