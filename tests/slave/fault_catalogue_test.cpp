@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <set>
@@ -131,6 +132,51 @@ TEST(FaultCatalogue, RefusesBadRequestsAndChangesNothing) {
   EXPECT_EQ(c.error(), "no engaged fault 99");
   EXPECT_EQ(r.master.count_slaves().value_or(0), 3u);
   for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(r.al(i).raw, kInit);
+}
+
+// Idle, the catalogue changes nothing: the same requests through it and
+// straight into an equal chain come back byte for byte the same.
+TEST(FaultCatalogue, IdleFramePathIsTheChains) {
+  Rig through;
+  InProcess direct;
+  direct.add_default(3);
+  std::vector<std::vector<std::uint8_t>> replies[2];
+  through.wire.set_processor([&](Bytes f) {
+    through.clock.advance(kWireTime);
+    if (!through.faults.process_frame(f, through.clock.now())) through.wire.drop_next(1);
+    replies[0].emplace_back(f.begin(), f.end());
+  });
+  direct.wire.set_processor([&](Bytes f) {
+    direct.clock.advance(kWireTime);
+    if (!direct.chain.process_frame(f, direct.clock.now())) direct.wire.drop_next(1);
+    replies[1].emplace_back(f.begin(), f.end());
+  });
+  ASSERT_EQ(through.bring_up(kCycle), "");
+  ASSERT_EQ(direct.bring_up(kCycle), "");
+  for (int i = 0; i < 20; ++i) {
+    ASSERT_TRUE(through.cycle_once(kCycle));
+    ASSERT_TRUE(direct.cycle_once(kCycle));
+  }
+  ASSERT_GT(replies[0].size(), 100u);
+  EXPECT_EQ(replies[0], replies[1]);
+  EXPECT_EQ(through.chain.stats().wkc_total, direct.chain.stats().wkc_total);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(0, std::memcmp(through.chain[i].esc().memory(), direct.chain[i].esc().memory(), 0x1000)) << i;
+  }
+}
+
+// Destroying the catalogue clears what it engaged.
+TEST(FaultCatalogue, DestructorClearsEverything) {
+  InProcess p;
+  p.add_default(2);
+  {
+    FaultCatalogue faults(p.chain);
+    ASSERT_TRUE(faults.engage(request("link_cut", 0, 1)));
+    ASSERT_TRUE(faults.engage(request("sii_busy_stuck", 1)));
+    EXPECT_FALSE(p.chain.segment().link_up(0, 1));
+  }
+  EXPECT_TRUE(p.chain.segment().link_up(0, 1));
+  ASSERT_EQ(p.master.scan().value_or(0), 2u);  // reads both SIIs: not stuck
 }
 
 // link_cut (Section I §3.4, §14; Section II 0x0110, 0x0310): the cable
