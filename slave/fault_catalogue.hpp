@@ -116,9 +116,8 @@ class FaultCatalogue {
 
   Chain& chain() noexcept { return chain_; }
 
-  struct Impl;  // per-kind state (slave/faults/)
-
  private:
+  struct Impl;  // the engaged faults' state (slave/fault_catalogue.cpp, slave/faults/)
   esc::Delivery pass_faulty(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept;
 
   Chain& chain_;
