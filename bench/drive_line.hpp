@@ -18,6 +18,7 @@
 #include "bench/mini_master.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
+#include "slave/fault_catalogue.hpp"  // DriveLine::cycle through a catalogue (bench_cycle)
 
 namespace ecat::bench {
 
