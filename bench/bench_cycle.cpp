@@ -38,6 +38,32 @@ void run_cycles(benchmark::State& state, bool skipping) {
 void BM_Cycle_Csp(benchmark::State& state) { run_cycles(state, true); }
 BENCHMARK(BM_Cycle_Csp)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
+// BM_Cycle_Csp with every frame passed through a fault catalogue with
+// nothing engaged (issue 26 item 5: the idle cost must be nil;
+// docs/faults.md "Cost"). The reference is BM_Cycle_Csp in the same run.
+void BM_Cycle_CspFaultsIdle(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::unique_ptr<DriveLine> line;
+  try {
+    line = std::make_unique<DriveLine>(n);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  slave::FaultCatalogue faults(line->chain());
+  for (auto _ : state) line->cycle(faults);
+  if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) state.SkipWithError("drive dropped out");
+  state.counters["ns_per_drive"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_Cycle_CspFaultsIdle)
+    ->Apply(iterations_from_env)
+    ->Arg(1)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(1000)
+    ->Unit(benchmark::kMicrosecond);
+
 // The same cycle with skipping off (issue 16 item 5): every frame enters
 // every ESC and every slave is asked after every frame, as before the skip.
 // The reference for BM_Cycle_Csp in the same binary and the same minutes.

@@ -18,6 +18,7 @@
 #include "bench/mini_master.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
+#include "slave/fault_catalogue.hpp"  // DriveLine::cycle through a catalogue (bench_cycle)
 
 namespace ecat::bench {
 
@@ -101,7 +102,11 @@ class DriveLine {
   }
 
   // One CSP cycle: new set-points, the frames, one poll of every slave.
-  void cycle() noexcept {
+  void cycle() noexcept { cycle(chain_); }
+  // The same with the frames passed through `path` (anything with
+  // Chain::process_frame's signature, e.g. slave::FaultCatalogue).
+  template <typename FramePath>
+  void cycle(FramePath& path) noexcept {
     now_ += kCyclePeriod;
     clock_.set(now_);
     for (std::size_t d = 0; d < target_.size(); ++d) {
@@ -110,7 +115,7 @@ class DriveLine {
     Nanoseconds t = now_;
     for (auto& f : frames_) {
       for (std::size_t k = 0; k < f->datagrams; ++k) f->frame.dg(k).set_wkc(0);
-      (void)chain_.process_frame(f->frame.bytes(), t);
+      (void)path.process_frame(f->frame.bytes(), t);
       t += kFrameSpacing;
     }
     (void)chain_.poll(t);

@@ -73,7 +73,9 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
   internal_limit_ = false;
 
   // Transition 15 needs the faults cleared first (CiA 402-2 §8.1.3).
-  if (sm_.fault_reset_edge(in.controlword) && sm_.state() == PdsState::Fault) clear_faults();
+  // An external fault that is still present survives the reset.
+  if (sm_.fault_reset_edge(in.controlword) && sm_.state() == PdsState::Fault && !external_) clear_faults();
+  if (external_ && !external_fault_latched()) raise_external_fault(*external_);
 
   StateMachine::Inputs si;
   si.controlword = in.controlword;

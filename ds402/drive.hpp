@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "common/clock.hpp"
 #include "ds402/axis.hpp"
@@ -48,6 +49,14 @@ class Drive {
   void set_external_torque(double nm) noexcept { plant_.set_external_torque(nm); }
   // Raises a fault as if the monitoring had found it.
   void raise_fault(FaultKind k) noexcept;
+  // A fault from outside the drive's own monitoring (slave::FaultCatalogue:
+  // over-current, over-voltage, encoder, ...) with the code 603Fh and the
+  // emergency carry. While it is set the fault is present: it latches in the
+  // next step (Fault, one EMCY) and a fault reset does not clear it (the
+  // drive stays in Fault, 603Fh keeps the code); nullopt removes the cause,
+  // so the next fault reset works.
+  void set_external_fault(std::optional<FaultCode> fault) noexcept { external_ = fault; }
+  bool external_fault_latched() const noexcept { return (latched_ & kExternalFaultBit) != 0; }
 
   // Logical position minus physical position (increments), set by homing.
   double home_shift() const noexcept { return home_shift_; }
@@ -73,6 +82,9 @@ class Drive {
   void hold() noexcept;
   void monitor(const DriveInputs& in, double dt) noexcept;
   void clear_faults() noexcept;
+  void raise_external_fault(const FaultCode& code) noexcept;
+  // 603Fh, 1001h and the EMCY of a fault just latched.
+  void latch(const FaultCode& code) noexcept;
   std::uint16_t mode_bits(const DriveInputs& in, double dt) noexcept;
   void fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept;
 
@@ -155,6 +167,9 @@ class Drive {
   bool warning_ = false;
   bool following_error_ = false;
   std::uint32_t latched_ = 0;
+  // latched_ bit of the external fault (above the FaultKind bits).
+  static constexpr std::uint32_t kExternalFaultBit = 1u << 31;
+  std::optional<FaultCode> external_;
   std::uint16_t error_code_ = 0;
   std::uint8_t error_register_ = 0;
   Timer following_timer_, torque_timer_, position_window_, velocity_window_, speed_zero_;

@@ -17,7 +17,15 @@ void Drive::raise_fault(FaultKind k) noexcept {
   const std::uint32_t bit = 1u << static_cast<unsigned>(k);
   if (latched_ & bit) return;
   latched_ |= bit;
-  const FaultCode code = config_.fault_codes[static_cast<std::size_t>(k)];
+  latch(config_.fault_codes[static_cast<std::size_t>(k)]);
+}
+
+void Drive::raise_external_fault(const FaultCode& code) noexcept {
+  latched_ |= kExternalFaultBit;
+  latch(code);
+}
+
+void Drive::latch(const FaultCode& code) noexcept {
   error_code_ = code.error_code;
   error_register_ = static_cast<std::uint8_t>(error_register_ | error_register::kGeneric | code.error_register);
   EmcyRequest r;

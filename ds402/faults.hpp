@@ -57,6 +57,31 @@ constexpr FaultCodes cia402_fault_codes() noexcept {
            {0x8700, kCommunication}}};
 }
 
+// The 1001h bits an error code's class sets besides "generic" (CiA 301
+// §7.2.7.1 Table 21 code classes, §7.5.2.2): 2xxxh current, 3xxxh voltage,
+// 4xxxh temperature, 81xxh communication, FFxxh manufacturer; the other
+// classes (e.g. 73xxh sensor, 86xxh control) set the device profile bit,
+// as the drive's own faults (cia402_fault_codes) do for CiA 402 codes.
+constexpr std::uint8_t error_register_for(std::uint16_t error_code) noexcept {
+  using namespace error_register;
+  switch (error_code >> 12) {
+    case 0x2:
+      return kCurrent;
+    case 0x3:
+      return kVoltage;
+    case 0x4:
+      return kTemperature;
+    case 0x8:
+      if ((error_code >> 8) == 0x81) return kCommunication;
+      return kDeviceProfile;
+    case 0xF:
+      if ((error_code >> 8) == 0xFF) return kManufacturer;
+      return kDeviceProfile;
+    default:
+      return kDeviceProfile;
+  }
+}
+
 // EMCY error code 0000h: "error reset or no error" (CiA 301 Table 21).
 inline constexpr std::uint16_t kEmcyErrorReset = 0x0000;
 

@@ -109,6 +109,24 @@ class Esc final : public Pdi {
   // port's loop control is Auto or Auto-close, and puts an Auto-close port
   // into "closed wait" (Section I §3.4, Figure 4; Section II 0x0310).
   void set_link(unsigned port, bool link) noexcept;
+  // Fault injection (slave::FaultCatalogue): the running process-data
+  // watchdog expires at `now` - the next poll(now) shows it as silicon does
+  // (0x0440 = 0, 0x0442 + 1, outputs 0x0F00 cleared, AL event bit 6).
+  // False when the watchdog is not running.
+  bool expire_process_data_watchdog(Nanoseconds now) noexcept {
+    if (!watchdogs_.expire_process_data(now)) return false;
+    refresh_timers();
+    return true;
+  }
+  // Fault injection (esc/esc_faults.cpp): byte `at` of the EEPROM set to
+  // `value` (a copy of its own for a shared image; nothing written back to
+  // a file), then the EEPROM reloaded as the 0x0502 reload command does -
+  // e.g. a bad SII checksum (word 7) shows as 0x0502 bits 11/12 and 0x0110
+  // bit 0 = 0. Returns the byte it replaced; nullopt (nothing changed) when
+  // the image has no byte `at`.
+  std::optional<std::uint8_t> patch_eeprom_and_reload(std::size_t at, std::uint8_t value);
+  // The SII interface stuck busy from its next command on (SiiInterface::set_stuck).
+  void set_sii_stuck(bool stuck, Nanoseconds now) noexcept;
   bool link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
   // Whether `port` exists on this ESC (0x0007 bits 2n+1:2n not 00).
   bool port_present(unsigned port) const noexcept { return port < kMaxPorts && present_[port]; }

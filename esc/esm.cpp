@@ -34,6 +34,16 @@ bool Esm::add_hooks(EsmHooks& hooks) noexcept {
   return true;
 }
 
+bool Esm::remove_hooks(EsmHooks& hooks) noexcept {
+  for (std::size_t i = 0; i < hook_count_; ++i) {
+    if (hooks_[i] != &hooks) continue;
+    for (std::size_t j = i + 1; j < hook_count_; ++j) hooks_[j - 1] = hooks_[j];
+    hooks_[--hook_count_] = nullptr;
+    return true;
+  }
+  return false;
+}
+
 bool Esm::add_deferral(EsmDeferral& deferral) noexcept {
   if (deferral_count_ == kMaxHooks) return false;
   deferrals_[deferral_count_++] = &deferral;

@@ -47,6 +47,10 @@ class Esm {
   // Registers a participant; false if kMaxHooks are already registered.
   // Hooks are asked in registration order; the first refusal wins.
   bool add_hooks(EsmHooks& hooks) noexcept;
+  // Unregisters a participant added by add_hooks (the others keep their
+  // order); false if it was not registered. For participants that come and
+  // go at run time (slave::FaultCatalogue).
+  bool remove_hooks(EsmHooks& hooks) noexcept;
   // Registers a participant that can hold an upward transition pending;
   // false if kMaxHooks are already registered.
   bool add_deferral(EsmDeferral& deferral) noexcept;

@@ -34,6 +34,15 @@ class Watchdogs {
     pdi_deadline_ = time == 0 ? kNever : now + timeout(divider, time);  // 0 = disabled
   }
 
+  // Fault injection: a running process-data watchdog expires at `now`, as
+  // if no trigger had come for its whole time. False (and nothing changes)
+  // when it is not running (disabled, or not triggered since it expired).
+  bool expire_process_data(Nanoseconds now) noexcept {
+    if (pd_deadline_ == kNever) return false;
+    pd_deadline_ = now;
+    return true;
+  }
+
   struct Expired {
     bool process_data = false;
     bool pdi = false;

@@ -65,6 +65,7 @@ class DriveApplication final : public Application {
     if (tracing_) trace_.record(std::chrono::duration<double>(elapsed_).count(), in_, out_);
   }
 
+  ds402::Drive* drive(std::size_t axis) noexcept override { return axis == 0 ? &drive_ : nullptr; }
   bool has_motion_trace() const noexcept override { return tracing_; }
   Expected<void, std::string> write_plot(const std::string& path) const override {
     return ds402::write_svg_plot(trace_.rows(), path);

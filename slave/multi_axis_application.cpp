@@ -65,6 +65,9 @@ class MultiAxisApplication final : public Application {
     }
   }
 
+  ds402::Drive* drive(std::size_t axis) noexcept override {
+    return axis < axes_.size() ? &axes_[axis]->drive : nullptr;
+  }
   bool has_motion_trace() const noexcept override { return tracing_; }
   Expected<void, std::string> write_plot(const std::string& path) const override {
     if (!tracing_) return fail(path + ": this slave records no motion trace");

@@ -51,7 +51,19 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   }
   if (s->spi_pdi_) pdi = s->spi_pdi_.get();
   s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
+  s->options_ = options;
   return s;
+}
+
+Expected<void, std::string> VirtualSlave::power_on() {
+  if (spi_pdi_) return fail(std::string("power-on is not emulated for a slave with an SPI PDI"));
+  esc_->reset();  // power-up register values, EEPROM loaded (Section II 0x0000-0x0F00 reset values)
+  firmware_.reset();  // the µC starts from scratch: its parameter store is opened again
+  firmware_ = std::make_unique<Firmware>(*esc_, *device_, options_);
+  if (probe_) firmware_->attach_trace(*probe_);
+  esc_next_.reset();
+  esc_wake_ = Nanoseconds::max();
+  return {};
 }
 
 VirtualSlave::~VirtualSlave() = default;
@@ -79,6 +91,7 @@ void VirtualSlave::after_frame(Nanoseconds now) noexcept {
 }
 
 void VirtualSlave::attach_trace(esc::VcdProbe& probe) noexcept {
+  probe_ = &probe;
   firmware_->attach_trace(probe);
   esc_->dc().set_observer(&probe);
 }

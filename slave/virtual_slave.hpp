@@ -78,6 +78,14 @@ class VirtualSlave {
 
   SlaveStatus status() const noexcept;
 
+  // Power-on again after a power cut (slave::FaultCatalogue's power_cycle):
+  // the ESC back to its power-up register values with the SII loaded from
+  // its EEPROM, the firmware started afresh (Init, the dictionary's
+  // defaults and the stored parameters, as at start-up). Invalidates the
+  // Firmware, its ESM and application handed out before. Refused for an SPI
+  // PDI (the emulated chip would need its own power-up).
+  Expected<void, std::string> power_on();
+
   // Clean shutdown: nothing is lost (stored parameters are already on disk;
   // this flushes traces).
   void shutdown() noexcept;
@@ -90,6 +98,8 @@ class VirtualSlave {
   std::unique_ptr<pdi_spi::EmulatedChip> chip_;  // SPI PDI only
   std::unique_ptr<pdi_spi::SpiPdi> spi_pdi_;      // SPI PDI only
   std::unique_ptr<Firmware> firmware_;
+  SlaveOptions options_;                 // as created, for power_on()
+  esc::VcdProbe* probe_ = nullptr;       // attach_trace's, for power_on()
   std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
   Nanoseconds esc_wake_ = Nanoseconds::max();  // the same, max when none
   // False for an ESC without PDI (SII word 0 PDI type 0 and no mailbox SM,

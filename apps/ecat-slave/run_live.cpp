@@ -3,6 +3,8 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -10,6 +12,7 @@
 #include "apps/ecat-slave/realtime.hpp"
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
+#include "slave/fault_catalogue.hpp"
 #include "transport/raw_socket_transport.hpp"
 #include "transport/udp_transport.hpp"
 
@@ -220,6 +223,10 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       return 1;
     }
   }
+  // SIGUSR2 engages and clears these as faults of the catalogue (docs/faults.md).
+  slave::FaultCatalogue faults(line);
+  std::vector<slave::FaultId> cut;  // link_cut faults engaged by the last SIGUSR2
+  std::vector<std::optional<slave::FaultId>> corrupting(corrupted->size());
   bool links_cut = false;
   unsigned next_port = 0;
   std::optional<Nanoseconds> deadline = line.poll(clock.now());
@@ -234,12 +241,36 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     if (g_toggle_links) {
       g_toggle_links = 0;
       links_cut = !links_cut;
-      for (const SlavePort& p : *toggled) line.segment().set_link(p.slave, p.port, !links_cut);
+      if (links_cut) {
+        for (const SlavePort& p : *toggled) {
+          auto id = faults.engage({"link_cut", p.slave, p.port, {}});
+          if (id) {
+            cut.push_back(*id);
+          } else if (!o.quiet) {
+            std::fprintf(stderr, "ecat-slave: %s\n", id.error().c_str());
+          }
+        }
+      } else {
+        for (slave::FaultId id : cut) (void)faults.clear(id);
+        cut.clear();
+      }
       if (!o.quiet && !toggled->empty()) {
         std::fprintf(stderr, "ecat-slave: %zu link(s) %s\n", toggled->size(), links_cut ? "cut" : "restored");
       }
-      const auto fault = o.corrupt_rx_error ? esc::Segment::CableFault::RxError : esc::Segment::CableFault::Crc;
-      for (const SlavePort& p : *corrupted) line.segment().corrupt_link(p.slave, p.port, o.corrupt_frames, fault);
+      for (std::size_t i = 0; i < corrupted->size(); ++i) {
+        // A new signal starts the count again (a fault spent has cleared itself).
+        if (corrupting[i]) (void)faults.clear(*corrupting[i]);
+        corrupting[i].reset();
+        if (o.corrupt_frames == 0) continue;
+        const SlavePort& p = (*corrupted)[i];
+        auto id = faults.engage({"corrupt_frames", p.slave, p.port,
+                                 {{"count", o.corrupt_frames}, {"rx_error", o.corrupt_rx_error ? 1 : 0}}});
+        if (id) {
+          corrupting[i] = *id;
+        } else if (!o.quiet) {
+          std::fprintf(stderr, "ecat-slave: %s\n", id.error().c_str());
+        }
+      }
       if (!o.quiet && !corrupted->empty()) {
         std::fprintf(stderr, "ecat-slave: %zu link(s) corrupt their next %u frame(s)\n", corrupted->size(),
                      o.corrupt_frames);
@@ -266,7 +297,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       // The frame goes back as soon as the ESCs are done with it, on the
       // master port it comes out at; the firmware reacts afterwards, as a
       // µC behind a real ESC does.
-      const esc::Delivery d = line.pass_frame_on(frame, at, port);
+      const esc::Delivery d = faults.pass_frame_on(frame, at, port);
       if (d.returned()) {
         transport::Transport& out = d.master_port == 0 ? t : *medium->redundant;
         if (auto s = out.send(frame); !s && !o.quiet) {
