@@ -71,7 +71,10 @@ class VirtualNetwork:
         if self.count != 1:
             cmd += ["--count", str(self.count)]
         if self.veth:
-            cmd += ["--iface", self.slave_iface]
+            # Root opens the raw socket; kept so that ecat-slave can still
+            # create its control socket in the test's directory (it would
+            # otherwise drop to SUDO_UID or nobody first).
+            cmd += ["--iface", self.slave_iface, "--keep-privileges"]
         else:
             cmd += ["--udp", str(self.udp_port)]
         return cmd + self.args

@@ -8,6 +8,7 @@ import os
 import shutil
 import socket
 import subprocess
+import time
 
 import pytest
 
@@ -16,6 +17,21 @@ from ecatslave import Client, ControlError
 
 def master_program():
     return os.environ.get("ECAT_MASTER") or shutil.which("ecat-master")
+
+
+def steady_network(client, timeout=3.0):
+    """The network view once two reads 150 ms apart agree: without a master
+    the ESC's PDI watchdog expires once, 100 ms after start (0x0443, DL
+    status bit 1), which is not what a test of bad input compares."""
+    deadline = time.monotonic() + timeout
+    last = client.network()["slaves"]
+    while time.monotonic() < deadline:
+        time.sleep(0.15)
+        now = client.network()["slaves"]
+        if now == last:
+            return now
+        last = now
+    raise AssertionError("the network did not settle")
 
 
 @pytest.mark.ecat_network(count=2)
@@ -60,7 +76,7 @@ def test_process_data_by_name(ecat_client):
 
 def test_bad_input_gets_an_error_and_changes_nothing(ecat_network, ecat_client):
     ecat_client.write(0, 0x6064, 0, 42)
-    before = ecat_client.network()
+    before = steady_network(ecat_client)
     cases = [
         (lambda: ecat_client.read(5, 0x6064), "unknown_slave"),
         (lambda: ecat_client.read(0, 0x5555), "unknown_object"),
@@ -91,8 +107,7 @@ def test_bad_input_gets_an_error_and_changes_nothing(ecat_network, ecat_client):
         assert replies[1]["error"]["code"] == "bad_request"
         assert replies[2]["id"] == 3 and replies[2]["result"]["protocol"] == 1
     assert ecat_client.read(0, 0x6064) == 42
-    after = ecat_client.network()
-    assert after["slaves"] == before["slaves"]
+    assert ecat_client.network()["slaves"] == before
     assert ecat_network.process.poll() is None
 
 
@@ -141,3 +156,19 @@ def test_master_bringing_the_slave_to_op_is_seen_as_events(ecat_network, ecat_cl
     # Events stay in the queue for a client that polls.
     types = {e["type"] for e in ecat_client.events(since=0)["events"]}
     assert {"al_control", "al_state"} <= types
+
+
+@pytest.mark.ecat_network(veth=True)
+def test_veth_network_in_its_own_namespace(ecat_network, ecat_client):
+    """Root only (the fixture skips otherwise): the slave end of the veth pair
+    lives in a network namespace; the master runs on the other end."""
+    master = master_program()
+    if not master or not shutil.which("ip"):
+        pytest.skip("needs ecat-master and iproute2")
+    links = subprocess.run(["ip", "-n", ecat_network.netns, "-o", "link", "show"], capture_output=True, text=True)
+    assert ecat_network.slave_iface in links.stdout
+    with ecat_client.subscribe() as stream:
+        run = subprocess.run([master, "--iface", ecat_network.master_iface, "--cycles", "200", "-q"],
+                             capture_output=True, text=True, timeout=60)
+        assert run.returncode == 0, run.stderr + run.stdout
+        stream.wait_for(type="al_state", slave=0, to="OP")
