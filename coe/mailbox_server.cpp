@@ -102,10 +102,10 @@ void MailboxServer::poll(Nanoseconds now) noexcept {
     sm1 = read_sm(kReadMailboxSm);
   }
   const bool request_waiting = sm0.status & bits::kSmStatusMailboxFull;
-  if (deliver(sm1, !request_waiting)) sm1 = read_sm(kReadMailboxSm);
+  if (!held_ && deliver(sm1, !request_waiting)) sm1 = read_sm(kReadMailboxSm);
   if (request_waiting && queue_.size() + kReserveSlots < queue_.capacity()) {
     receive(sm0);
-    deliver(sm1, false);
+    if (!held_) deliver(sm1, false);
   }
 }
 
@@ -195,7 +195,7 @@ std::size_t MailboxServer::next_fragment(int slot, std::uint16_t sm1_length) noe
 // channel is always 0, the only one defined (ETG.1000.4 §5.6).
 MailboxHeader MailboxServer::reply_header(MailboxType type, std::size_t payload_length,
                                           const MailboxHeader& to) noexcept {
-  reply_counter_ = MailboxHeader::next_counter(reply_counter_);
+  if (!counter_frozen_ || reply_counter_ == 0) reply_counter_ = MailboxHeader::next_counter(reply_counter_);
   MailboxHeader h;
   h.length = static_cast<std::uint16_t>(payload_length);
   h.address = to.address;

@@ -74,6 +74,14 @@ class MailboxServer {
   // Replies or unsolicited messages wait to go into SM1.
   bool has_output() const noexcept { return !queue_.empty() || !unsolicited_.empty(); }
 
+  // Fault injection (slave::FaultCatalogue, docs/faults.md), as SSC's test
+  // application offers it. Counter frozen: every reply carries the counter
+  // of the one before (ETG.1000.4 §5.6: a master that checks it takes the
+  // reply for a repeat). Held: requests are still taken, but no reply or
+  // emergency goes into SM1 until released.
+  void set_counter_frozen(bool frozen) noexcept { counter_frozen_ = frozen; }
+  void set_replies_held(bool held) noexcept { held_ = held; }
+
   // ESM state seen at the last poll.
   od::EsmState state() const noexcept { return state_; }
   bool open() const noexcept { return open_; }
@@ -116,6 +124,8 @@ class MailboxServer {
   bool open_ = false;
   std::uint8_t last_request_counter_ = 0;
   std::uint8_t reply_counter_ = 0;
+  bool counter_frozen_ = false;
+  bool held_ = false;
   std::uint16_t sm0_length_ = 0;
   std::uint16_t sm1_length_ = 0;
 

@@ -118,6 +118,15 @@ class Esc final : public Pdi {
     refresh_timers();
     return true;
   }
+  // Fault injection (esc/esc_faults.cpp): byte `at` of the EEPROM set to
+  // `value` (a copy of its own for a shared image; nothing written back to
+  // a file), then the EEPROM reloaded as the 0x0502 reload command does -
+  // e.g. a bad SII checksum (word 7) shows as 0x0502 bits 11/12 and 0x0110
+  // bit 0 = 0. Returns the byte it replaced; nullopt (nothing changed) when
+  // the image has no byte `at`.
+  std::optional<std::uint8_t> patch_eeprom_and_reload(std::size_t at, std::uint8_t value);
+  // The SII interface stuck busy from its next command on (SiiInterface::set_stuck).
+  void set_sii_stuck(bool stuck, Nanoseconds now) noexcept;
   bool link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }
   // Whether `port` exists on this ESC (0x0007 bits 2n+1:2n not 00).
   bool port_present(unsigned port) const noexcept { return port < kMaxPorts && present_[port]; }

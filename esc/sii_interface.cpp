@@ -108,6 +108,11 @@ SiiInterface::Action SiiInterface::write(unsigned offset, std::span<const std::u
     set_control(static_cast<std::uint16_t>(control() & ~kErrorBits));  // idle clears errors
     return Action::None;
   }
+  if (stuck_) {
+    pending_ = cmd;  // busy for good: no deadline
+    set_control(static_cast<std::uint16_t>(control() | kBusy));
+    return Action::None;
+  }
   if (config_->sii_busy_time.count() > 0) {
     pending_ = cmd;
     busy_until_ = now + config_->sii_busy_time;
@@ -115,6 +120,11 @@ SiiInterface::Action SiiInterface::write(unsigned offset, std::span<const std::u
     return Action::None;
   }
   return execute(cmd);
+}
+
+void SiiInterface::set_stuck(bool stuck, Nanoseconds now) noexcept {
+  stuck_ = stuck;
+  if (!stuck && pending_ != 0 && !busy_until_) busy_until_ = now;
 }
 
 SiiInterface::Action SiiInterface::poll(Nanoseconds now) noexcept {

@@ -72,6 +72,11 @@ class SiiInterface {
   // Completes a busy command whose time has come.
   Action poll(Nanoseconds now) noexcept;
   std::optional<Nanoseconds> next_deadline() const noexcept { return busy_until_; }
+  // Fault injection (slave::FaultCatalogue sii_busy_stuck): while stuck, a
+  // command sets busy (0x0502 bit 15) and never completes, and the
+  // interface ignores writes to 0x0502-0x050F as it does while busy. Unstuck
+  // at `now`, a command still waiting completes then (its busy time over).
+  void set_stuck(bool stuck, Nanoseconds now) noexcept;
 
   // Word `address` of the image (0xFFFF past its end, as an erased EEPROM).
   std::uint16_t word(std::uint32_t address) const noexcept;
@@ -88,6 +93,7 @@ class SiiInterface {
   EscConfig* config_ = nullptr;
   std::optional<Nanoseconds> busy_until_;
   std::uint16_t pending_ = 0;  // command waiting for the busy time to pass
+  bool stuck_ = false;
   bool write_enable_ = false;
 };
 

@@ -8,6 +8,7 @@
 #include "common/le.hpp"
 #include "ds402/drive.hpp"
 #include "esc/registers.hpp"
+#include "esc/sii_interface.hpp"
 #include "od/firmware.hpp"
 #include "slave/faults/esm_guard.hpp"
 #include "slave/faults/frame_faults.hpp"
@@ -77,6 +78,19 @@ constexpr std::array kKinds{
                              "neighbours count a lost link); cleared, it powers up: Init, station address 0, power-up "
                              "registers, SII loaded from its EEPROM, firmware restarted",
               true, false, kNoParams},
+    FaultKind{"sii_bad_checksum", "the SII checksum (word 7) in the EEPROM goes bad and the EEPROM reloads: 0x0502 "
+                                  "bits 11 (checksum error) and 12 (not loaded), 0x0110 bit 0 = 0; cleared, restored "
+                                  "and reloaded",
+              true, false, kNoParams},
+    FaultKind{"sii_busy_stuck", "the SII interface sticks busy: the master's next EEPROM command leaves 0x0502 bit "
+                                "15 set and every later one is ignored (SII timeouts); cleared, the command completes",
+              true, false, kNoParams},
+    FaultKind{"mailbox_counter_frozen", "the slave's mailbox replies stop incrementing their counter (header byte 5 "
+                                        "bits 4-6): each carries the counter of the one before",
+              true, false, kNoParams},
+    FaultKind{"mailbox_held", "the slave takes mailbox requests but no reply or emergency goes into SM1 (0x080D bit 3 "
+                              "stays clear, the master times out); cleared, the held replies go out in order",
+              true, false, kNoParams},
     FaultKind{"drive_fault", "the CiA 402 drive faults: statusword Fault, 603Fh = code, 1001h, an EMCY with the code; "
                              "fault reset works again once cleared",
               true, false, kDriveParams},
@@ -140,7 +154,18 @@ std::int64_t param(const FaultRequest& r, const char* name, std::int64_t fallbac
 // --- State of the engaged faults ---
 
 struct FaultCatalogue::Impl {
-  enum class Where : std::uint8_t { Link, Corrupt, Frame, Esm, Drive, Power };
+  enum class Where : std::uint8_t {
+    Link,
+    Corrupt,
+    Frame,
+    Esm,
+    Drive,
+    Power,
+    SiiChecksum,
+    SiiBusy,
+    MailboxCounter,
+    MailboxHeld,
+  };
   struct Record {
     EngagedFault fault;
     Where where = Where::Link;
@@ -148,6 +173,7 @@ struct FaultCatalogue::Impl {
     unsigned port = 0;
     ds402::Drive* drive = nullptr;
     std::vector<unsigned> ports_cut;  // Power: the cables it took down
+    std::uint8_t saved_byte = 0;      // SiiChecksum: the EEPROM byte it replaced
   };
   std::map<FaultId, Record> records;
   FaultId next = 1;
@@ -313,6 +339,27 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       return fail(fmt::format("{}: slave {} has no firmware (an ESC without PDI): no state machine", k, rec.slave));
     }
     rec.where = Impl::Where::Esm;
+    if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
+    if (auto ok = in_range(k, request, "count", 1, 1000); !ok) return fail(ok.error());
+    std::optional<esc::AlState> state;
+    if (request.params.contains("state")) {
+      state = al_state_of(param(request, "state", 0));
+      const bool al_error_state = state && *state != esc::AlState::Op && *state != esc::AlState::Bootstrap;
+      if (k == "al_error" && !al_error_state) {
+        return fail(
+            fmt::format("{}: state {} is not 1 (Init), 2 (PreOp) or 4 (SafeOp)", k, param(request, "state", 0)));
+      }
+      if (k == "refuse_transition" && (!state || *state == esc::AlState::Init)) {
+        return fail(
+            fmt::format("{}: state {} is not an upward target (2, 3, 4 or 8)", k, param(request, "state", 0)));
+      }
+    }
+    const Nanoseconds now = chain_.time_seen();
+    if (k == "watchdog_expiry" && now == Nanoseconds::min()) {
+      return fail(fmt::format("{}: the process-data watchdog of slave {} is not running (disabled, no SM "
+                              "with its trigger written yet, or already expired)",
+                              k, rec.slave));
+    }
     esc::Esm& esm = s.firmware().esm();
     if (im.guards.size() < chain_.size()) im.guards.resize(chain_.size());  // slaves added after construction
     if (!im.guards[rec.slave]) {
@@ -328,34 +375,15 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     }
     faults::EsmGuard& guard = *im.guards[rec.slave];
     if (k == "al_error") {
-      if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
       const auto code = static_cast<std::uint16_t>(param(request, "code", 0));
-      std::optional<esc::AlState> state = forced_state(code);
-      if (request.params.contains("state")) {
-        state = al_state_of(param(request, "state", 0));
-        if (!state || *state == esc::AlState::Op || *state == esc::AlState::Bootstrap) {
-          return fail(
-              fmt::format("{}: state {} is not 1 (Init), 2 (PreOp) or 4 (SafeOp)", k, param(request, "state", 0)));
-        }
-      }
-      esm.raise_error(static_cast<esc::AlStatusCode>(code), *state);
-      guard.hold(id, *state, static_cast<esc::AlStatusCode>(code));
+      const esc::AlState forced = state.value_or(forced_state(code));
+      esm.raise_error(static_cast<esc::AlStatusCode>(code), forced);
+      guard.hold(id, forced, static_cast<esc::AlStatusCode>(code));
     } else if (k == "refuse_transition") {
-      if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
-      if (auto ok = in_range(k, request, "count", 1, 1000); !ok) return fail(ok.error());
-      std::optional<esc::AlState> to;
-      if (request.params.contains("state")) {
-        to = al_state_of(param(request, "state", 0));
-        if (!to || *to == esc::AlState::Init) {
-          return fail(
-              fmt::format("{}: state {} is not an upward target (2, 3, 4 or 8)", k, param(request, "state", 0)));
-        }
-      }
-      guard.refuse(id, to, static_cast<esc::AlStatusCode>(param(request, "code", 0)),
+      guard.refuse(id, state, static_cast<esc::AlStatusCode>(param(request, "code", 0)),
                    static_cast<unsigned>(param(request, "count", 1)));
     } else {
-      const Nanoseconds now = chain_.time_seen();
-      if (now == Nanoseconds::min() || !s.esc().expire_process_data_watchdog(now)) {
+      if (!s.esc().expire_process_data_watchdog(now)) {
         return fail(fmt::format("{}: the process-data watchdog of slave {} is not running (disabled, no SM "
                                 "with its trigger written yet, or already expired)",
                                 k, rec.slave));
@@ -367,7 +395,8 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     rec.where = Impl::Where::Power;
     for (const auto& [other, r] : im.records) {
       if (r.slave != rec.slave) continue;
-      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive) {
+      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive || r.where == Impl::Where::MailboxCounter ||
+          r.where == Impl::Where::MailboxHeld) {
         return fail(fmt::format("{}: slave {} has fault {} ({}) engaged on its firmware: clear it first", k, rec.slave,
                                 other, r.fault.request.kind));
       }
@@ -380,6 +409,36 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       if (seg.peer(rec.slave, p) && seg.link_up(rec.slave, p)) rec.ports_cut.push_back(p);
     }
     for (unsigned p : rec.ports_cut) (void)seg.set_link(rec.slave, p, false);
+  } else if (k == "sii_bad_checksum" || k == "sii_busy_stuck") {
+    rec.where = k == "sii_busy_stuck" ? Impl::Where::SiiBusy : Impl::Where::SiiChecksum;
+    if (auto other = same_place(rec.where)) return fail(fmt::format("{}: already engaged as fault {}", k, *other));
+    esc::Esc& e = chain_[rec.slave].esc();
+    if (rec.where == Impl::Where::SiiBusy) {
+      e.set_sii_stuck(true, std::max(chain_.time_seen(), Nanoseconds{0}));
+    } else {
+      // Word 7's low byte: the CRC over words 0-6 (ETG.1000.6 §5.4), made wrong.
+      const auto sii = e.config().sii.bytes();
+      if (sii.size() < esc::kSiiConfigAreaBytes + 2) {
+        return fail(fmt::format("{}: slave {} has no SII checksum", k, rec.slave));
+      }
+      const std::uint8_t crc = esc::sii_crc(sii.first(esc::kSiiConfigAreaBytes));
+      auto bad = static_cast<std::uint8_t>(crc ^ 0xFF);
+      const std::uint16_t high = static_cast<std::uint16_t>(sii[esc::kSiiConfigAreaBytes + 1] << 8);
+      if ((high | bad) == esc::kSiiChecksumDisabled) bad = static_cast<std::uint8_t>(bad ^ 0x01);
+      rec.saved_byte = e.patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, bad).value_or(0);
+    }
+  } else if (k == "mailbox_counter_frozen" || k == "mailbox_held") {
+    rec.where = k == "mailbox_held" ? Impl::Where::MailboxHeld : Impl::Where::MailboxCounter;
+    if (!od::runs_firmware(chain_[rec.slave].device())) {
+      return fail(fmt::format("{}: slave {} has no firmware (an ESC without PDI): no mailbox", k, rec.slave));
+    }
+    if (auto other = same_place(rec.where)) return fail(fmt::format("{}: already engaged as fault {}", k, *other));
+    coe::MailboxServer& mbx = chain_[rec.slave].firmware().coe().mailbox();
+    if (rec.where == Impl::Where::MailboxHeld) {
+      mbx.set_replies_held(true);
+    } else {
+      mbx.set_counter_frozen(true);
+    }
   } else if (k == "drive_fault") {
     if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
     if (auto ok = in_range(k, request, "error_register", 0, 0xFF); !ok) return fail(ok.error());
@@ -431,6 +490,19 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
     case Impl::Where::Drive:
       rec.drive->set_external_fault(std::nullopt);
       break;
+    case Impl::Where::SiiChecksum:
+      (void)chain_[rec.slave].esc().patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, rec.saved_byte);
+      break;
+    case Impl::Where::SiiBusy:
+      chain_[rec.slave].esc().set_sii_stuck(false, std::max(chain_.time_seen(), Nanoseconds{0}));
+      if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());  // the command completes
+      break;
+    case Impl::Where::MailboxCounter:
+      chain_[rec.slave].firmware().coe().mailbox().set_counter_frozen(false);
+      break;
+    case Impl::Where::MailboxHeld:
+      chain_[rec.slave].firmware().coe().mailbox().set_replies_held(false);
+      break;
     case Impl::Where::Power: {
       // The old firmware (and the guard's ESM) is gone: the guard goes with it.
       if (rec.slave < im.guards.size()) im.guards[rec.slave].reset();
@@ -461,12 +533,17 @@ esc::Delivery FaultCatalogue::pass_faulty(std::span<std::uint8_t> frame, Nanosec
   }
   // Faults that ran their course clear themselves (the observer hears it).
   // The lists are reserved at engage time: nothing here allocates.
-  std::array<FaultId, 16> spent{};
-  std::size_t n = 0;
-  for (FaultId s : im.frames.spent()) {
-    if (n < spent.size()) spent[n++] = s;
+  // clear() does not touch the spent list, but an observer may engage a
+  // fault (the list may then move): re-read it each time.
+  for (std::size_t i = 0; i < im.frames.spent().size(); ++i) {
+    try {
+      (void)clear(im.frames.spent()[i]);
+    } catch (...) {  // an observer that throws: the fault is cleared all the same
+    }
   }
   im.frames.clear_spent();
+  std::array<FaultId, 16> spent{};  // more cables spent in one frame: found on the next
+  std::size_t n = 0;
   for (const auto& [id, r] : im.records) {
     if (r.where == Impl::Where::Corrupt && n < spent.size() &&
         chain_.segment().corruption_pending(r.slave, r.port) == 0) {

@@ -14,6 +14,11 @@
 //
 // Bad input (unknown kind, slave, port or parameter, a value out of range)
 // is refused with a message that says what is wrong, and nothing changes.
+// Not thread-safe: call it from the thread that runs the chain (between
+// frames), as ecat-slave's live loop does.
+//
+// drop_frames for one slave matches the station address 0x0010 it had
+// when the fault was engaged (and its position for APxx).
 #pragma once
 
 #include <cstdint>

@@ -15,6 +15,7 @@
 #include "common/le.hpp"
 #include "ds402/faults.hpp"
 #include "master/coe_client.hpp"
+#include "master/mailbox.hpp"
 #include "slave/fault_catalogue.hpp"
 #include "tests/slave/inprocess_fixture.hpp"
 
@@ -84,7 +85,8 @@ TEST(FaultCatalogue, ListsExactlyTheImplementedKinds) {
   }
   EXPECT_EQ(names, (std::set<std::string>{"link_cut", "corrupt_frames", "drop_frames", "wkc_offset", "al_error",
                                           "refuse_transition", "watchdog_expiry", "power_cycle",
-                                          "drive_fault"}));
+                                          "sii_bad_checksum", "sii_busy_stuck", "mailbox_counter_frozen",
+                                          "mailbox_held", "drive_fault"}));
   EXPECT_EQ(FaultCatalogue::find_kind("melt"), nullptr);
 }
 
@@ -387,6 +389,102 @@ TEST(FaultCatalogue, PowerCycle) {
   auto st = r.master.request_state(1, master::AlState::PreOp);
   ASSERT_TRUE(st);
   EXPECT_EQ(st->raw, kPreOp);
+}
+
+// sii_bad_checksum (ETG.1000.6 §5.4; Section II 0x0502, 0x0110).
+TEST(FaultCatalogue, SiiBadChecksum) {
+  Rig r;
+  ASSERT_EQ(r.master.scan().value_or(0), 3u);
+  constexpr std::uint16_t kSiiControl = 0x0502, kChecksumError = 0x0800, kNotLoaded = 0x1000;
+  constexpr std::uint16_t kChecksumWord = 7;
+  std::array<std::uint8_t, 8> before{}, after{};
+  ASSERT_TRUE(r.master.sii_read(r.station(1), kChecksumWord, before));
+  EXPECT_EQ(r.reg16(1, kSiiControl) & (kChecksumError | kNotLoaded), 0);
+  EXPECT_EQ(r.reg16(1, kDlStatus) & 0x0001, 1);
+  const FaultId id = r.engage(request("sii_bad_checksum", 1));
+  EXPECT_EQ(r.reg16(1, kSiiControl) & (kChecksumError | kNotLoaded), kChecksumError | kNotLoaded);
+  EXPECT_EQ(r.reg16(1, kDlStatus) & 0x0001, 0);  // EEPROM not loaded
+  EXPECT_EQ(r.reg16(0, kSiiControl) & kChecksumError, 0);  // the others keep theirs (a shared image is copied)
+  ASSERT_TRUE(r.master.sii_read(r.station(1), kChecksumWord, after));
+  EXPECT_EQ(after[0], before[0] ^ 0xFF);  // the CRC byte, every bit wrong
+  EXPECT_EQ(after[1], before[1]);
+  ASSERT_TRUE(r.master.sii_read(r.station(0), kChecksumWord, after));
+  EXPECT_EQ(after, before);
+  ASSERT_TRUE(r.faults.clear(id));
+  EXPECT_EQ(r.reg16(1, kSiiControl) & (kChecksumError | kNotLoaded), 0);
+  EXPECT_EQ(r.reg16(1, kDlStatus) & 0x0001, 1);
+  ASSERT_TRUE(r.master.sii_read(r.station(1), kChecksumWord, after));
+  EXPECT_EQ(after, before);
+}
+
+// sii_busy_stuck: the master's EEPROM reads time out with busy set.
+TEST(FaultCatalogue, SiiBusyStuck) {
+  Rig r;
+  ASSERT_EQ(r.master.scan().value_or(0), 3u);
+  constexpr std::uint16_t kSiiControl = 0x0502, kBusy = 0x8000;
+  std::array<std::uint8_t, 8> word{};
+  const FaultId id = r.engage(request("sii_busy_stuck", 2));
+  auto got = r.master.sii_read(r.station(2), 0, word);
+  ASSERT_FALSE(got);
+  EXPECT_EQ(got.error(), master::MasterError::SiiTimeout);
+  EXPECT_EQ(r.reg16(2, kSiiControl) & kBusy, kBusy);
+  EXPECT_TRUE(r.master.sii_read(r.station(1), 0, word));  // its neighbour reads fine
+  ASSERT_TRUE(r.faults.clear(id));
+  EXPECT_EQ(r.reg16(2, kSiiControl) & kBusy, 0);
+  std::array<std::uint8_t, 8> mine{}, neighbour{};
+  ASSERT_TRUE(r.master.sii_read(r.station(2), 0, mine));
+  ASSERT_TRUE(r.master.sii_read(r.station(1), 0, neighbour));
+  EXPECT_EQ(mine, neighbour);  // the same device
+}
+
+// mailbox_counter_frozen (ETG.1000.4 §5.6 mailbox header, counter in byte
+// 5 bits 4-6): two SDO replies in a row carry the same counter.
+TEST(FaultCatalogue, MailboxCounterFrozen) {
+  Rig r(1);
+  ASSERT_EQ(r.master.scan().value_or(0), 1u);
+  ASSERT_TRUE(r.master.configure_mailbox(0));
+  ASSERT_TRUE(r.master.request_state(0, master::AlState::PreOp));
+  const auto upload = master::CoeClient::upload_request(0x1000, 0, false);  // device type
+  auto counter_of_reply = [&]() -> int {
+    if (!r.master.mailbox_send(0, master::mbx::kTypeCoe, upload)) return -1;
+    auto m = r.master.mailbox_receive(0, std::chrono::milliseconds(100));
+    return m ? m->header.counter : -1;
+  };
+  const int first = counter_of_reply();
+  ASSERT_GE(first, 1);
+  const int second = counter_of_reply();
+  EXPECT_EQ(second, first % 7 + 1);  // 1..7 rotating
+  const FaultId id = r.engage(request("mailbox_counter_frozen", 0));
+  EXPECT_EQ(counter_of_reply(), second);
+  EXPECT_EQ(counter_of_reply(), second);
+  ASSERT_TRUE(r.faults.clear(id));
+  EXPECT_EQ(counter_of_reply(), second % 7 + 1);
+}
+
+// mailbox_held: the request is taken (SM0 emptied), the reply stays out of
+// SM1 (0x080D bit 3 clear) until the fault clears, then comes in order.
+TEST(FaultCatalogue, MailboxRepliesHeldPending) {
+  Rig r(1);
+  ASSERT_EQ(r.master.scan().value_or(0), 1u);
+  ASSERT_TRUE(r.master.configure_mailbox(0));
+  ASSERT_TRUE(r.master.request_state(0, master::AlState::PreOp));
+  constexpr std::uint16_t kSm0Status = 0x0805, kSm1Status = 0x080D, kMailboxFull = 0x08;
+  const FaultId id = r.engage(request("mailbox_held", 0));
+  master::CoeClient coe(r.master, 0);
+  auto v = coe.upload_value(0x1000, 0);
+  ASSERT_FALSE(v);
+  EXPECT_EQ(r.reg8(0, kSm0Status) & kMailboxFull, 0);  // the slave took the request
+  EXPECT_EQ(r.reg8(0, kSm1Status) & kMailboxFull, 0);  // no reply
+  ASSERT_TRUE(r.faults.clear(id));
+  r.advance(std::chrono::milliseconds(1));
+  EXPECT_EQ(r.reg8(0, kSm1Status) & kMailboxFull, kMailboxFull);  // the held reply
+  auto m = r.master.mailbox_receive(0, std::chrono::milliseconds(100));
+  ASSERT_TRUE(m);
+  ASSERT_GE(m->payload.size(), 10u);
+  // CoE header (SDO response), SDO upload expedited response for 1000h:00.
+  EXPECT_EQ(m->payload[2] & 0xE0, 0x40);
+  EXPECT_EQ(load_le<std::uint16_t>(m->payload.data() + 3), 0x1000);
+  EXPECT_TRUE(coe.upload_value(0x1000, 0));  // the mailbox works again
 }
 
 // drive_fault (CiA 402-2 §8.1.3, CiA 301 §7.2.7): over-current 2310h.
