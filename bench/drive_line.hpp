@@ -122,6 +122,8 @@ class DriveLine {
   }
 
   std::size_t size() const noexcept { return n_; }
+  // The simulated time of the last cycle's frames.
+  Nanoseconds now() const noexcept { return now_; }
   std::size_t frames() const noexcept { return frames_.size(); }
   std::size_t image_bytes() const noexcept { return n_ * (out_ + in_); }
   std::uint16_t statusword(std::size_t d) const noexcept {

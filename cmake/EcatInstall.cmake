@@ -115,7 +115,7 @@ ecat_install_library(coe coe HEADERS
   coe/sdo_abort.hpp coe/object_hooks.hpp coe/value.hpp coe/sync_controller.hpp
   coe/mailbox_header.hpp coe/storage_quota.hpp coe/module_ident_check.hpp
   # internal
-  coe/mailbox_queue.hpp coe/pdo_mapping.hpp coe/process_data_image.hpp coe/sm_bits.hpp
+  coe/mailbox_queue.hpp coe/pdo_mapping.hpp coe/recent_log.hpp coe/process_data_image.hpp coe/sm_bits.hpp
   coe/sync_checks.hpp coe/sync_mode.hpp)
 ecat_install_library(ds402 ds402 HEADERS
   # public
@@ -154,12 +154,22 @@ ecat_install_library(pdi_spi pdi_spi HEADERS
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/fault_catalogue.hpp slave/virtual_slave.hpp slave/slave_options.hpp
   slave/slave_stats.hpp slave/firmware.hpp slave/wake_heap.hpp)
+ecat_install_library(control control HEADERS
+  control/request_handler.hpp control/control_server.hpp control/event_queue.hpp control/event_watcher.hpp
+  control/object_access.hpp control/network_view.hpp control/simulated_run.hpp control/control_error.hpp)
 
 # --- programs --------------------------------------------------------------------------
 ecat_install_program(ecat-esigen "ESI, SII EEPROM image and C++ tables from an EtherCAT device description")
 ecat_install_program(ecat-slave "virtual EtherCAT slave or chain of slaves on an interface, UDP or a pcap")
 ecat_install_program(ecat-master "small EtherCAT master: scan, bring to Op, exchange process data")
 ecat_install_program(ecat-conform "EtherCAT slave conformance tests")
+
+# --- the Python package ecatslave (docs/control.md "Python") ----------------------------
+# Pure Python, standard library only: where Debian's python3 finds it
+# (/usr/lib/python3/dist-packages; not the multiarch libdir).
+set(ECAT_INSTALL_PYTHONDIR lib/python3/dist-packages CACHE STRING "Where the ecatslave Python package is installed")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/ecatslave DESTINATION ${ECAT_INSTALL_PYTHONDIR}
+        FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
 
 # --- device files, profiles, schema ---------------------------------------------------
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/xml/devices ${PROJECT_SOURCE_DIR}/xml/profiles
@@ -191,10 +201,10 @@ string(REGEX REPLACE "/$" "" ECAT_PC_TO_PREFIX "${ECAT_PC_TO_PREFIX}")
 # The headers need fmt; the libraries pugixml, libxml2 and libpcap, which a
 # static archive passes on to every link and a shared library does not.
 if(BUILD_SHARED_LIBS)
-  set(ECAT_PC_REQUIRES "fmt")
+  set(ECAT_PC_REQUIRES "fmt nlohmann_json")
   set(ECAT_PC_REQUIRES_PRIVATE "pugixml libxml-2.0 libpcap")
 else()
-  set(ECAT_PC_REQUIRES "fmt pugixml libxml-2.0 libpcap")
+  set(ECAT_PC_REQUIRES "fmt nlohmann_json pugixml libxml-2.0 libpcap")
   set(ECAT_PC_REQUIRES_PRIVATE "")
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/ecatslave.pc.in ${PROJECT_BINARY_DIR}/ecatslave.pc @ONLY)
@@ -214,7 +224,9 @@ set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 # Run-time libraries of the programs, found by dpkg-shlibdeps; the -dev
 # packages are what find_package(ecatslave) and the headers need.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libfmt-dev, libpugixml-dev, libxml2-dev, libpcap-dev, libexpected-dev")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "cmake, pkg-config, libcli11-dev")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libfmt-dev, libpugixml-dev, libxml2-dev, libpcap-dev, libexpected-dev, nlohmann-json3-dev")
+# The Python package ecatslave runs on python3; its pytest fixtures on python3-pytest.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "cmake, pkg-config, libcli11-dev, python3-pytest")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 include(CPack)

@@ -63,7 +63,9 @@ class CoeServer {
   void poll(Nanoseconds now) noexcept { mailbox_.poll(now); }
 
   ObjectStore& objects() noexcept { return store_; }
+  const ObjectStore& objects() const noexcept { return store_; }
   Emergency& emergency() noexcept { return emergency_; }
+  const Emergency& emergency() const noexcept { return emergency_; }
   ProcessData& process_data() noexcept { return process_data_; }
   PdoConfig& pdo() noexcept { return pdo_; }
   MailboxServer& mailbox() noexcept { return mailbox_; }

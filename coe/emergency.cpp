@@ -18,7 +18,9 @@ Expected<void, MailboxError> Emergency::raise(std::uint16_t error_code, std::uin
   w.u16(error_code);
   w.u8(error_register);
   w.bytes(manufacturer);
-  return mailbox_.send(MailboxType::CoE, payload);
+  auto queued = mailbox_.send(MailboxType::CoE, payload);
+  if (queued) sent_.add({error_code, error_register});
+  return queued;
 }
 
 // Diagnosis message (ETG.1020 §13.3): DiagCode UDINT, Flags UINT, TextID UINT,

@@ -10,6 +10,7 @@
 
 #include "coe/mailbox_server.hpp"
 #include "coe/object_store.hpp"
+#include "coe/recent_log.hpp"
 #include "common/clock.hpp"
 
 namespace ecat::coe {
@@ -35,11 +36,21 @@ class Emergency {
                                      const std::array<std::uint8_t, kManufacturerBytes>& manufacturer = {},
                                      Nanoseconds now = Nanoseconds{0}) noexcept;
 
+  // The messages raise() queued (error code, error register), newest last:
+  // what the control interface reports as "emergency" events.
+  struct Sent {
+    std::uint16_t error_code = 0;
+    std::uint8_t error_register = 0;
+  };
+  static constexpr std::size_t kSentLogSize = 8;
+  const RecentLog<Sent, kSentLogSize>& sent() const noexcept { return sent_; }
+
  private:
   void record_diagnosis(std::uint16_t error_code, Nanoseconds now) noexcept;
 
   MailboxServer& mailbox_;
   ObjectStore& store_;
+  RecentLog<Sent, kSentLogSize> sent_;
 };
 
 }  // namespace ecat::coe

@@ -157,6 +157,7 @@ Expected<void, SdoAbort> ObjectStore::write(const WriteRequest& request) noexcep
     if (auto ok = h->on_write(*this, request); !ok) return ok;
   }
   if (auto ok = assign(*s, request.data); !ok) return ok;
+  service_writes_.add({request.index, request.subindex});
   if (h) h->after_write(*this, request.index, request.subindex);
   return {};
 }

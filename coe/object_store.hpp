@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "coe/object_hooks.hpp"
+#include "coe/recent_log.hpp"
 #include "coe/sdo_abort.hpp"
 #include "coe/value.hpp"
 #include "common/expected.hpp"
@@ -141,6 +142,15 @@ class ObjectStore {
   // The checks of write() without committing.
   Expected<void, SdoAbort> check(const Slot& s, ConstBytes data) const noexcept;
 
+  // The entries write() committed (SDO downloads), newest last: what the
+  // control interface reports as "sdo_write" events (docs/control.md).
+  struct WriteRecord {
+    std::uint16_t index = 0;
+    std::uint8_t subindex = 0;
+  };
+  static constexpr std::size_t kWriteLogSize = 16;
+  const RecentLog<WriteRecord, kWriteLogSize>& service_writes() const noexcept { return service_writes_; }
+
   // Largest entry capacity, for sizing transfer buffers.
   std::uint32_t max_entry_capacity() const noexcept { return max_capacity_; }
   std::span<const Slot> slots() const noexcept { return slots_; }
@@ -164,6 +174,7 @@ class ObjectStore {
   std::vector<ObjectRange> objects_;  // sorted by index
   std::uint32_t max_capacity_ = 0;
   std::uint64_t generation_ = 0;
+  RecentLog<WriteRecord, kWriteLogSize> service_writes_;
 };
 
 }  // namespace ecat::coe

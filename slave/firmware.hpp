@@ -78,6 +78,7 @@ class Firmware {
 
   esc::Esm& esm() noexcept { return esm_; }
   coe::CoeServer& coe() noexcept { return coe_; }
+  const coe::CoeServer& coe() const noexcept { return coe_; }
   coe::SyncController& sync() noexcept { return sync_; }
   Application* application() noexcept { return app_.get(); }
   // Replaces the application the device description chose (the CiA402 drive,

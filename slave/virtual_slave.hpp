@@ -40,8 +40,12 @@ class VirtualSlave {
   VirtualSlave& operator=(const VirtualSlave&) = delete;
 
   esc::Esc& esc() noexcept { return *esc_; }
+  const esc::Esc& esc() const noexcept { return *esc_; }
   const od::DeviceDescription& device() const noexcept { return *device_; }
   Firmware& firmware() noexcept { return *firmware_; }
+  const Firmware& firmware() const noexcept { return *firmware_; }
+  // SlaveOptions::name as created (ecat-slave: the topology name or "slave-N").
+  const std::string& name() const noexcept { return options_.name; }
   // The SPI backend the firmware runs over (PdiKind::Lan9252/Et1100Spi),
   // nullptr for the direct PDI; and the emulated chip it talks to.
   pdi_spi::SpiPdi* spi_pdi() noexcept { return spi_pdi_.get(); }

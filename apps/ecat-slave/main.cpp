@@ -94,6 +94,9 @@ int main(int argc, char** argv) {
   cli.add_flag("--lan9252-lean", o.lan9252_lean,
                "LAN9252: FAST READ, PRAM address+command in one write, CSR data read without polling "
                "(8 instead of 11 transactions per cycle; not confirmed on the data sheet, docs/real-esc.md)");
+  auto* control = cli.add_option("--control", o.control,
+                                 "Control interface (docs/control.md, JSON lines): a Unix socket PATH (mode 0600), "
+                                 "or [ADDR:]PORT for TCP (127.0.0.1 unless ADDR is named)");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
   cli.add_option("--state-quota", o.state_quota_bytes,
                  "Most bytes all files in --state-dir may hold (FoE files + stored parameters; "
@@ -124,6 +127,7 @@ int main(int argc, char** argv) {
   allow->needs(udp);
   pdi->excludes(iface)->excludes(pin)->excludes(udp);
   red->needs(iface);
+  control->excludes(pin)->excludes(pdi);
   topo->excludes(esi)->excludes(eni)->excludes(pdi);
 
   try {

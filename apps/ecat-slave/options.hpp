@@ -57,6 +57,10 @@ struct SlaveProgramOptions {
   std::string irq_gpio;       // CHIP:OFFSET, e.g. /dev/gpiochip0:25
   bool lan9252_lean = false;  // FAST READ, one PRAM setup write, no CSR busy poll
 
+  // --control: the control interface (docs/control.md), a Unix socket path
+  // or [ADDR:]PORT (TCP, 127.0.0.1 when only a port is given); empty: none.
+  std::string control;
+
   std::string state_dir;  // stored parameters and FoE files
   std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together
   std::uint64_t state_max_files = kDefaultStateMaxFiles;

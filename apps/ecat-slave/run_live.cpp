@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "apps/ecat-slave/chain_setup.hpp"
+#include "apps/ecat-slave/control_setup.hpp"
 #include "apps/ecat-slave/realtime.hpp"
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
@@ -225,6 +226,12 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   }
   // SIGUSR2 engages and clears these as faults of the catalogue (docs/faults.md).
   slave::FaultCatalogue faults(line);
+  // --control: serviced on its own tick below, off the frame path (docs/control.md).
+  auto control = open_control(o, line, clock, faults);
+  if (!control) {
+    std::fprintf(stderr, "ecat-slave: %s\n", control.error().c_str());
+    return 1;
+  }
   std::vector<slave::FaultId> cut;  // link_cut faults engaged by the last SIGUSR2
   std::vector<std::optional<slave::FaultId>> corrupting(corrupted->size());
   bool links_cut = false;
@@ -238,6 +245,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     } else if (deadline) {
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
     }
+    if (*control) wait = std::min(wait, (*control)->server->until_due(clock.now()));
     if (g_toggle_links) {
       g_toggle_links = 0;
       links_cut = !links_cut;
@@ -317,6 +325,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
     drained = r.error() == transport::TransportError::Timeout;
     deadline = line.poll(clock.now());
+    if (*control) (*control)->server->service(clock.now());
     if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
       g_print_stats = 0;
       next_stats = clock.now() + stats_period;

@@ -43,7 +43,7 @@ deb=$(ls "$tmp"/out/ecatslave_*.deb 2> /dev/null | head -1)
 [ "$(dpkg-deb -f "$deb" Version)" = "$version" ] || fail "Version: $(dpkg-deb -f "$deb" Version)"
 depends=$(dpkg-deb -f "$deb" Depends)
 for dep in libc6 libstdc++6 libpugixml1v5 libxml2 libpcap0.8 libfmt-dev libpugixml-dev libxml2-dev \
-           libpcap-dev libexpected-dev; do
+           libpcap-dev libexpected-dev nlohmann-json3-dev; do
   echo "$depends" | grep -q "\b$dep\b" || fail "Depends lacks $dep: $depends"
 done
 
@@ -58,7 +58,9 @@ expect=(/usr/bin/ecat-esigen /usr/bin/ecat-slave /usr/bin/ecat-master /usr/bin/e
         "/usr/$libdir/cmake/ecatslave/ecatslaveTargets.cmake" "/usr/$libdir/cmake/ecatslave/ecatslaveGenerate.cmake"
         "/usr/$libdir/pkgconfig/ecatslave.pc"
         /usr/share/ecatslave/devices/generic-servo.xml /usr/share/ecatslave/profiles/cia301.xml
-        /usr/share/ecatslave/schema/device.xsd /usr/share/doc/ecatslave/LICENSE /usr/share/doc/ecatslave/api.md)
+        /usr/share/ecatslave/schema/device.xsd /usr/share/doc/ecatslave/LICENSE /usr/share/doc/ecatslave/api.md
+        "/usr/$libdir/libecatslave_control.a" /usr/include/ecatslave/control/request_handler.hpp
+        /usr/lib/python3/dist-packages/ecatslave/client.py /usr/lib/python3/dist-packages/ecatslave/pytest_plugin.py)
 if [ -n "$help2man" ]; then
   expect+=(/usr/share/man/man1/ecat-esigen.1.gz /usr/share/man/man1/ecat-slave.1.gz
            /usr/share/man/man1/ecat-master.1.gz /usr/share/man/man1/ecat-conform.1.gz)

@@ -43,10 +43,17 @@ for f in include/ecatslave/slave/chain.hpp include/ecatslave/coe/object_store.hp
          "$libdir/cmake/ecatslave/ecatslaveConfig.cmake" "$libdir/cmake/ecatslave/ecatslaveTargets.cmake" \
          "$libdir/cmake/ecatslave/ecatslaveGenerate.cmake" "$libdir/pkgconfig/ecatslave.pc" \
          share/ecatslave/devices/generic-servo.xml share/ecatslave/devices/simtach-rse.xml \
-         share/ecatslave/profiles/cia402.xml share/ecatslave/schema/device.xsd; do
+         share/ecatslave/profiles/cia402.xml share/ecatslave/schema/device.xsd \
+         include/ecatslave/control/request_handler.hpp lib/python3/dist-packages/ecatslave/client.py \
+         lib/python3/dist-packages/ecatslave/pytest_plugin.py; do
   [ -f "$prefix/$f" ] || fail "not installed: $f"
 done
-for layer in esc coe ds402 esi od transport master slave; do
+# The Python package imports from the installed place alone (docs/control.md).
+if command -v python3 > /dev/null; then
+  (cd "$tmp" && PYTHONPATH="$prefix/lib/python3/dist-packages" python3 -c 'import ecatslave.client, ecatslave.network') ||
+    fail "the installed ecatslave Python package does not import"
+fi
+for layer in esc coe ds402 esi od transport master slave control; do
   ls "$prefix/$libdir"/libecatslave_"$layer".* > /dev/null 2>&1 || fail "no library libecatslave_$layer"
 done
 # Internal headers stay out (docs/api.md): one of each kind.

@@ -14,6 +14,8 @@ declare -A allowed=(
   [esi]="common od esi"
   [transport]="common transport"
   [master]="common transport master"
+  [slave]="common od esc coe ds402 esi pdi_spi slave"
+  [control]="common od esc coe ds402 esi pdi_spi slave control"
 )
 status=0
 for layer in "${!allowed[@]}"; do

@@ -1,0 +1,26 @@
+#include "apps/ecat-slave/control_setup.hpp"
+
+#include <cstdio>
+
+namespace ecat::app {
+
+Expected<std::unique_ptr<ControlPlane>, std::string> open_control(const SlaveProgramOptions& o, slave::Chain& chain,
+                                                                  const Clock& clock, slave::FaultCatalogue& faults) {
+  if (o.control.empty()) return std::unique_ptr<ControlPlane>{};
+  auto plane = std::make_unique<ControlPlane>();
+  plane->handler = std::make_unique<control::RequestHandler>(chain, clock, plane->events, &faults);
+  auto server = control::ControlServer::open(o.control, *plane->handler);
+  if (!server) return fail(server.error());
+  plane->server = std::move(*server);
+  if (!plane->server->loopback_only()) {
+    // Printed even with --quiet, as --udp's: whoever reaches it controls every slave.
+    std::fprintf(stderr,
+                 "ecat-slave: warning: control %s is reachable unauthenticated from the network: whoever reaches it "
+                 "reads and writes every object and engages faults (docs/control.md)\n",
+                 plane->server->address().c_str());
+  }
+  if (!o.quiet) std::fprintf(stderr, "ecat-slave: control on %s\n", plane->server->address().c_str());
+  return plane;
+}
+
+}  // namespace ecat::app

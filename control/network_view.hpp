@@ -1,0 +1,23 @@
+// The network as the control interface shows it (issue 26 item 1): the
+// slaves in topology order with identity, name, AL state and status code,
+// DL status per port, error counters, sync errors and watchdog state, read
+// from the ESC registers and the firmware's counters without side effects
+// (docs/control.md "network").
+#pragma once
+
+#include <cstddef>
+
+#include <nlohmann/json.hpp>
+
+namespace ecat::slave {
+class Chain;
+class VirtualSlave;
+}  // namespace ecat::slave
+
+namespace ecat::control {
+
+nlohmann::json slave_view(const slave::VirtualSlave& slave, std::size_t position);
+// {"slaves": [slave_view...], "frames": {...chain counters}}
+nlohmann::json network_view(const slave::Chain& chain);
+
+}  // namespace ecat::control
