@@ -17,6 +17,10 @@
 # (b) tests/data/topologies/tree-delays.txt, the same tree with a delay per
 # cable and processing/forwarding times inside each ESC: the delays the
 # master prints must be the ones derived from those numbers below.
+# Under load: no live timing is involved. The delays come from the
+# emulated ESCs' receive-time latches at each frame's kernel arrival stamp,
+# not from when the slave process ran; a scan frame the slave drops as stale
+# is retried by the master. Any difference in a line fails.
 # Usage: e2e_master_tree.sh SRCDIR BUILDDIR   (exit 77 = skipped: not root / no netns)
 set -uo pipefail
 src=${1:?srcdir}

@@ -14,6 +14,9 @@
 #   5 b1       1.0.0.0      2             6000 (1000 + round trip of a1-a2 4000 + 1000)
 # SOEM is not a Debian package: binaries from $ECAT_SOEM_BIN or PATH; without
 # slaveinfo the test is skipped (exit 77).
+# Under load: as e2e_master_tree.sh, the delays do not depend on when the
+# slave process runs; SOEM resends a frame the slave dropped as stale
+# (2 ms each, 3 times for most of the scan). Any difference fails.
 # Usage: e2e_soem_tree.sh SRCDIR BUILDDIR
 set -uo pipefail
 src=${1:?srcdir}

@@ -7,6 +7,11 @@
 # and its log the armed fault; the master must end (bounded) and see at least
 # one lost cycle. The register values the ESCs count are asserted in
 # tests/esc/esc_error_counter_test.cpp and tests/slave/error_localisation_test.cpp.
+# Under load: nothing here needs the host on time. The 5 corrupted frames
+# are counted where the chain passes frames, so frames the slave drops as
+# stale (older than --max-frame-age: lost on the wire, counted apart as
+# stale-dropped) neither use them up nor add to "lost"; the master only has
+# to see at least one lost cycle, and it sees those 5.
 # Usage: fault_corrupt_link.sh SRCDIR BUILDDIR   (exit 77 = skipped: not root / no netns)
 set -uo pipefail
 src=${1:?srcdir}

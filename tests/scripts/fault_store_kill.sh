@@ -11,6 +11,9 @@
 #     same --state-dir: the slave starts and serves a consistent pair, the
 #     one saved last or the new one (the new one whenever "save" was
 #     acknowledged before the kill).
+# Under load: nothing here is timed but the kill (any moment is a valid
+# test); ecat-sdo retries a frame the slave drops as stale, as it retries
+# any lost frame, so a slow host only slows it down.
 # Tool: build/bin/ecat-sdo (tests/tools/ecat-sdo.cpp).
 # Usage: fault_store_kill.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
