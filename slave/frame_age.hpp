@@ -17,14 +17,19 @@
 
 namespace ecat::slave {
 
-// The default age limit: SOEM's EC_TIMEOUTRET (2000 us), the time SOEM waits
-// for one send of a frame before it sends it again (every datagram, mailbox
-// writes included; shared/spec/masters.md §1.1: "2 ms each, <= 6 ms"). IgH
-// gives up on a datagram sooner (500 us); ethercrab waits 30 ms without a
-// retry, so a host too slow for 2 ms is better served with a larger limit
-// there (--max-frame-age). A wire answers in microseconds, so no healthy
-// frame comes near 2 ms.
-inline constexpr Nanoseconds kDefaultMaxFrameAge = std::chrono::microseconds(2000);
+// The default age limit: half of SOEM's EC_TIMEOUTRET (2000 us), the time
+// SOEM waits for one send of a frame before it sends it again or gives up
+// (every datagram; shared/spec/masters.md §1.1: "2 ms each, <= 6 ms"). A
+// frame taken at the limit still has the other half for its reply to be
+// back in the master's socket before SOEM stops waiting: with the limit at
+// the whole 2 ms, a frame taken just under it was answered after SOEM had
+// given up (1 SDO-walk run in 20 lost a reply beside two CPU burners, 0 in
+// 20 at 1 ms; docs/e2e.md "Stale frames"). IgH gives up on a datagram at
+// 500 us and retries; ethercrab waits 30 ms without a retry, so a host too
+// slow for 1 ms is better served with a larger limit there
+// (--max-frame-age). A wire answers in microseconds: no healthy frame comes
+// near 1 ms.
+inline constexpr Nanoseconds kDefaultMaxFrameAge = std::chrono::microseconds(1000);
 
 // True when a frame that the medium stamped `arrival` and that is taken at
 // `now` (same time base) waited longer than `max_age`: it is lost. Never for

@@ -109,7 +109,8 @@ int main(int argc, char** argv) {
   cli.add_flag("--busy-poll", o.busy_poll, "Poll the socket without sleeping (lowest latency, one core busy)");
   cli.add_option("--max-frame-age", o.max_frame_age_us,
                  "A frame that waited in the socket longer than US microseconds (kernel receive stamp against "
-                 "now) is lost on the wire: dropped unprocessed and counted (default 2000 = SOEM's frame timeout; "
+                 "now) is lost on the wire: dropped unprocessed and counted (default 1000 = half of SOEM's frame "
+                 "timeout; "
                  "0 = never; docs/e2e.md)")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{60'000'000}));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");

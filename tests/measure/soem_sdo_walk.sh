@@ -11,7 +11,8 @@
 # minutes. SOEM binaries from $ECAT_SOEM_BIN (as e2e_soem.sh); the slave and
 # SOEM run at SCHED_FIFO 40/30 as in e2e_soem.sh unless SDO_WALK_NO_RT=1.
 # SDO_WALK_SLAVE_ARGS adds ecat-slave options (e.g. "--max-frame-age 0" to
-# see the walk without the stale-frame drop). Logs kept in SDO_WALK_OUT.
+# see the walk without the stale-frame drop); SDO_WALK_DEVICES a file name
+# pattern without .xml (default all). Logs kept in SDO_WALK_OUT.
 # Prints one line per run and a summary; exit 1 if any run had another error.
 # Usage: soem_sdo_walk.sh SRCDIR BUILDDIR
 set -uo pipefail
@@ -35,7 +36,7 @@ echo "soem_sdo_walk: $runs runs per device, start $(date -u +%H:%M:%S) UTC, load
   "slave ${slave_rt[*]:-without RT} ${extra[*]}"
 total_bad=0
 total_runs=0
-for dev in "$src"/xml/devices/*.xml; do
+for dev in "$src"/xml/devices/${SDO_WALK_DEVICES:-*}.xml; do
   base=$(basename "$dev" .xml)
   if ! e2e_start_slave "$base" "${slave_rt[@]}" "${extra[@]}" --device "$dev"; then
     e2e_fail "$base: slave did not start"
