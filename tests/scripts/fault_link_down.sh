@@ -21,8 +21,11 @@ build=${2:?builddir}
 e2e_require_bins ecat-slave ecat-master
 e2e_require_netns
 e2e_setup l
+# SCHED_FIFO where allowed, as every live script (lib/netns.sh): the slave
+# must take its frames within --max-frame-age on a loaded host.
+e2e_use_realtime
 
-e2e_start_slave slave || exit 1
+e2e_start_slave slave "${E2E_SLAVE_RT[@]}" || exit 1
 pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
 
 # A master in Op for 3000 cycles; the link drops under it after ~1 s.

@@ -23,8 +23,11 @@ build=${2:?builddir}
 e2e_require_bins ecat-slave ecat-master
 e2e_require_netns
 e2e_setup w
+# SCHED_FIFO where allowed, as every live script (lib/netns.sh): the slave
+# must take its frames within --max-frame-age on a loaded host.
+e2e_use_realtime
 
-e2e_start_slave slave || exit 1
+e2e_start_slave slave "${E2E_SLAVE_RT[@]}" || exit 1
 pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
 e2e_live_phase "first master run, 300 cycles" e2e_master_on_running_slave first 60 slave "$pid" \
   --cycles 300 --expect-slaves 1 -q

@@ -21,10 +21,13 @@ build=${2:?builddir}
 e2e_require_bins ecat-slave ecat-master
 e2e_require_netns
 e2e_setup i
+# SCHED_FIFO where allowed, as every live script (lib/netns.sh): the slave
+# must take its frames within --max-frame-age on a loaded host.
+e2e_use_realtime
 ip link add s1 netns "$E2E_NS_S" type veth peer name m1 netns "$E2E_NS_M" || { echo "FAIL: second veth"; exit 1; }
 ip -n "$E2E_NS_S" link set s1 up && ip -n "$E2E_NS_M" link set m1 up || { echo "FAIL: link up"; exit 1; }
 
-e2e_start_slave slave || exit 1
+e2e_start_slave slave "${E2E_SLAVE_RT[@]}" || exit 1
 pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
 
 timeout -s KILL 60 ip netns exec "$E2E_NS_M" "$build/bin/ecat-master" --iface m1 --cycles 10 -q \

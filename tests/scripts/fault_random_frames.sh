@@ -32,9 +32,12 @@ e2e_require_netns
 frames=${FUZZ_FRAMES:-100000}
 rate=${FUZZ_RATE:-0}  # frames/s, 0: as fast as python sends (~5-10k/s)
 e2e_setup f
+# SCHED_FIFO where allowed, as every live script (lib/netns.sh): the slave
+# must take its frames within --max-frame-age on a loaded host.
+e2e_use_realtime
 fuzz="$src/tests/scripts/lib/frame_fuzz.py"
 
-e2e_start_slave slave || exit 1
+e2e_start_slave slave "${E2E_SLAVE_RT[@]}" || exit 1
 pid=$(e2e_slave_program_pid "$E2E_SLAVE_PID")
 
 # 1. Safe fuzz under a running master: no lost frame, no WKC error.
