@@ -153,7 +153,7 @@ ecat_install_library(pdi_spi pdi_spi HEADERS
   pdi_spi/lan9252_registers.hpp pdi_spi/et1100_spi_registers.hpp)
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/virtual_slave.hpp slave/slave_options.hpp
-  slave/slave_stats.hpp slave/firmware.hpp slave/wake_heap.hpp)
+  slave/slave_stats.hpp slave/firmware.hpp slave/wake_heap.hpp slave/frame_age.hpp)
 
 # --- programs --------------------------------------------------------------------------
 ecat_install_program(ecat-esigen "ESI, SII EEPROM image and C++ tables from an EtherCAT device description")
