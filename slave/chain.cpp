@@ -165,6 +165,14 @@ Nanoseconds Chain::catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now)
   return at;
 }
 
+std::optional<Nanoseconds> Chain::admit(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept {
+  if (frame_is_stale(arrival, now, max_frame_age_)) {
+    ++stats_.frames_stale;
+    return std::nullopt;
+  }
+  return catch_up(arrival, now);
+}
+
 Expected<void, std::string> Chain::open_trace(const std::string& path) {
   trace_file_.reset(std::fopen(path.c_str(), "w"));
   if (!trace_file_) return fail(fmt::format("{}: cannot open for writing: {}", path, std::strerror(errno)));

@@ -15,6 +15,7 @@
 #include "common/expected.hpp"
 #include "esc/dc/vcd_trace.hpp"
 #include "esc/segment.hpp"
+#include "slave/frame_age.hpp"
 #include "slave/slave_stats.hpp"
 #include "slave/virtual_slave.hpp"
 #include "slave/wake_heap.hpp"
@@ -79,6 +80,17 @@ class Chain {
   // fell before the frame arrived is seen before it, one that fell after is
   // not. Pass the frame and run the firmware at the time returned.
   Nanoseconds catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept;
+  // A frame taken from a live medium (issue 29 item 4): nullopt when it
+  // waited longer than the max frame age since `arrival` (frame_is_stale):
+  // it is lost on the wire - do not pass it, do not answer it; it is counted
+  // in stats().frames_stale and nothing else changes (not the chain's time,
+  // not a timer, not an ESC). Otherwise catch_up(arrival, now): the time to
+  // pass the frame and run the firmware at.
+  std::optional<Nanoseconds> admit(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept;
+  // The age limit admit() applies; 0 (a Chain's default): none. ecat-slave
+  // sets kDefaultMaxFrameAge unless --max-frame-age says otherwise.
+  void set_max_frame_age(Nanoseconds max_age) noexcept { max_frame_age_ = max_age; }
+  Nanoseconds max_frame_age() const noexcept { return max_frame_age_; }
   // The latest time the chain has been polled or has passed a frame at.
   Nanoseconds time_seen() const noexcept { return seen_; }
 
@@ -123,6 +135,7 @@ class Chain {
   esc::Segment segment_;
   ChainStats stats_;
   Nanoseconds seen_{Nanoseconds::min()};
+  Nanoseconds max_frame_age_{0};
   // Which slaves run_firmware asks (issue 16 item 5): the ones whose ESC a
   // frame entered (esc::Segment::entered), the pending ones (bit i of word
   // i / 64: VirtualSlave::pending() when last asked), and the ones whose

@@ -24,6 +24,7 @@ struct ChainStats {
   std::uint64_t frames_lost = 0;       // destroyed in the line (circulating, open port) or back with a bad FCS (a corrupting cable)
   std::uint64_t datagrams = 0;
   std::uint64_t wkc_total = 0;         // sum of returned WKCs
+  std::uint64_t frames_stale = 0;      // dropped unprocessed: older than the max frame age when taken (slave/frame_age.hpp)
 };
 
 }  // namespace ecat::slave

@@ -279,6 +279,9 @@ int main(int argc, char** argv) {
   ecat::app::Session session(master, clock, wait, o.session);
   if (auto ok = session.bring_up(); !ok) {
     std::fprintf(stderr, "ecat-master: %s\n", ok.error().c_str());
+    // How far apart the start-up's own cycles went out: a DC slave refuses
+    // Op (001Ah) when they miss its SYNC0s (docs/e2e.md "Live timing under load").
+    std::printf("start-up-cycle-gap-max-us %.1f\n", static_cast<double>(session.startup_gap_max().count()) / 1e3);
     return kExitFailure;
   }
   if (o.session.scan_only) {

@@ -235,7 +235,10 @@ Expected<master::CyclicResult, master::MasterError> Session::cycle_exchange() {
     const Nanoseconds late = clock_.now() - target;
     report_.lateness.add(late);
     report_.jitter_max = std::max(report_.jitter_max, late);
+  } else if (last_send_) {
+    startup_gap_max_ = std::max(startup_gap_max_, clock_.now() - *last_send_);
   }
+  last_send_ = clock_.now();
   auto r = master_.exchange_process_data();
   if (r && phase_ && r->reference_time) phase_->update(r->sent_at, *r->reference_time);
   return r;

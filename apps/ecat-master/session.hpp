@@ -78,6 +78,12 @@ class Session {
   Expected<void, std::string> bring_up();
   // The cyclic exchange (and the motion when asked).
   Expected<SessionReport, std::string> run();
+  // The longest time between two cycles of the start-up (SafeOp warm-up,
+  // Op request): more than a period means the master itself let a SYNC0 pass
+  // without a frame. Printed when the start-up fails, so a DC slave's refusal
+  // of Op (001Ah) can be told a late master's doing (docs/e2e.md "Live
+  // timing under load").
+  Nanoseconds startup_gap_max() const noexcept { return startup_gap_max_; }
 
  private:
   Expected<void, std::string> configure_slave(std::size_t i);
@@ -100,6 +106,8 @@ class Session {
   std::optional<master::DcPhaseLock> phase_;
   Nanoseconds next_fixed_{-1};  // fixed schedule: next cycle's time (-1: not started)
   bool record_lateness_ = false;
+  Nanoseconds startup_gap_max_{0};
+  std::optional<Nanoseconds> last_send_;  // when the previous cycle's frame went out
 };
 
 }  // namespace ecat::app

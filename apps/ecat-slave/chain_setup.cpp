@@ -54,8 +54,8 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
 std::string format_stats(const slave::Chain& chain) {
   const slave::ChainStats& s = chain.stats();
   std::string out = fmt::format(
-      "frames {} returned {} malformed {} lost {} datagrams {} wkc-sum {}\n", s.frames_received,
-      s.frames_returned, s.frames_malformed, s.frames_lost, s.datagrams, s.wkc_total);
+      "frames {} returned {} malformed {} lost {} datagrams {} wkc-sum {} stale-dropped {}\n", s.frames_received,
+      s.frames_returned, s.frames_malformed, s.frames_lost, s.datagrams, s.wkc_total, s.frames_stale);
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const slave::SlaveStatus st = chain[i].status();
     out += fmt::format("  slave {:>3} {:<24} {:<7}{} AL code 0x{:04X} ({}) cycles {} watchdog {} sync-errors {}\n",

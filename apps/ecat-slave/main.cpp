@@ -110,6 +110,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 99));
   cli.add_option("--cpu", o.cpu, "Pin the process to this CPU")->check(CLI::NonNegativeNumber);
   cli.add_flag("--busy-poll", o.busy_poll, "Poll the socket without sleeping (lowest latency, one core busy)");
+  cli.add_option("--max-frame-age", o.max_frame_age_us,
+                 "A frame that waited in the socket longer than US microseconds (kernel receive stamp against "
+                 "now) is lost on the wire: dropped unprocessed and counted (default 1000 = half of SOEM's frame "
+                 "timeout; "
+                 "0 = never; docs/e2e.md)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{60'000'000}));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
   cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");

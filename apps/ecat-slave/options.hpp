@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "apps/ecat-slave/topology.hpp"
+#include "slave/frame_age.hpp"
 
 namespace ecat::app {
 
@@ -68,6 +69,11 @@ struct SlaveProgramOptions {
   int rt_priority = 0;
   int cpu = -1;
   bool busy_poll = false;
+  // --max-frame-age US: a frame taken from the socket more than this long
+  // after the kernel stamped it is lost on the wire (slave/frame_age.hpp,
+  // docs/e2e.md "Stale frames"); 0: never dropped.
+  std::int64_t max_frame_age_us =
+      std::chrono::duration_cast<std::chrono::microseconds>(slave::kDefaultMaxFrameAge).count();
   std::string trace_vcd;
   std::string plot_svg;
   std::vector<double> ppm;  // per slave oscillator error

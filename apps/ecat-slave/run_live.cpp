@@ -197,6 +197,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   }
 
   slave::Chain& line = **chain;
+  line.set_max_frame_age(std::chrono::microseconds(o.max_frame_age_us));
   transport::Transport& t = *medium->transport;
   std::array<std::uint8_t, kMaxEthernetPayload + kEthernetHeaderSize + kVlanTagSize> buffer{};
   const Nanoseconds stats_period{static_cast<std::int64_t>(o.stats_seconds * 1e9)};
@@ -300,7 +301,12 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     transport::Transport& in = port == 0 ? t : *medium->redundant;
     auto r = in.receive_stamped(buffer, wait);
     if (r) {
-      const Nanoseconds at = line.catch_up(r->arrival, clock.now());
+      drained = false;  // look for the next queued frame before time moves on
+      // A frame older than the master waits for is lost on the wire: not
+      // passed, not answered, counted (Chain::admit, --max-frame-age).
+      const std::optional<Nanoseconds> admitted = line.admit(r->arrival, clock.now());
+      if (!admitted) continue;
+      const Nanoseconds at = *admitted;
       std::span<std::uint8_t> frame(buffer.data(), r->length);
       // The frame goes back as soon as the ESCs are done with it, on the
       // master port it comes out at; the firmware reacts afterwards, as a
@@ -313,7 +319,6 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
         }
       }
       line.run_firmware(at);
-      drained = false;  // look for the next queued frame before time moves on
       continue;
     }
     // A datagram dropped by policy (UDP source or length) is no error: time

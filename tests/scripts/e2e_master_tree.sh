@@ -17,6 +17,10 @@
 # (b) tests/data/topologies/tree-delays.txt, the same tree with a delay per
 # cable and processing/forwarding times inside each ESC: the delays the
 # master prints must be the ones derived from those numbers below.
+# Under load: no live timing is involved. The delays come from the
+# emulated ESCs' receive-time latches at each frame's kernel arrival stamp,
+# not from when the slave process ran; a scan frame the slave drops as stale
+# is retried by the master. Any difference in a line fails.
 # Usage: e2e_master_tree.sh SRCDIR BUILDDIR   (exit 77 = skipped: not root / no netns)
 set -uo pipefail
 src=${1:?srcdir}
@@ -26,8 +30,11 @@ build=${2:?builddir}
 e2e_require_bins ecat-slave ecat-master
 e2e_require_netns
 e2e_setup mt
+# SCHED_FIFO where allowed, as every live script (lib/netns.sh): the slave
+# must take its frames within --max-frame-age on a loaded host.
+e2e_use_realtime
 
-if ! e2e_start_slave tree --topology "$src/xml/topologies/tree.txt"; then
+if ! e2e_start_slave tree "${E2E_SLAVE_RT[@]}" --topology "$src/xml/topologies/tree.txt"; then
   e2e_fail "slave did not start"
   exit $e2e_status
 fi
@@ -58,7 +65,7 @@ d_a2=$((d_a1 + A1A2 + (PS + PS) / 2))
 round_a=$((2 * JA1 + PS + 2 * A1A2 + PS + FS))   # junction port 3 out .. back in
 d_b1=$((d_j + PJ + round_a + JB1 + (FJ + PS) / 2))
 : "$FC"  # the coupler's forwarding time lies behind the last slave: in no delay
-if e2e_start_slave delays --topology "$src/tests/data/topologies/tree-delays.txt"; then
+if e2e_start_slave delays "${E2E_SLAVE_RT[@]}" --topology "$src/tests/data/topologies/tree-delays.txt"; then
   e2e_master delaysm 60 --scan --dc --expect-slaves 5 || e2e_fail "(b) ecat-master --scan --dc exit $?"
   e2e_stop "$E2E_SLAVE_PID"
   got=$(grep '^slave [0-9]' "$E2E_TMP/delaysm.log" | sed 's/.* delay \([0-9]*\) ns$/\1/' | tr '\n' ' ')

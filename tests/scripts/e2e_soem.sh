@@ -13,6 +13,15 @@
 # (only "subindex does not exist" for gaps in 1C32h/1C33h), "Operational state
 # reached for all slaves", every process-data cycle with exactly the expected
 # WKC, and no SM watchdog in the slave while the master ran.
+# Under load (lib/netns.sh "Live timing under load"): a cyclic frame that
+# takes SOEM's whole EC_TIMEOUTRET (2 ms) is SOEM's timeout against a late
+# host, which the spec allows: counted as late, up to E2E_SOEM_LATE_MAX
+# (default 10 %); and eni_test's check thread, whose own state reads then go
+# unanswered (the slave dropped them as stale), prints "slave N lost" and
+# "found"/"recovered" - allowed only when the slave did drop stale frames.
+# Every frame that came back must be exact, every SDO answer right (no error
+# but 06090011h: the stale-frame drop keeps SOEM's mailbox walk on its way,
+# docs/e2e.md "Stale frames"), and a slave in an error state fails.
 # SOEM is not a Debian package: the binaries are taken from $ECAT_SOEM_BIN
 # (a directory) or PATH; without them the test is skipped (exit 77).
 # Usage: e2e_soem.sh SRCDIR BUILDDIR
@@ -70,12 +79,13 @@ expect_line() {  # NAME REGEX WHAT
 # A cycle whose frame is not back within SOEM's EC_TIMEOUTRET (2 ms) counts
 # WKC -1 (EC_NOFRAME), or only the frames that came back when the map takes
 # several (simple_ng shows a round trip of 2 ms or more then); on this 2-core VM shared by several builds that
-# happens for a few cycles in 10000 even with SCHED_FIFO. Those late frames
-# are allowed up to E2E_SOEM_LATE_MAX (default 100 = 1 %) and reported; every
+# happens for a few cycles in 10000 even with SCHED_FIFO, and beside two CPU
+# burners for 1-2 % of them. Those late frames are allowed up to
+# E2E_SOEM_LATE_MAX (default 1000 = 10 %) and reported; every
 # frame that did come back must carry exactly the expected WKC, and the slave
 # must have returned every frame it got (its "lost 0" at exit, checked by
 # check_slave_returned_all).
-late_max=${E2E_SOEM_LATE_MAX:-100}
+late_max=${E2E_SOEM_LATE_MAX:-1000}
 check_slave_returned_all() {  # SLAVE_LOG_NAME
   grep -qE '^frames [0-9]+ returned [0-9]+ malformed 0 lost 0 ' "$E2E_TMP/$1.log" \
     || e2e_fail "$1: the slave did not return every frame: $(grep -m1 '^frames ' "$E2E_TMP/$1.log")"
@@ -182,11 +192,20 @@ check_dc_sample() {
 # came back short (W < E) or a state check is pending; W = -1 is a late frame,
 # and "W=E, D=1" the re-check after the thread's own state read came late.
 # Short: 0 <= W < E. A slave that really left Op makes it print
-# "ERROR/WARNING/MESSAGE : slave N ...", counted as well.
-eni_test_short() {  # LOG_NAME
-  local short
+# "ERROR/WARNING/MESSAGE : slave N ...", counted as well - except "slave N
+# lost" and its "found"/"recovered": the check thread's own state reads got
+# no answer, which the slave (log SLAVE_LOG_NAME) must show as frames it
+# dropped as stale (lib/netns.sh "Live timing under load").
+eni_test_short() {  # LOG_NAME SLAVE_LOG_NAME
+  local short lost
   short=$(sed -n 's/^check wkc=\(-\{0,1\}[0-9]*\)\/\([0-9]*\) .*/\1 \2/p' "$E2E_TMP/$1.log" | awk '$1 >= 0 && $1 < $2' | wc -l)
-  echo $((short + $(grep -cE '^(ERROR|WARNING|MESSAGE) : slave' "$E2E_TMP/$1.log")))
+  lost=$(grep -cE '^(ERROR : slave [0-9]+ lost|MESSAGE : slave [0-9]+ (found|recovered))$' "$E2E_TMP/$1.log")
+  if [ "$lost" -gt 0 ] && [ "$(e2e_slave_stale "$2")" -gt 0 ]; then
+    echo "eni: $lost lost/found/recovered messages while the slave dropped $(e2e_slave_stale "$2") stale frames (late, allowed)" >&2
+    lost=0
+  fi
+  echo $((short + lost + $(grep -E '^(ERROR|WARNING|MESSAGE) : slave' "$E2E_TMP/$1.log" |
+    grep -cvE '^(ERROR : slave [0-9]+ lost|MESSAGE : slave [0-9]+ (found|recovered))$')))
 }
 
 check_op_any() {  # NAME WANT_WKC
@@ -248,7 +267,8 @@ if [ -n "$eni_test" ]; then
     # its check thread prints "check wkc=W/2" for the others.
     cycles=$(grep -cE '^Processdata cycle +[0-9]+, WKC' "$E2E_TMP/eni_test.log")
     exact=$(grep -cE "^Processdata cycle +[0-9]+, WKC ${want:-x} , " "$E2E_TMP/eni_test.log")
-    short=$(eni_test_short eni_test)
+    e2e_slave_snapshot eni "$(e2e_slave_program_pid "$E2E_SLAVE_PID")"
+    short=$(eni_test_short eni_test eni)
     [ "${want:-}" = 2 ] && [ "$exact" -eq "$cycles" ] && [ "$cycles" -ge $((10000 - late_max)) ] && [ "$short" -eq 0 ] \
       || e2e_fail "eni_test: $exact/$cycles printed cycles with WKC ${want:-?} (want 2), $short short WKCs"
     echo "eni_test: expected WKC ${want:-?}, $exact/10000 cycles exact, $((10000 - cycles)) late (WKC -1)"
@@ -278,7 +298,8 @@ if [ -n "$simple_ng" ] || [ -n "$eni_io_test" ]; then
       want=$(sed -n 's/^Calculated workcounter \([0-9]*\)$/\1/p' "$E2E_TMP/eni_io_test.log")
       cycles=$(grep -cE '^Processdata cycle +[0-9]+, WKC' "$E2E_TMP/eni_io_test.log")
       exact=$(grep -cE "^Processdata cycle +[0-9]+, WKC ${want:-x} , " "$E2E_TMP/eni_io_test.log")
-      short=$(eni_test_short eni_io_test)
+      e2e_slave_snapshot eni_io "$(e2e_slave_program_pid "$E2E_SLAVE_PID")"
+      short=$(eni_test_short eni_io_test eni_io)
       [ "${want:-}" = 6 ] && [ "$exact" -eq "$cycles" ] && [ "$cycles" -ge $((10000 - late_max)) ] && [ "$short" -eq 0 ] \
         || e2e_fail "eni_io_test: $exact/$cycles printed cycles with WKC ${want:-?} (want 6), $short short WKCs"
       echo "eni_io_test: expected WKC ${want:-?}, $exact/10000 cycles exact, $((10000 - cycles)) late (WKC -1)"

@@ -7,7 +7,9 @@
 # / 6841h ...), 34 bytes each way; then simple_ng (2.x) takes the slave to Op
 # and exchanges 10000 cycles with WKC 3 (docs/seed-devices.md "Welcon
 # dual-axis servo"). Skips (77) without the SOEM binaries ($ECAT_SOEM_BIN or
-# PATH). Usage: e2e_soem_dual.sh SRCDIR BUILDDIR
+# PATH). What it proves: SOEM reads both axes' mappings over CoE and every
+# returned cycle is exact; under load see below (late_max) and lib/netns.sh.
+# Usage: e2e_soem_dual.sh SRCDIR BUILDDIR
 set -uo pipefail
 src=${1:?srcdir}
 build=${2:?builddir}
@@ -30,7 +32,11 @@ soem_run() {
   timeout -s KILL "$limit" ip netns exec "$E2E_NS_M" "${master_rt[@]}" "$prog" m0 "$@" 2>&1 | tr '\r' '\n' > "$E2E_TMP/$name.log"
   return "${PIPESTATUS[0]}"
 }
-late_max=${E2E_SOEM_LATE_MAX:-100}
+# Frames that took SOEM's whole 2 ms timeout (EC_TIMEOUTRET) on a loaded
+# host are allowed (the spec allows a late host that; the share measures the
+# host) up to E2E_SOEM_LATE_MAX (default 1000 = 10 %); every frame that came
+# back must carry exactly WKC 3.
+late_max=${E2E_SOEM_LATE_MAX:-1000}
 
 # The entries each axis' default PDOs map (1608h/1618h out, 1A08h/1A18h in).
 axis1_out="0x6040:0x00 0x607A:0x00 0x60FF:0x00 0x6071:0x00 0x6060:0x00"

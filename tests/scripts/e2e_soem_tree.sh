@@ -14,6 +14,9 @@
 #   5 b1       1.0.0.0      2             6000 (1000 + round trip of a1-a2 4000 + 1000)
 # SOEM is not a Debian package: binaries from $ECAT_SOEM_BIN or PATH; without
 # slaveinfo the test is skipped (exit 77).
+# Under load: as e2e_master_tree.sh, the delays do not depend on when the
+# slave process runs; SOEM resends a frame the slave dropped as stale
+# (2 ms each, 3 times for most of the scan). Any difference fails.
 # Usage: e2e_soem_tree.sh SRCDIR BUILDDIR
 set -uo pipefail
 src=${1:?srcdir}
@@ -29,8 +32,11 @@ fi
 e2e_require_bins ecat-slave
 e2e_require_netns
 e2e_setup st
+# SCHED_FIFO where allowed, as every live script (lib/netns.sh): the slave
+# must take its frames within --max-frame-age on a loaded host.
+e2e_use_realtime
 
-if ! e2e_start_slave tree --topology "$src/xml/topologies/tree.txt"; then
+if ! e2e_start_slave tree "${E2E_SLAVE_RT[@]}" --topology "$src/xml/topologies/tree.txt"; then
   e2e_fail "slave did not start"
   exit $e2e_status
 fi
@@ -61,7 +67,7 @@ d_j=$((CJ + (PC + FJ) / 2))
 d_a1=$((d_j + JA1 + (PJ + FS) / 2))
 d_a2=$((d_a1 + A1A2 + (PS + PS) / 2))
 d_b1=$((d_j + PJ + (2 * JA1 + PS + 2 * A1A2 + PS + FS) + JB1 + (FJ + PS) / 2))
-if e2e_start_slave delays --topology "$src/tests/data/topologies/tree-delays.txt"; then
+if e2e_start_slave delays "${E2E_SLAVE_RT[@]}" --topology "$src/tests/data/topologies/tree-delays.txt"; then
   timeout -s KILL 60 ip netns exec "$E2E_NS_M" "$slaveinfo" m0 2>&1 | tr '\r' '\n' > "$E2E_TMP/si2.log"
   e2e_stop "$E2E_SLAVE_PID"
   delays=$(awk '/^Slave:/ {n=substr($0,7)} /^ Delay:/ {split($2,a,"["); d[n]=a[1]}
