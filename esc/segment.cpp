@@ -30,7 +30,7 @@ std::size_t Segment::append(Esc& esc) {
   links_.emplace_back();
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
-  armed_.push_back(0);
+  visited_.push_back(0);
   fmmu_epochs_.push_back(esc.fmmu_epoch_ - 1);  // not read yet
   const std::size_t i = escs_.size() - 1;
   if (index_.resize(escs_.size())) {
@@ -124,7 +124,10 @@ std::optional<Segment::Peer> Segment::peer(std::size_t slave, unsigned port) con
 
 // The frame is validated completely before the first ESC acts (a
 // malformed frame changes nothing but the error counters); then each ESC's
-// pass (esc/datagram_engine.hpp, inline) walks the datagrams in place.
+// pass (esc/datagram_engine.hpp, inline) walks the datagrams in place. The
+// short healthy line (carry_dense) is compiled into this function, the
+// rest are calls (issue 30: each level of call on the way cost ~20
+// instructions of register saves per frame).
 Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept {
   const detail::EthercatAt at = detail::find_ethercat(frame);
   ValidatedDatagrams valid;
@@ -133,35 +136,14 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   } else {
     valid.error = at.error;
   }
-  if (valid.count == 0) [[unlikely]] {
-    last_error_ = valid.error;
-    ++dropped_;
-    if (valid.error != FrameError::NotEtherCat) {
-      // The first processing unit rejects the datagram structure (0x030C) and
-      // marks the frame; every later port counts a forwarded error (0x0308+n)
-      // and every later unit 0x030C (Section I §14.1 Table 51, §14.2). The
-      // port walk enters ESCs without the line's bookkeeping (as below).
-      for (Esc* e : escs_) e->sync_pass();
-      (void)carry_faulty(DatagramView{}, 0, now, master_port, false);
-      index_.must_visit_all();
-      index_.entered_all();
-    }
-    Delivery d;
-    d.outcome = Delivery::Outcome::Malformed;
-    return d;
-  }
+  if (valid.count == 0) [[unlikely]] return reject(valid.error, now, master_port);
   const DatagramView first(valid.first);
   Delivery d;
-  if (faults_.empty() && line_ && master_port == 0) {
-    d = carry_line(first, valid.count, now);
+  if (faults_.empty() && line_ && master_port == 0) [[likely]] {
+    d = !skipping_ || escs_.size() < kSkipFrom ? carry_dense(first, valid.count, now)
+                                               : carry_line(first, valid.count, now);
   } else {
-    // The port walks enter ESCs without the line's bookkeeping: each takes in
-    // the line's last frame first, and all are entered in full afterwards.
-    for (Esc* e : escs_) e->sync_pass();
-    d = !faults_.empty() ? carry_faulty(first, valid.count, now, master_port, true)
-                         : carry_ports(first, valid.count, now, master_port);
-    index_.must_visit_all();
-    index_.entered_all();
+    d = carry_walk(first, valid.count, now, master_port);
   }
   if (!d.returned()) [[unlikely]] {
     ++dropped_;
@@ -170,6 +152,35 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   // Every frame that passed a processing unit leaves with SOURCE_MAC[1] set (Section I §3.2).
   if (d.processed != 0) frame[kMacSize] = static_cast<std::uint8_t>(frame[kMacSize] | kSourceMacProcessedBit);
   ++processed_;
+  return d;
+}
+
+Delivery Segment::reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept {
+  last_error_ = error;
+  ++dropped_;
+  if (error != FrameError::NotEtherCat) {
+    // The first processing unit rejects the datagram structure (0x030C) and
+    // marks the frame; every later port counts a forwarded error (0x0308+n)
+    // and every later unit 0x030C (Section I §14.1 Table 51, §14.2). The
+    // port walk enters ESCs without the line's bookkeeping (as below).
+    for (Esc* e : escs_) e->sync_pass();
+    (void)carry_faulty(DatagramView{}, 0, now, master_port, false);
+    index_.must_visit_all();
+    index_.entered_all();
+  }
+  Delivery d;
+  d.outcome = Delivery::Outcome::Malformed;
+  return d;
+}
+
+// The port walks enter ESCs without the line's bookkeeping: each takes in
+// the line's last frame first, and all are entered in full afterwards.
+Delivery Segment::carry_walk(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
+  for (Esc* e : escs_) e->sync_pass();
+  const Delivery d = !faults_.empty() ? carry_faulty(first, count, now, master_port, true)
+                                      : carry_ports(first, count, now, master_port);
+  index_.must_visit_all();
+  index_.entered_all();
   return d;
 }
 
@@ -184,16 +195,24 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
 // no latch armed, no timer due - and the frame's only effect on it, its
 // times, it takes in later (Esc::sync_pass). The ADP of an APxx is what it
 // would be after the increments of the ESCs before (the arriving ADP + the
-// position), set before each ESC entered and after the last.
+// position), set before each ESC entered and after the last. A line shorter
+// than kSkipFrom, or with skipping off, takes carry_dense instead.
 Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
   if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
-  refresh_dirty();
-  const bool all = !skipping_ || !plan(first, count, now);
+  if (index_stale_) [[unlikely]] {
+    // Dense frames kept no index: every ESC is entered once and read again.
+    index_stale_ = false;
+    index_.must_visit_all();
+    for (std::uint64_t& w : index_.dirty_words()) w = 0;
+  } else {
+    refresh_dirty();
+  }
+  const bool all = !plan(first, count, now);
   const std::size_t n = escs_.size();
   std::size_t reached = 0;  // ESCs whose processing unit the frame entered
   std::size_t passed = 0;   // ... and left again (the ADP increments)
-  std::size_t armed = 0;
+  std::size_t visited = 0;  // entered ESCs listed in visited_
   bool ended = false;       // lost or destroyed inside the line
   bool back = false;        // turned back by an ESC whose port 1 is closed
   for (std::size_t i = all ? 0 : index_.next(0); i < n; i = all ? i + 1 : index_.next(i + 1)) {
@@ -212,6 +231,7 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
     }
     reached = i + 1;
     index_.entered(i);
+    visited_[visited++] = static_cast<std::uint32_t>(i);
     if (!esc->process_datagrams(first, count, now + out_step_ * static_cast<std::int64_t>(i))) [[unlikely]] {
       passed = i;
       d.outcome = Delivery::Outcome::Destroyed;
@@ -221,7 +241,6 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
     }
     passed = reached;
     note_entered(i);
-    if (esc->dc_.receive_latch_armed()) armed_[armed++] = static_cast<std::uint32_t>(i);
     const Esc::LineRoute route = esc->line_route_;
     if (route == Esc::LineRoute::Back) {  // closed: the frame turns back here
       back = true;
@@ -240,22 +259,71 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
   }
   const bool returned = !ended && d.outcome != Delivery::Outcome::Destroyed;
   record_pass(now, static_cast<std::uint32_t>(reached), returned);
-  if (!returned) return d;
-  // On the way back the frame passes each earlier slave's port 1: the last
-  // reached ESC turns it round through its unit (reached steps out, the
-  // last one into ESC reached - 2's port 1), then one step back per ESC
-  // (LinePass::latest). Only an armed receive latch keeps the time
-  // (DcUnit::on_frame_arrival); the latest time every ESC has seen comes
-  // from the pass record. ESC 0 sends it to the master after its
-  // forwarding delay (the master's cable takes 0).
+  // The ESCs the frame entered take in its times now, as the dense path
+  // does, rather than at their next look (Esc::apply_pass): the frame
+  // reached their port 0 when they processed it, and on the way back it
+  // passes each earlier one's port 1 - the last reached ESC turns it round
+  // (reached steps out, the last one into ESC reached - 2's port 1), then
+  // one step back per ESC (LinePass::latest). DcUnit::on_frame_arrival
+  // keeps that time (and latches it when a 0x0900 write of this frame armed
+  // the receive latch). The ESCs passed by take it from the pass record.
   const auto r = static_cast<std::int64_t>(reached);
   const Nanoseconds turned = now + out_step_ * r;
-  for (std::size_t k = 0; k < armed; ++k) {
-    const std::size_t i = armed_[k];
-    if (i + 1 < reached) {
-      escs_[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort),
-                                     turned + back_step_ * (r - 2 - static_cast<std::int64_t>(i)));
+  for (std::size_t k = 0; k < visited; ++k) {
+    const std::size_t i = visited_[k];
+    Esc* esc = escs_[i];
+    if (esc->hook_.line == &pass_) esc->hook_.synced = pass_.frame;
+    if (returned && i + 1 < reached) {
+      esc->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort),
+                                turned + back_step_ * (r - 2 - static_cast<std::int64_t>(i)));
     }
+  }
+  if (!returned) return d;
+  // ESC 0 sends it to the master after its forwarding delay (the master's cable takes 0).
+  d.outcome = Delivery::Outcome::Returned;
+  d.master_port = 0;
+  d.at = turned + back_step_ * (r - 1) - hop_delay_;
+  d.processed = static_cast<unsigned>(reached);
+  return d;
+}
+
+// Every ESC of the line in turn until the frame turns back, as the line
+// was carried before the skip index (49fab26): nothing to plan, no index
+// to keep, each ESC takes its times directly. Left behind: index_stale_,
+// for the next frame that skips.
+Delivery Segment::carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+  Delivery d;
+  if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
+  index_stale_ = true;
+  if (passes_pending_) [[unlikely]] {  // frames of the skipping path passed ESCs by
+    for (Esc* e : escs_) e->sync_pass();
+    passes_pending_ = false;
+  }
+  const std::size_t n = escs_.size();
+  std::size_t reached = n;  // went on out of the last ESC's port 1 unless turned back
+  for (std::size_t i = 0; i < n; ++i) {
+    Esc* esc = escs_[i];
+    if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
+      esc->frame_at_closed_port(kUpstreamPort);  // a closed port takes nothing in
+      return d;
+    }
+    index_.entered(i);
+    if (!esc->process_datagrams(first, count, now + out_step_ * static_cast<std::int64_t>(i))) [[unlikely]] {
+      d.outcome = Delivery::Outcome::Destroyed;
+      return d;
+    }
+    const Esc::LineRoute route = esc->line_route_;
+    if (route == Esc::LineRoute::Back) {
+      reached = i + 1;
+      break;
+    }
+    if (route == Esc::LineRoute::Lost) [[unlikely]] return d;
+  }
+  const auto r = static_cast<std::int64_t>(reached);
+  const Nanoseconds turned = now + out_step_ * r;
+  for (std::size_t i = 0; i + 1 < reached; ++i) {
+    escs_[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort),
+                                   turned + back_step_ * (r - 2 - static_cast<std::int64_t>(i)));
   }
   d.outcome = Delivery::Outcome::Returned;
   d.master_port = 0;
@@ -370,6 +438,7 @@ void Segment::record_pass(Nanoseconds start, std::uint32_t reached, bool returne
     for (Esc* e : escs_) e->sync_pass();
   }
   pass_.frame += 1;
+  passes_pending_ = true;
   pass_.start = start;
   pass_.out = out_step_;
   pass_.back = back_step_;

@@ -173,6 +173,18 @@ class Segment {
   std::size_t append(Esc& esc);
   void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
   Delivery carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // The line without skipping: every ESC entered until the frame turns back
+  // (inline in send).
+  [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // Out of send's hot path: a malformed frame, and the port walks.
+  [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
+  [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,
+                                        unsigned master_port) noexcept;
+  // Lines shorter than this take carry_dense: planning a frame (SkipIndex)
+  // costs about as much as entering three or four passive ESCs, and the
+  // index kept up to date after every entered ESC more (issue 30: the
+  // one-slave FPRD cost 205 instructions at 49fab26, 610 with the index).
+  static constexpr std::size_t kSkipFrom = 4;
   Delivery carry_ports(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
   // The port walk of carry_ports for frames that are or may become broken
   // (a cable with a fault, or a frame the processing unit rejects:
@@ -194,7 +206,7 @@ class Segment {
   // every ESC (a broadcast, xRMW, or more APxx than kMaxAutoIncrement).
   bool plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // What the index keeps of ESC i, read after a frame entered it.
-  void note_entered(std::size_t i) noexcept;
+  [[gnu::always_inline]] inline void note_entered(std::size_t i) noexcept;
   static std::size_t logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept;
   void refresh_dirty() noexcept;
   // The frame just carried becomes the line's latest (LinePass).
@@ -233,7 +245,13 @@ class Segment {
   std::size_t auto_increments_ = 0;
   SkipIndex index_;
   LinePass pass_;
-  std::vector<std::uint32_t> armed_;  // entered ESCs with the receive latch armed (one frame)
+  std::vector<std::uint32_t> visited_;  // the ESCs one frame entered, in order
+  // Set by carry_dense, which keeps no index: the next skipping frame
+  // enters every ESC to read them all again.
+  bool index_stale_ = false;
+  // Set by record_pass: ESCs the skipping path passed by may not have taken
+  // in pass_ yet (Esc::sync_pass); carry_dense syncs them all once first.
+  bool passes_pending_ = false;
   std::vector<std::uint32_t> fmmu_epochs_;  // Esc::fmmu_epoch_ when its spans were last read
   bool skipping_ = true;
   bool line_ = true;

@@ -31,18 +31,6 @@ bool SkipIndex::resize(std::size_t n) {
   return must_.data() != before || dirty_.data() != dirty_before;
 }
 
-void SkipIndex::update(std::size_t i, const Passive& p) noexcept {
-  std::uint64_t& w = must_[i / kWordBits];
-  if (!p.passive) {
-    w |= bit(i);
-    return;
-  }
-  w &= ~bit(i);
-  next_timer_[i] = p.next_timer;
-  min_timer_ = std::min(min_timer_, p.next_timer);
-  address_[i] = p.station | (std::uint32_t{p.alias} << 16);
-}
-
 void SkipIndex::set_spans(std::size_t i, const Spans& spans, std::size_t count) noexcept {
   for (std::size_t k = 0; k < kSpans; ++k) {
     const Span span = k < count ? spans[k] : Span{};
@@ -123,17 +111,6 @@ void SkipIndex::mark_due(Nanoseconds start, Nanoseconds hop) noexcept {
     }
   }
   min_timer_ = earliest;
-}
-
-std::size_t SkipIndex::next(std::size_t i) const noexcept {
-  std::size_t w = i / kWordBits;
-  if (w >= must_.size()) return size_;
-  std::uint64_t bits = (must_[w] | visit_[w]) & (~std::uint64_t{0} << (i % kWordBits));
-  for (;;) {
-    if (bits != 0) return std::min(size_, w * kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
-    if (++w >= must_.size()) return size_;
-    bits = must_[w] | visit_[w];
-  }
 }
 
 }  // namespace ecat::esc

@@ -17,7 +17,9 @@
 // whose timer falls due while the frame passes.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -56,7 +58,18 @@ class SkipIndex {
   static std::uint64_t bit(std::size_t i) noexcept { return std::uint64_t{1} << (i % kWordBits); }
 
   // After a frame entered ESC i, or it was accessed from outside a frame.
-  void update(std::size_t i, const Passive& p) noexcept;
+  void update(std::size_t i, const Passive& p) noexcept {
+    std::uint64_t& w = must_[i / kWordBits];
+    if (!p.passive) {
+      w |= bit(i);
+      return;
+    }
+    w &= ~bit(i);
+    next_timer_[i] = p.next_timer;
+    min_timer_ = std::min(min_timer_, p.next_timer);
+    address_[i] = p.station | (std::uint32_t{p.alias} << 16);
+  }
+
   // The logical bytes ESC i's active FMMUs map, as up to kSpans disjoint
   // [first, end) ranges by start (more are joined into the last one): not
   // the one range over all of them (Esc::logical_first_/end_), which for a
@@ -76,7 +89,17 @@ class SkipIndex {
   // ESCs whose own timer falls due when the frame reaches them (start + i x hop).
   void mark_due(Nanoseconds start, Nanoseconds hop) noexcept;
   // The first ESC >= i the frame must enter, or size().
-  std::size_t next(std::size_t i) const noexcept;
+  std::size_t next(std::size_t i) const noexcept {
+    std::size_t w = i / kWordBits;
+    if (w >= must_.size()) return size_;
+    std::uint64_t bits = (must_[w] | visit_[w]) & (~std::uint64_t{0} << (i % kWordBits));
+    for (;;) {
+      if (bits != 0) return std::min(size_, w * kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
+      if (++w >= must_.size()) return size_;
+      bits = must_[w] | visit_[w];
+    }
+  }
+
 
   // ESCs a frame entered since the last take_entered() (bit i: ESC i):
   // the slave layer runs the firmware of these only (slave::Chain).
