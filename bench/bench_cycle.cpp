@@ -16,6 +16,17 @@
 namespace ecat::bench {
 namespace {
 
+// The case's line of state.range(0) drives, or null with the case skipped
+// and the reason given when it cannot be built.
+std::unique_ptr<DriveLine> make_line(benchmark::State& state) {
+  try {
+    return std::make_unique<DriveLine>(static_cast<std::size_t>(state.range(0)));
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return nullptr;
+  }
+}
+
 // The CSP cycle of state.range(0) drives, skipping on or off, with the
 // drives still enabled afterwards (else the case is reported as skipped).
 // With `control`: the control interface on and idle, as ecat-slave runs it
@@ -24,13 +35,8 @@ namespace {
 // event sample) every 10 ms of the simulated time.
 void run_cycles(benchmark::State& state, bool skipping, bool control = false) {
   const auto n = static_cast<std::size_t>(state.range(0));
-  std::unique_ptr<DriveLine> line;
-  try {
-    line = std::make_unique<DriveLine>(n);
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
   line->chain().set_skipping(skipping);
   ManualClock clock;
   control::EventQueue events;
@@ -77,13 +83,8 @@ BENCHMARK(BM_Cycle_Csp)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->
 // docs/faults.md "Cost"). The reference is BM_Cycle_Csp in the same run.
 void BM_Cycle_CspFaultsIdle(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
-  std::unique_ptr<DriveLine> line;
-  try {
-    line = std::make_unique<DriveLine>(n);
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
   slave::FaultCatalogue faults(line->chain());
   for (auto _ : state) line->cycle(faults);
   if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) state.SkipWithError("drive dropped out");

@@ -54,7 +54,20 @@ class _Lines:
         return json.loads(line)
 
 
-class Client:
+class _Connection:
+    """A socket to the control interface, closed on leaving a with block."""
+
+    def close(self):
+        self.sock.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class Client(_Connection):
     """One connection to the control interface.
 
     >>> with Client("/tmp/ecat.sock") as c:
@@ -69,14 +82,6 @@ class Client:
         self._lines = _Lines(self.sock)
         self._ids = itertools.count(1)
 
-    def close(self):
-        self.sock.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     # --- the protocol ---
     def request(self, cmd, **fields):
@@ -169,7 +174,7 @@ class Client:
         return self.request("time")
 
 
-class EventStream:
+class EventStream(_Connection):
     """Events pushed by the control interface as they happen (sampled every
     10 ms), on a connection of their own."""
 
@@ -204,11 +209,3 @@ class EventStream:
             if all(event.get(k) == v for k, v in match.items()):
                 return event
 
-    def close(self):
-        self.sock.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
