@@ -226,7 +226,9 @@ Expected<void, std::string> check_shape(const FaultKind& k, const FaultRequest& 
   } else if (k.needs_port) {
     return fail(fmt::format("{}: needs a port", k.name));
   }
-  for (const auto& [name, value] : r.params) {
+  for (const auto& param : r.params) {
+    // (a named variable, not a structured binding: clang 14 cannot capture those)
+    const std::string& name = param.first;
     const bool known =
         std::any_of(k.params.begin(), k.params.end(), [&](const FaultParam& p) { return p.name == name; });
     if (!known) {
