@@ -23,6 +23,28 @@ json event(std::string_view type, std::size_t slave, Nanoseconds now) {
   return json{{"type", std::string(type)}, {"slave", slave}, {"time_ns", now.count()}};
 }
 
+// Reports the entries numbered [from, to) of one of a slave's recent logs
+// (coe/recent_log.hpp) as events of `type`, each filled by `fill`, and the
+// ones the log no longer holds as one events_lost event.
+template <typename Log, typename Fill>
+void drain(const Log& log, std::uint64_t from, std::uint64_t to, std::string_view type, std::size_t slave,
+           Nanoseconds now, EventQueue& queue, Fill fill) {
+  if (to <= from) return;
+  for (std::uint64_t n = from; n < to; ++n) {
+    auto entry = log.at(n);
+    if (!entry) continue;
+    json e = event(type, slave, now);
+    fill(e, *entry);
+    queue.push(std::move(e));
+  }
+  if (to - from > log.kCapacity) {
+    json e = event("events_lost", slave, now);
+    e["what"] = type;
+    e["count"] = to - from - log.kCapacity;
+    queue.push(std::move(e));
+  }
+}
+
 }  // namespace
 
 EventWatcher::EventWatcher(slave::Chain& chain) : chain_(chain) { rebase(); }
@@ -78,43 +100,17 @@ void EventWatcher::sample(Nanoseconds now, EventQueue& queue) {
     }
     const coe::CoeServer& coe = chain[i].firmware().coe();
     // A power cycle starts the firmware's logs afresh: nothing to report then.
-    if (now_seen.sdo_writes > was.sdo_writes) {
-      const auto& log = coe.objects().service_writes();
-      for (std::uint64_t n = was.sdo_writes; n < now_seen.sdo_writes; ++n) {
-        auto w = log.at(n);
-        if (!w) continue;
-        json e = event("sdo_write", i, now);
-        e["index"] = w->index;
-        e["subindex"] = w->subindex;
-        if (auto v = read_object(coe.objects(), w->index, w->subindex)) e["value"] = (*v)["value"];
-        queue.push(std::move(e));
-      }
-      const std::uint64_t missed = now_seen.sdo_writes - was.sdo_writes;
-      if (missed > log.kCapacity) {
-        json e = event("events_lost", i, now);
-        e["what"] = "sdo_write";
-        e["count"] = missed - log.kCapacity;
-        queue.push(std::move(e));
-      }
-    }
-    if (now_seen.emergencies > was.emergencies) {
-      const auto& log = coe.emergency().sent();
-      for (std::uint64_t n = was.emergencies; n < now_seen.emergencies; ++n) {
-        auto m = log.at(n);
-        if (!m) continue;
-        json e = event("emergency", i, now);
-        e["error_code"] = m->error_code;
-        e["error_register"] = m->error_register;
-        queue.push(std::move(e));
-      }
-      const std::uint64_t missed = now_seen.emergencies - was.emergencies;
-      if (missed > log.kCapacity) {
-        json e = event("events_lost", i, now);
-        e["what"] = "emergency";
-        e["count"] = missed - log.kCapacity;
-        queue.push(std::move(e));
-      }
-    }
+    drain(coe.objects().service_writes(), was.sdo_writes, now_seen.sdo_writes, "sdo_write", i, now, queue,
+          [&](json& e, const auto& w) {
+            e["index"] = w.index;
+            e["subindex"] = w.subindex;
+            if (auto v = read_object(coe.objects(), w.index, w.subindex)) e["value"] = (*v)["value"];
+          });
+    drain(coe.emergency().sent(), was.emergencies, now_seen.emergencies, "emergency", i, now, queue,
+          [](json& e, const auto& m) {
+            e["error_code"] = m.error_code;
+            e["error_register"] = m.error_register;
+          });
     was = now_seen;
   }
 }
