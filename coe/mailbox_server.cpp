@@ -73,6 +73,7 @@ void MailboxServer::close() noexcept {
   continuing_ = nullptr;
   last_request_counter_ = 0;
   have_written_[0] = have_written_[1] = false;
+  request_since_write_ = false;
   for (std::size_t i = 0; i < service_count_; ++i) services_[i]->reset();
 }
 
@@ -115,9 +116,15 @@ void MailboxServer::handle_repeat_request(const SmRegs& sm1) noexcept {
   const int newest = newest_;
   const int older = 1 - newest_;
   if (sm1.status & bits::kSmStatusMailboxFull) {
-    // SM1 already holds a newer reply: the lost one is the one before. Empty
-    // SM1, send the lost one and put the newer one back at the head.
-    if (have_written_[older]) {
+    // SM1 is still full, so the master has not read what it holds. If a
+    // request came after the frame before it was written, the master had
+    // that one (a master repeats a lost reply before it asks anything new:
+    // SOEM ecx_mbxreceive, TwinCAT) and the frame in SM1 is the one it
+    // lost: its read never reached the ESC. Keep it (docs/coe.md "Mailbox
+    // repeat"). Otherwise SM1 holds a newer frame written after the lost
+    // one was read (a fragment, an emergency): empty SM1, send the lost one
+    // and put the newer one back at the head (as SSC's mailbox.c does).
+    if (have_written_[older] && !follows_request_[newest]) {
       pdi_.write_u8(static_cast<std::uint16_t>(esc::reg::sync_manager(kReadMailboxSm) + esc::reg::sm::kPdiControl),
                     static_cast<std::uint8_t>(sm1.pdi_control | bits::kSmPdiDeactivate));
       pdi_.write_u8(static_cast<std::uint16_t>(esc::reg::sync_manager(kReadMailboxSm) + esc::reg::sm::kPdiControl),
@@ -174,6 +181,8 @@ bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcep
   if (length == 0) return false;
   written_length_[slot] = length;
   have_written_[slot] = true;
+  follows_request_[slot] = request_since_write_;
+  request_since_write_ = false;
   newest_ = slot;
   write_sm1(sm1, {written_[slot].data(), length});
   return true;
@@ -218,6 +227,7 @@ void MailboxServer::receive(const SmRegs& sm0) noexcept {
     return;
   }
   last_request_counter_ = header->counter;
+  request_since_write_ = true;
   request_header_ = *header;
   if (header->length > sm0.length - MailboxHeader::kSize) return queue_error(MailboxError::InvalidSize);
   if (header->length == 0 || header->type == static_cast<std::uint8_t>(MailboxType::Error)) {

@@ -4,8 +4,8 @@
 // the PDI. poll() reads the AL status (0x0130), the AL event request (0x0220)
 // and the SM0/SM1 registers, and
 //  - answers a repeat request (SM1 activate bit 1 toggled by the master) by
-//    writing the last reply again and toggling the repeat ack (SM1 PDI
-//    control bit 1);
+//    writing the lost reply again (or keeping it, when SM1 still holds it
+//    unread) and toggling the repeat ack (SM1 PDI control bit 1);
 //  - moves the next queued reply into SM1 when it is empty;
 //  - reads a full SM0, checks the header and hands the payload to the
 //    service registered for its type; a request with the same non-zero
@@ -137,6 +137,10 @@ class MailboxServer {
   std::size_t written_length_[2] = {0, 0};
   bool have_written_[2] = {false, false};
   int newest_ = 0;  // index into written_ of the frame written last
+  // A request was taken after the frame before it was written (so the
+  // master had that one): a repeat while SM1 is full keeps SM1's content.
+  bool follows_request_[2] = {false, false};
+  bool request_since_write_ = false;
 };
 
 }  // namespace ecat::coe

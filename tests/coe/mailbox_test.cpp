@@ -145,12 +145,14 @@ TEST(Mailbox, RepeatRequestResendsTheLostReply) {
   EXPECT_EQ(*rig.fetch(), *lost);
 }
 
-TEST(Mailbox, RepeatWhileANewerReplyWaitsKeepsOrder) {
+TEST(Mailbox, RepeatWhileANewerFrameWaitsSendsTheLostOneFirst) {
   test::Rig rig;
   auto a = rig.request(mbx(3, 1, sdo(0x40, 0x1018, 1)));
   ASSERT_TRUE(a);
-  // The next request's reply is put into SM1 before the master asks for a repeat of a.
-  ASSERT_TRUE(rig.esc.master_write(mbx(3, 2, sdo(0x40, 0x1018, 2))));
+  // The master's read of a completed but its frame was lost on the way back;
+  // meanwhile an emergency went into SM1, with no request in between.
+  const Frame emcy{0x00, 0x10, 0x10, 0x32, 0x01, 0, 0, 0, 0, 0};
+  ASSERT_TRUE(rig.mailbox.send(MailboxType::CoE, emcy));
   rig.mailbox.poll(Nanoseconds{0});
   ASSERT_TRUE(rig.esc.full(1));
   rig.esc.master_toggle_repeat();
@@ -162,8 +164,43 @@ TEST(Mailbox, RepeatWhileANewerReplyWaitsKeepsOrder) {
   EXPECT_EQ(*first, *a);
   auto second = rig.fetch();
   ASSERT_TRUE(second);
-  EXPECT_EQ((*second)[11], 2);  // subindex 2: the newer reply, after the repeated one
-  EXPECT_EQ((*second)[12], 0x78);
+  ASSERT_EQ(second->size(), 6 + emcy.size());
+  EXPECT_EQ(Frame(second->begin() + 6, second->end()), emcy);
+  EXPECT_FALSE(rig.fetch());
+}
+
+TEST(Mailbox, RepeatAfterANewRequestKeepsItsUnreadReply) {
+  test::Rig rig;
+  auto a = rig.request(mbx(3, 1, sdo(0x40, 0x1018, 1)));
+  ASSERT_TRUE(a);
+  // The master had a, asked for 1018h:02, and its read of SM1 was lost
+  // before it reached the ESC (SM1 still full): the repeat is for the reply
+  // in SM1, not for a (SOEM's slaveinfo -sdo read every later reply one
+  // behind when the older one was put first).
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 2, sdo(0x40, 0x1018, 2))));
+  rig.mailbox.poll(Nanoseconds{0});
+  ASSERT_TRUE(rig.esc.full(1));
+  rig.esc.master_toggle_repeat();
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.repeat_acked());
+  EXPECT_EQ(rig.esc.deactivations, 0);  // SM1 left as it was
+  auto reply = rig.fetch();
+  ASSERT_TRUE(reply);
+  EXPECT_EQ((*reply)[11], 2);  // subindex 2
+  EXPECT_EQ((*reply)[12], 0x78);
+  EXPECT_FALSE(rig.fetch());  // a is not sent again
+  // A second loss of the same read, repeated again: still the same reply.
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 3, sdo(0x40, 0x1018, 3))));
+  rig.mailbox.poll(Nanoseconds{0});
+  rig.esc.master_toggle_repeat();
+  rig.mailbox.poll(Nanoseconds{0});
+  rig.esc.master_toggle_repeat();
+  rig.mailbox.poll(Nanoseconds{0});
+  EXPECT_TRUE(rig.esc.repeat_acked());
+  auto third = rig.fetch();
+  ASSERT_TRUE(third);
+  EXPECT_EQ((*third)[11], 3);
+  EXPECT_FALSE(rig.fetch());
 }
 
 TEST(Mailbox, RepliesQueueWhileSm1IsFullAndAreNeverLost) {
