@@ -6,9 +6,20 @@ namespace ecat::app {
 
 Expected<std::unique_ptr<ControlPlane>, std::string> open_control(const SlaveProgramOptions& o, slave::Chain& chain,
                                                                   const Clock& clock, slave::FaultCatalogue& faults) {
-  if (o.control.empty()) return std::unique_ptr<ControlPlane>{};
+  if (o.control.empty() && o.scenario.empty()) return std::unique_ptr<ControlPlane>{};
   auto plane = std::make_unique<ControlPlane>();
   plane->handler = std::make_unique<control::RequestHandler>(chain, clock, plane->events, &faults);
+  if (!o.scenario.empty()) {
+    auto sc = scenario::load_scenario(o.scenario);
+    if (!sc) return fail(sc.error());
+    // The server samples the chain for events when there is one; else the runner does.
+    plane->scenario = std::make_unique<scenario::ScenarioRunner>(std::move(*sc), *plane->handler, o.control.empty());
+    if (!o.quiet) {
+      std::fprintf(stderr, "ecat-slave: scenario %s (%zu steps)\n", plane->scenario->scenario().name.c_str(),
+                   plane->scenario->scenario().steps.size());
+    }
+  }
+  if (o.control.empty()) return plane;
   auto server = control::ControlServer::open(o.control, *plane->handler);
   if (!server) return fail(server.error());
   plane->server = std::move(*server);

@@ -11,6 +11,7 @@
 #include "control/control_server.hpp"
 #include "control/event_queue.hpp"
 #include "control/request_handler.hpp"
+#include "scenario/scenario_runner.hpp"
 
 namespace ecat::slave {
 class Chain;
@@ -19,13 +20,18 @@ class FaultCatalogue;
 
 namespace ecat::app {
 
+// Exit status of ecat-slave when its --scenario failed (0 when it passed).
+inline constexpr int kExitScenarioFailed = 3;
+
 struct ControlPlane {
   control::EventQueue events;
   std::unique_ptr<control::RequestHandler> handler;
-  std::unique_ptr<control::ControlServer> server;
+  std::unique_ptr<control::ControlServer> server;      // --control
+  std::unique_ptr<scenario::ScenarioRunner> scenario;  // --scenario
 };
 
-// Null without --control; an error names the option and why it cannot listen.
+// Null without --control and --scenario; an error names the option and why
+// it cannot listen, or the scenario file's line and what is wrong there.
 Expected<std::unique_ptr<ControlPlane>, std::string> open_control(const SlaveProgramOptions& o, slave::Chain& chain,
                                                                   const Clock& clock, slave::FaultCatalogue& faults);
 

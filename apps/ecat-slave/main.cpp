@@ -97,6 +97,12 @@ int main(int argc, char** argv) {
   auto* control = cli.add_option("--control", o.control,
                                  "Control interface (docs/control.md, JSON lines): a Unix socket PATH (mode 0600), "
                                  "or [ADDR:]PORT for TCP (127.0.0.1 unless ADDR is named)");
+  auto* scenario = cli.add_option("--scenario", o.scenario,
+                                  "Run this scenario file (YAML, docs/scenarios.md) against the masters: steps "
+                                  "through the control interface, expectations on what the master does; ecat-slave "
+                                  "exits when it is over, 0 if it passed, 3 if it failed")
+                       ->check(CLI::ExistingFile);
+  auto* junit = cli.add_option("--junit", o.junit, "With --scenario: write its result as JUnit XML to this file");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
   cli.add_option("--state-quota", o.state_quota_bytes,
                  "Most bytes all files in --state-dir may hold (FoE files + stored parameters; "
@@ -134,6 +140,8 @@ int main(int argc, char** argv) {
   pdi->excludes(iface)->excludes(pin)->excludes(udp);
   red->needs(iface);
   control->excludes(pin)->excludes(pdi);
+  scenario->excludes(pin)->excludes(pdi);
+  junit->needs(scenario);
   topo->excludes(esi)->excludes(eni)->excludes(pdi);
 
   try {

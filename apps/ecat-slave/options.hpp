@@ -61,6 +61,10 @@ struct SlaveProgramOptions {
   // --control: the control interface (docs/control.md), a Unix socket path
   // or [ADDR:]PORT (TCP, 127.0.0.1 when only a port is given); empty: none.
   std::string control;
+  // --scenario FILE: steps run through the control interface, with a
+  // pass/fail summary (docs/scenarios.md); --junit FILE writes it as JUnit XML.
+  std::string scenario;
+  std::string junit;
 
   std::string state_dir;  // stored parameters and FoE files
   std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together

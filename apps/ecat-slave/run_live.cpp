@@ -10,6 +10,7 @@
 
 #include "apps/ecat-slave/chain_setup.hpp"
 #include "apps/ecat-slave/control_setup.hpp"
+#include "scenario/junit_report.hpp"
 #include "apps/ecat-slave/realtime.hpp"
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
@@ -246,7 +247,8 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     } else if (deadline) {
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
     }
-    if (*control) wait = std::min(wait, (*control)->server->until_due(clock.now()));
+    if (*control && (*control)->server) wait = std::min(wait, (*control)->server->until_due(clock.now()));
+    if (*control && (*control)->scenario) wait = std::min(wait, (*control)->scenario->until_due(clock.now()));
     if (g_toggle_links) {
       g_toggle_links = 0;
       links_cut = !links_cut;
@@ -330,7 +332,12 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
     drained = r.error() == transport::TransportError::Timeout;
     deadline = line.poll(clock.now());
-    if (*control) (*control)->server->service(clock.now());
+    if (*control && (*control)->server) (*control)->server->service(clock.now());
+    if (*control && (*control)->scenario) {
+      scenario::ScenarioRunner& run = *(*control)->scenario;
+      run.poll(clock.now(), line.stats().frames_received);
+      if (run.done()) break;
+    }
     if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
       g_print_stats = 0;
       next_stats = clock.now() + stats_period;
@@ -349,6 +356,19 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
   }
   if (!o.quiet) print_stats(line, medium->udp);
+  if (*control && (*control)->scenario) {
+    scenario::ScenarioRunner& run = *(*control)->scenario;
+    run.abort(clock.now(), "ecat-slave was stopped before the scenario was over");
+    // The summary is the scenario's verdict: printed even with --quiet.
+    std::fputs(run.summary().c_str(), stderr);
+    if (!o.junit.empty()) {
+      if (auto ok = scenario::write_junit(run, o.junit); !ok) {
+        std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+        status = 1;
+      }
+    }
+    if (status == 0 && !run.passed()) status = kExitScenarioFailed;
+  }
   return status;
 }
 

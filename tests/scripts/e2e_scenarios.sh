@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# The example scenarios (examples/scenarios/*.yaml, docs/scenarios.md) run by
+# ecat-slave --scenario against ecat-master over UDP on loopback (no root):
+# each file names the master's arguments on a line "# master: ARGS". What it
+# proves: each scenario passes (ecat-slave exits 0) and writes a JUnit report
+# with failures="0"; and a scenario whose expectation the master cannot meet
+# (a request for Bootstrap) fails: exit 3, its step FAIL with the reason, the
+# next SKIP, JUnit failures="1". The windows in the examples leave room for a
+# loaded host; exact timing is proven in simulated time (test_scenario).
+# Usage: e2e_scenarios.sh SRCDIR BUILDDIR   (exit 77 = skipped)
+set -uo pipefail
+src=${1:?srcdir}
+build=${2:?builddir}
+slave=$build/bin/ecat-slave
+master=$build/bin/ecat-master
+[ -x "$slave" ] && [ -x "$master" ] || { echo "skip: ecat-slave/ecat-master not built"; exit 77; }
+work=$(mktemp -d /tmp/e2e_scenarios.XXXXXX)
+trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
+port=$((40000 + $$ % 20000))
+failures=0
+
+# run NAME FILE MASTER_ARGS...: the slave's exit status in $rc, its output in $work/NAME.log
+run() {
+  local name=$1 file=$2
+  shift 2
+  port=$((port + 1))
+  "$slave" --udp "$port" --scenario "$file" --junit "$work/$name.xml" > "$work/$name.log" 2>&1 &
+  local spid=$!
+  sleep 0.3
+  timeout 120 "$master" --udp "127.0.0.1:$port" -q "$@" > "$work/$name.master.log" 2>&1 &
+  local mpid=$!
+  wait "$spid"
+  rc=$?
+  kill "$mpid" 2> /dev/null
+  wait "$mpid" 2> /dev/null
+}
+
+for file in "$src"/examples/scenarios/*.yaml; do
+  name=$(basename "$file" .yaml)
+  args=$(sed -n 's/^# master: //p' "$file" | head -1)
+  [ -n "$args" ] || { echo "FAIL: $name: no '# master: ARGS' line"; failures=$((failures + 1)); continue; }
+  read -r -a argv <<< "$args"
+  run "$name" "$file" "${argv[@]}"
+  sed -n '/^  \(PASS\|FAIL\|SKIP\)/p;/^scenario /p' "$work/$name.log"
+  if [ "$rc" -ne 0 ] || ! grep -q 'failures="0"' "$work/$name.xml" 2> /dev/null; then
+    echo "FAIL: $name: ecat-slave exit $rc (0 expected); its log and the master's:"
+    cat "$work/$name.log" "$work/$name.master.log"
+    failures=$((failures + 1))
+  fi
+done
+
+# A scenario the master cannot pass: it never asks for Bootstrap.
+cat > "$work/never.yaml" << 'YAML'
+name: never boot
+steps:
+  - name: in Op
+    expect: {type: al_state, slave: 0, to: OP}
+    within: 30s
+  - name: the master asks for Bootstrap
+    expect: {type: al_control, slave: 0, requested: BOOT}
+    within: 300ms
+  - do: {cmd: hello}
+YAML
+run never "$work/never.yaml" --cycles 100000
+sed -n '/^  \(PASS\|FAIL\|SKIP\)/p;/^scenario /p' "$work/never.log"
+if [ "$rc" -ne 3 ] || ! grep -q '^  FAIL the master asks for Bootstrap (.*) at .*: not seen within 300 ms$' "$work/never.log" ||
+  ! grep -q '^  SKIP step 3 ' "$work/never.log" || ! grep -q 'failures="1"' "$work/never.xml"; then
+  echo "FAIL: never: ecat-slave exit $rc (3 expected), or not the FAIL/SKIP lines and JUnit failures=\"1\""
+  cat "$work/never.log"
+  failures=$((failures + 1))
+fi
+[ "$failures" -eq 0 ] && echo "e2e_scenarios: all passed"
+exit $((failures > 0))
