@@ -57,4 +57,10 @@ function(ecat_test name dir)
     target_compile_options(${name} PRIVATE ${test_flags})
   endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS unit)
+  # `unit_tests` builds every unit-test program and nothing else (the
+  # ASan+UBSan stage of scripts/test: the programs and scripts are not run there).
+  if(NOT TARGET unit_tests)
+    add_custom_target(unit_tests)
+  endif()
+  add_dependencies(unit_tests ${name})
 endfunction()
