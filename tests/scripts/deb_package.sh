@@ -44,7 +44,7 @@ deb=$(ls "$tmp"/out/ecatslave_*.deb 2> /dev/null | head -1)
 depends=$(dpkg-deb -f "$deb" Depends)
 for dep in libc6 libstdc++6 libpugixml1v5 libxml2 libpcap0.8 libfmt-dev libpugixml-dev libxml2-dev \
            libpcap-dev libexpected-dev nlohmann-json3-dev; do
-  echo "$depends" | grep -q "\b$dep\b" || fail "Depends lacks $dep: $depends"
+  grep -q "\b$dep\b" <<< "$depends" || fail "Depends lacks $dep: $depends"
 done
 
 # --- file list ----------------------------------------------------------------------
@@ -86,8 +86,8 @@ port=$((20000 + ($$ + 7) % 20000))
 slave_pid=$!
 sleep 0.5
 if out=$("$bin/ecat-master" --udp "127.0.0.1:$port" --expect-slaves 1 --cycles 100 2>&1); then
-  echo "$out" | grep -q '"Generic servo"' || fail "packaged ecat-slave did not serve its default device: $out"
-  echo "$out" | grep -q 'all 1 slave(s) in Op' || fail "packaged ecat-master: $out"
+  grep -q '"Generic servo"' <<< "$out" || fail "packaged ecat-slave did not serve its default device: $out"
+  grep -q 'all 1 slave(s) in Op' <<< "$out" || fail "packaged ecat-master: $out"
 else
   fail "packaged ecat-master against packaged ecat-slave: $out"
 fi

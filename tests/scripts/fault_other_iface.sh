@@ -38,7 +38,7 @@ sed 's/^/  [other] /' "$E2E_TMP/other.log"
 kill -USR1 "$pid"; sleep 0.3
 stats=$(grep '^frames ' "$E2E_TMP/slave.log" | tail -1)
 echo "ecat-slave after the master on m1: $stats"
-echo "$stats" | grep -q '^frames 0 returned 0 ' || e2e_fail "ecat-slave processed frames from the other interface"
+grep -q '^frames 0 returned 0 ' <<< "$stats" || e2e_fail "ecat-slave processed frames from the other interface"
 
 e2e_live_phase "master on the named interface, 200 cycles" e2e_master_on_running_slave named 60 slave "$pid" \
   --cycles 200 --expect-slaves 1 -q

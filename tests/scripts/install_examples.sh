@@ -68,14 +68,14 @@ for p in ecat-esigen ecat-slave ecat-master ecat-conform; do
     page="$prefix/share/man/man1/$p.1.gz"
     if [ -f "$page" ]; then
       # roff escapes the dashes of options: \-\-help
-      zcat "$page" | grep -qF -- '\-\-help' || fail "$p.1 does not list --help"
-      zcat "$page" | grep -q "^\.TH .*\"ecatslave $version\"" || fail "$p.1 does not carry version $version"
+      grep -qF -- '\-\-help' <<< "$(zcat "$page")" || fail "$p.1 does not list --help"
+      grep -q "^\.TH .*\"ecatslave $version\"" <<< "$(zcat "$page")" || fail "$p.1 does not carry version $version"
     else
       fail "no man page $p.1.gz"
     fi
   fi
 done
-zcat "$prefix/share/man/man1/ecat-slave.1.gz" 2> /dev/null | grep -qF -- 'state\-dir' \
+grep -qF -- 'state\-dir' <<< "$(zcat "$prefix/share/man/man1/ecat-slave.1.gz" 2> /dev/null)" \
   || fail "ecat-slave.1 lacks the --state-dir option"
 
 # --- every installed header, with only the installed include path ------------------
@@ -122,8 +122,8 @@ configure_build() {  # name
 
 if configure_build dio16-slave; then
   if out=$("$tmp/dio16-slave/dio16-slave" "$src/examples/dio16-slave/dio16.xml" 2>&1); then
-    echo "$out" | grep -q "DIO16 in Op: 2 output bytes, 2 input bytes" || fail "dio16 in-process: $out"
-    echo "$out" | grep -q "walking one over 16 channels read back" || fail "dio16 in-process: $out"
+    grep -q "DIO16 in Op: 2 output bytes, 2 input bytes" <<< "$out" || fail "dio16 in-process: $out"
+    grep -q "walking one over 16 channels read back" <<< "$out" || fail "dio16 in-process: $out"
   else
     fail "dio16 in-process run: $out"
   fi
@@ -133,8 +133,8 @@ if configure_build dio16-slave; then
   slave_pid=$!
   for _ in $(seq 50); do grep -q serving "$tmp/slave.out" && break; sleep 0.1; done
   if master_out=$("$prefix/bin/ecat-master" --udp "127.0.0.1:$port" --expect-slaves 1 --cycles 200 2>&1); then
-    echo "$master_out" | grep -q 'all 1 slave(s) in Op' || fail "ecat-master over UDP: $master_out"
-    echo "$master_out" | grep -q 'DIO16 16-channel digital I/O' || fail "ecat-master did not name the DIO16: $master_out"
+    grep -q 'all 1 slave(s) in Op' <<< "$master_out" || fail "ecat-master over UDP: $master_out"
+    grep -q 'DIO16 16-channel digital I/O' <<< "$master_out" || fail "ecat-master did not name the DIO16: $master_out"
   else
     fail "ecat-master --udp against dio16-slave: $master_out"
   fi
@@ -158,7 +158,7 @@ if configure_build firmware-tables; then
   "$prefix/bin/ecat-esigen" "$prefix/share/ecatslave/devices/generic-servo.xml" --sii "$tmp/servo.bin" > /dev/null 2>&1
   cmp -s "$gen/servo_tables.bin" "$tmp/servo.bin" || fail "ecatslave_generate SII differs from ecat-esigen's"
   out=$("$tmp/firmware-tables/firmware_tables" 2>&1) || fail "firmware_tables: $out"
-  echo "$out" | grep -q "^Generic servo (ECATSLAVE-SERVO-1): vendor 0x00000000 product 0x00000402" \
+  grep -q "^Generic servo (ECATSLAVE-SERVO-1): vendor 0x00000000 product 0x00000402" <<< "$out" \
     || fail "firmware_tables printed: $out"
 fi
 
