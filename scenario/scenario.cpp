@@ -25,6 +25,13 @@ constexpr std::array<std::string_view, 11> kStepKeys = {"name", "after",      "a
                                                         "expect_not", "within", "for"};
 constexpr std::array<std::string_view, 5> kValueKeys = {"read", "mask", "equals", "min", "max"};
 
+template <std::size_t N>
+std::string join(const std::array<std::string_view, N>& words) {
+  std::string list;
+  for (std::string_view w : words) list += (list.empty() ? "" : ", ") + std::string(w);
+  return list;
+}
+
 struct Problem {
   std::string text;
 };
@@ -47,11 +54,7 @@ class Parser {
       const std::string k = kv.first.Scalar();
       bool known = false;
       for (std::string_view key : keys) known = known || key == k;
-      if (!known) {
-        std::string list;
-        for (std::string_view key : keys) list += (list.empty() ? "" : ", ") + std::string(key);
-        fail(kv.first, fmt::format("unknown key '{}' in {} (known: {})", k, what, list));
-      }
+      if (!known) fail(kv.first, fmt::format("unknown key '{}' in {} (known: {})", k, what, join(keys)));
     }
   }
 
@@ -94,11 +97,7 @@ class Parser {
     const std::string type = n["type"].Scalar();
     bool known = false;
     for (std::string_view t : kEventTypes) known = known || t == type;
-    if (!known) {
-      std::string list;
-      for (std::string_view t : kEventTypes) list += (list.empty() ? "" : ", ") + std::string(t);
-      fail(n["type"], fmt::format("unknown event type '{}' (known: {})", type, list));
-    }
+    if (!known) fail(n["type"], fmt::format("unknown event type '{}' (known: {})", type, join(kEventTypes)));
     m.kind = Match::Kind::Event;
     m.event = to_json(n);
     return m;

@@ -215,16 +215,8 @@ std::optional<json> ScenarioRunner::next_event(const Match& m, std::uint64_t* cu
     const json batch = handler_.events().since(*cursor, kEventsPerLook);
     const json& events = batch["events"];
     for (const json& e : events) {
-      const std::uint64_t seq = e["seq"].get<std::uint64_t>();
-      bool all = true;
-      for (const auto& [key, value] : m.event.items()) {
-        if (!e.contains(key) || !field_matches(value, e[key])) {
-          all = false;
-          break;
-        }
-      }
-      if (all) {
-        *cursor = seq + 1;
+      if (field_matches(m.event, e)) {
+        *cursor = e["seq"].get<std::uint64_t>() + 1;
         return e;
       }
     }

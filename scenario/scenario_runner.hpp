@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/clock.hpp"
+#include "control/control_server.hpp"
 #include "control/event_watcher.hpp"
 #include "control/request_handler.hpp"
 #include "scenario/scenario.hpp"
@@ -36,7 +37,8 @@ std::string_view describe(StepResult::Status s) noexcept;
 
 class ScenarioRunner {
  public:
-  static constexpr Nanoseconds kSamplePeriod = std::chrono::milliseconds(10);
+  // Events are sampled as often as a ControlServer samples them.
+  static constexpr Nanoseconds kSamplePeriod = control::ControlServer::kTick;
   static constexpr Nanoseconds kValuePeriod = std::chrono::microseconds(250);
 
   // `sample_events`: the runner samples the chain for events itself (no
