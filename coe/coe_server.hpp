@@ -68,6 +68,7 @@ class CoeServer {
   const Emergency& emergency() const noexcept { return emergency_; }
   ProcessData& process_data() noexcept { return process_data_; }
   PdoConfig& pdo() noexcept { return pdo_; }
+  SdoServer& sdo() noexcept { return sdo_; }
   MailboxServer& mailbox() noexcept { return mailbox_; }
   const MailboxServer& mailbox() const noexcept { return mailbox_; }
   ParameterStore& parameters() noexcept { return parameters_; }

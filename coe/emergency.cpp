@@ -12,15 +12,22 @@ Expected<void, MailboxError> Emergency::raise(std::uint16_t error_code, std::uin
                                               Nanoseconds now) noexcept {
   (void)store_.set<std::uint8_t>(kErrorRegister, 0, error_register);
   record_diagnosis(error_code, now);
-  std::uint8_t payload[kPayloadSize];
+  const auto payload = message(error_code, error_register, manufacturer);
+  auto queued = mailbox_.send(MailboxType::CoE, payload);
+  if (queued) sent_.add({error_code, error_register});
+  return queued;
+}
+
+std::array<std::uint8_t, Emergency::kPayloadSize> Emergency::message(
+    std::uint16_t error_code, std::uint8_t error_register,
+    const std::array<std::uint8_t, kManufacturerBytes>& manufacturer) noexcept {
+  std::array<std::uint8_t, kPayloadSize> payload{};
   ByteWriter w(payload);
   CoeHeader::write(w, CoeService::Emergency);
   w.u16(error_code);
   w.u8(error_register);
   w.bytes(manufacturer);
-  auto queued = mailbox_.send(MailboxType::CoE, payload);
-  if (queued) sent_.add({error_code, error_register});
-  return queued;
+  return payload;
 }
 
 // Diagnosis message (ETG.1020 §13.3): DiagCode UDINT, Flags UINT, TextID UINT,

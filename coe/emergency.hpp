@@ -36,6 +36,12 @@ class Emergency {
                                      const std::array<std::uint8_t, kManufacturerBytes>& manufacturer = {},
                                      Nanoseconds now = Nanoseconds{0}) noexcept;
 
+  // The mailbox payload of an emergency: CoE header (service 1) and the
+  // 8-byte message (CiA 301 §7.2.7.3.1).
+  static std::array<std::uint8_t, kPayloadSize> message(
+      std::uint16_t error_code, std::uint8_t error_register,
+      const std::array<std::uint8_t, kManufacturerBytes>& manufacturer = {}) noexcept;
+
   // The messages raise() queued (error code, error register), newest last:
   // what the control interface reports as "emergency" events.
   struct Sent {

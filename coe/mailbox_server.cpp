@@ -102,6 +102,7 @@ void MailboxServer::poll(Nanoseconds now) noexcept {
     handle_repeat_request(sm1);
     sm1 = read_sm(kReadMailboxSm);
   }
+  if (storm_left_ > 0) refill_storm();
   const bool request_waiting = sm0.status & bits::kSmStatusMailboxFull;
   if (!held_ && deliver(sm1, !request_waiting)) sm1 = read_sm(kReadMailboxSm);
   if (request_waiting && queue_.size() + kReserveSlots < queue_.capacity()) {
@@ -189,8 +190,9 @@ bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcep
 }
 
 std::size_t MailboxServer::next_fragment(int slot, std::uint16_t sm1_length) noexcept {
-  const std::size_t n = continuing_->next_reply(
-      {written_[slot].data() + MailboxHeader::kSize, static_cast<std::size_t>(sm1_length - MailboxHeader::kSize)});
+  const std::size_t room = reply_limit_ == 0 ? static_cast<std::size_t>(sm1_length - MailboxHeader::kSize)
+                                             : std::min<std::size_t>(sm1_length - MailboxHeader::kSize, reply_limit_);
+  const std::size_t n = continuing_->next_reply({written_[slot].data() + MailboxHeader::kSize, room});
   if (n == 0) {
     continuing_ = nullptr;
     return 0;
@@ -234,6 +236,12 @@ void MailboxServer::receive(const SmRegs& sm0) noexcept {
     return queue_error(MailboxError::InvalidHeader);
   }
   if (header->channel != 0) return queue_error(MailboxError::InvalidChannel);
+  if (error_reply_) {
+    const MailboxError error = *error_reply_;
+    if (error_replies_left_ > 0 && --error_replies_left_ == 0) error_reply_.reset();
+    continuing_ = nullptr;
+    return queue_error(error);
+  }
   dispatch(*header, {request_.data() + MailboxHeader::kSize, header->length});
 }
 
@@ -241,10 +249,8 @@ void MailboxServer::dispatch(const MailboxHeader& header, ConstBytes payload) no
   MailboxService* service = find(header.type);
   if (!service || !service->active_in(state_)) return queue_error(MailboxError::UnsupportedProtocol);
   continuing_ = nullptr;
-  service->set_sizes(sm0_length_ - MailboxHeader::kSize, sm1_length_ - MailboxHeader::kSize);
-  const auto n = service->handle(payload, {reply_.data() + MailboxHeader::kSize,
-                                           static_cast<std::size_t>(sm1_length_ - MailboxHeader::kSize)},
-                                 state_);
+  service->set_sizes(sm0_length_ - MailboxHeader::kSize, reply_room());
+  const auto n = service->handle(payload, {reply_.data() + MailboxHeader::kSize, reply_room()}, state_);
   if (!n) return queue_error(n.error());
   if (*n > 0) queue_reply(service->type(), *n);
   continuing_ = service;
@@ -278,6 +284,27 @@ Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes pa
   if (!payload.empty()) std::memcpy(sm1_image_.data() + MailboxHeader::kSize, payload.data(), payload.size());
   (void)unsolicited_.push_back({sm1_image_.data(), MailboxHeader::kSize + payload.size()});
   return {};
+}
+
+bool MailboxServer::set_unsolicited_storm(MailboxType type, ConstBytes payload, std::uint64_t count) noexcept {
+  if (payload.size() > storm_payload_.size()) return false;
+  storm_type_ = type;
+  std::copy(payload.begin(), payload.end(), storm_payload_.begin());
+  storm_size_ = payload.size();
+  storm_left_ = count;
+  return true;
+}
+
+// Keeps the unsolicited queue topped up from the storm: each copy goes
+// through send() (its counter, its size checks) as any emergency does.
+void MailboxServer::refill_storm() noexcept {
+  while (storm_left_ > 0 && open_ && !unsolicited_.full()) {
+    if (!send(storm_type_, {storm_payload_.data(), storm_size_})) {
+      storm_left_ = 0;  // does not fit this SM1: nothing more to send
+      return;
+    }
+    --storm_left_;
+  }
 }
 
 }  // namespace ecat::coe

@@ -25,8 +25,10 @@
 // header of replies").
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "coe/mailbox_header.hpp"
@@ -72,7 +74,7 @@ class MailboxServer {
   // change (0x0220 bit 4), which the ESM consumes first.
   static constexpr std::uint32_t kEventsHandled = bits::al_event_sm(kWriteMailboxSm) | bits::al_event_sm(kReadMailboxSm);
   // Replies or unsolicited messages wait to go into SM1.
-  bool has_output() const noexcept { return !queue_.empty() || !unsolicited_.empty(); }
+  bool has_output() const noexcept { return !queue_.empty() || !unsolicited_.empty() || storm_left_ > 0; }
 
   // Fault injection (slave::FaultCatalogue, docs/faults.md), as SSC's test
   // application offers it. Counter frozen: every reply carries the counter
@@ -81,6 +83,26 @@ class MailboxServer {
   // emergency goes into SM1 until released.
   void set_counter_frozen(bool frozen) noexcept { counter_frozen_ = frozen; }
   void set_replies_held(bool held) noexcept { held_ = held; }
+  // Error replies: the next `count` requests (0: every one until set again
+  // with nullopt) are answered with a mailbox error of that code (ETG.1000.4
+  // §5.6, type 0, service 01h) instead of reaching their service.
+  void set_error_replies(std::optional<MailboxError> error, std::uint64_t count = 0) noexcept {
+    error_reply_ = error;
+    error_replies_left_ = count;
+  }
+  // Reply limit: no reply payload (CoE header and SDO bytes included) longer
+  // than `bytes` (0: SM1's room, the normal case); services cut their
+  // answers to fit as they do for a small SM1 (SDO uploads go segmented,
+  // SDO information fragments). Values below kMinReplyLimit are raised to it.
+  static constexpr std::size_t kMinReplyLimit = 16;
+  void set_reply_limit(std::size_t bytes) noexcept {
+    reply_limit_ = bytes == 0 ? 0 : std::max(bytes, kMinReplyLimit);
+  }
+  // Storm: `count` copies of one unsolicited message (an emergency), as
+  // fast as SM1 is read and the unsolicited rules allow; 0 stops it.
+  // Longer than kMaxUnsolicitedPayload: refused (false).
+  bool set_unsolicited_storm(MailboxType type, ConstBytes payload, std::uint64_t count) noexcept;
+  std::uint64_t storm_left() const noexcept { return storm_left_; }
 
   // ESM state seen at the last poll.
   od::EsmState state() const noexcept { return state_; }
@@ -108,6 +130,12 @@ class MailboxServer {
   void queue_reply(MailboxType type, std::size_t payload_length) noexcept;
   MailboxHeader reply_header(MailboxType type, std::size_t payload_length, const MailboxHeader& to) noexcept;
   void queue_error(MailboxError error) noexcept;
+  void refill_storm() noexcept;
+  // The payload room of a reply: SM1's, or less under a reply limit.
+  std::size_t reply_room() const noexcept {
+    const std::size_t room = sm1_length_ - MailboxHeader::kSize;
+    return reply_limit_ == 0 ? room : std::min(room, reply_limit_);
+  }
   MailboxService* find(std::uint8_t type) const noexcept;
 
   esc::Pdi& pdi_;
@@ -126,6 +154,13 @@ class MailboxServer {
   std::uint8_t reply_counter_ = 0;
   bool counter_frozen_ = false;
   bool held_ = false;
+  std::optional<MailboxError> error_reply_;
+  std::uint64_t error_replies_left_ = 0;  // 0 with error_reply_: until cleared
+  std::size_t reply_limit_ = 0;
+  MailboxType storm_type_ = MailboxType::CoE;
+  std::array<std::uint8_t, kMaxUnsolicitedPayload> storm_payload_{};
+  std::size_t storm_size_ = 0;
+  std::uint64_t storm_left_ = 0;
   std::uint16_t sm0_length_ = 0;
   std::uint16_t sm1_length_ = 0;
 

@@ -167,7 +167,7 @@ std::size_t SdoServer::download_segment(std::uint8_t cmd, ConstBytes request, By
   }
   ByteWriter w(reply);
   CoeHeader::write(w, CoeService::SdoResponse);
-  w.u8(sdo::command(sdo::kScsDownloadSegment, toggle ? sdo::kToggle : 0));
+  w.u8(sdo::command(sdo::kScsDownloadSegment, toggle != wrong_toggle_ ? sdo::kToggle : 0));
   w.fill(0, sdo::kMinSegmentData);
   return w.position();
 }
@@ -223,8 +223,8 @@ std::size_t SdoServer::upload_segment(std::uint8_t cmd, Bytes reply) noexcept {
   if (toggle != toggle_) return abort(reply, index_, subindex_, SdoAbort::ToggleBit);
   const std::size_t room = reply.size() - CoeHeader::kSize - sdo::kSegmentHeaderSize;
   const std::size_t n = std::min(size_ - offset_, room);
-  const bool last = offset_ + n == size_;
-  std::uint8_t flags = toggle ? sdo::kToggle : 0;
+  const bool last = offset_ + n == size_ || truncate_upload_;
+  std::uint8_t flags = toggle != wrong_toggle_ ? sdo::kToggle : 0;
   if (n < sdo::kMinSegmentData) flags |= static_cast<std::uint8_t>((sdo::kMinSegmentData - n) << sdo::kSegUnusedShift);
   if (last) flags |= sdo::kLastSegment;
   ByteWriter w(reply);

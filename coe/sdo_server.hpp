@@ -32,6 +32,15 @@ class SdoServer {
 
   std::size_t transfer_capacity() const noexcept { return buffer_.size(); }
 
+  // Fault injection (slave::FaultCatalogue, docs/faults.md), as SSC's test
+  // application offers it. Truncated uploads: the first upload segment
+  // reply carries the last-segment bit (CiA 301 §7.2.4.3.6, c = 1) though
+  // fewer bytes than the initiate reply's size have been sent. Wrong toggle:
+  // every segment reply (upload and download) carries the toggle bit the
+  // request did not have (CiA 301 §7.2.4.3.4/.6, t).
+  void set_upload_truncated(bool on) noexcept { truncate_upload_ = on; }
+  void set_wrong_toggle(bool on) noexcept { wrong_toggle_ = on; }
+
  private:
   enum class Transfer : std::uint8_t { None, Download, Upload };
 
@@ -59,6 +68,8 @@ class SdoServer {
   std::size_t size_ = 0;    // complete size (the buffer's room when not indicated)
   bool size_known_ = true;  // false: a download whose size only its last segment tells
   std::size_t offset_ = 0;  // bytes received / sent
+  bool truncate_upload_ = false;
+  bool wrong_toggle_ = false;
 };
 
 }  // namespace ecat::coe

@@ -12,6 +12,7 @@
 #include "od/firmware.hpp"
 #include "slave/faults/esm_guard.hpp"
 #include "slave/faults/frame_faults.hpp"
+#include "slave/faults/mailbox_faults.hpp"
 
 namespace ecat::slave {
 
@@ -54,6 +55,21 @@ constexpr std::array kDriveParams{
     FaultParam{"axis", "axis of a multi-axis drive (0-based, default 0)", false},
 };
 
+constexpr std::array kMailboxErrorParams{
+    FaultParam{"code", "mailbox error code (1 syntax .. 8 invalid size, ETG.1000.4 Table 30; default 2 unsupported "
+                       "protocol)",
+               false},
+    FaultParam{"count", "requests answered so (0 = every one until cleared; default 0)", false},
+};
+constexpr std::array kReplyLimitParams{
+    FaultParam{"bytes", "largest reply payload, CoE header included (16..65535)", true},
+};
+constexpr std::array kStormParams{
+    FaultParam{"count", "emergencies sent (1..1000000000, default 100)", false},
+    FaultParam{"code", "their error code (0..0xFFFF, default 0xFF00)", false},
+    FaultParam{"error_register", "their error register byte (0..255, default 0x80)", false},
+};
+
 constexpr std::array kKinds{
     FaultKind{"link_cut", "the cable on that port is cut: both ends lose the link (DL status 0x0110, lost-link "
                           "counter 0x0310+n), the port loops back, slaves behind it vanish from the working counters",
@@ -94,6 +110,21 @@ constexpr std::array kKinds{
     FaultKind{"drive_fault", "the CiA 402 drive faults: statusword Fault, 603Fh = code, 1001h, an EMCY with the code; "
                              "fault reset works again once cleared",
               true, false, kDriveParams},
+    FaultKind{"mailbox_error_replies", "every mailbox request is answered with a mailbox error (type 0, service 01h, "
+                                       "the code) instead of being executed",
+              true, false, kMailboxErrorParams},
+    FaultKind{"mailbox_reply_limit", "no mailbox reply payload is longer than `bytes`: SDO uploads go segmented, SDO "
+                                     "information comes in more fragments",
+              true, false, kReplyLimitParams},
+    FaultKind{"emergency_storm", "the slave sends `count` emergencies back to back, one each time SM1 is free and no "
+                                 "request waits for its reply",
+              true, false, kStormParams},
+    FaultKind{"sdo_upload_truncated", "a segmented SDO upload ends after its first segment: that segment carries the "
+                                      "last-segment bit though bytes of the announced size remain",
+              true, false, kNoParams},
+    FaultKind{"sdo_toggle_wrong", "every SDO segment reply (upload and download) carries the toggle bit the request "
+                                  "did not have",
+              true, false, kNoParams},
 };
 
 // The state an AL status code forces when raised at run time
@@ -163,8 +194,7 @@ struct FaultCatalogue::Impl {
     Power,
     SiiChecksum,
     SiiBusy,
-    MailboxCounter,
-    MailboxHeld,
+    Mailbox,
   };
   struct Record {
     EngagedFault fault;
@@ -174,6 +204,7 @@ struct FaultCatalogue::Impl {
     ds402::Drive* drive = nullptr;
     std::vector<unsigned> ports_cut;  // Power: the cables it took down
     std::uint8_t saved_byte = 0;      // SiiChecksum: the EEPROM byte it replaced
+    faults::MailboxFault mailbox = faults::MailboxFault::CounterFrozen;
   };
   std::map<FaultId, Record> records;
   FaultId next = 1;
@@ -397,8 +428,7 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     rec.where = Impl::Where::Power;
     for (const auto& [other, r] : im.records) {
       if (r.slave != rec.slave) continue;
-      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive || r.where == Impl::Where::MailboxCounter ||
-          r.where == Impl::Where::MailboxHeld) {
+      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive || r.where == Impl::Where::Mailbox) {
         return fail(fmt::format("{}: slave {} has fault {} ({}) engaged on its firmware: clear it first", k, rec.slave,
                                 other, r.fault.request.kind));
       }
@@ -429,17 +459,19 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       if ((high | bad) == esc::kSiiChecksumDisabled) bad = static_cast<std::uint8_t>(bad ^ 0x01);
       rec.saved_byte = e.patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, bad).value_or(0);
     }
-  } else if (k == "mailbox_counter_frozen" || k == "mailbox_held") {
-    rec.where = k == "mailbox_held" ? Impl::Where::MailboxHeld : Impl::Where::MailboxCounter;
+  } else if (const auto mailbox = faults::mailbox_fault(k)) {
+    rec.where = Impl::Where::Mailbox;
+    rec.mailbox = *mailbox;
     if (!od::runs_firmware(chain_[rec.slave].device())) {
       return fail(fmt::format("{}: slave {} has no firmware (an ESC without PDI): no mailbox", k, rec.slave));
     }
-    if (auto other = same_place(rec.where)) return fail(fmt::format("{}: already engaged as fault {}", k, *other));
-    coe::MailboxServer& mbx = chain_[rec.slave].firmware().coe().mailbox();
-    if (rec.where == Impl::Where::MailboxHeld) {
-      mbx.set_replies_held(true);
-    } else {
-      mbx.set_counter_frozen(true);
+    for (const auto& [other, r] : im.records) {
+      if (r.where == Impl::Where::Mailbox && r.slave == rec.slave && r.mailbox == rec.mailbox) {
+        return fail(fmt::format("{}: already engaged as fault {}", k, other));
+      }
+    }
+    if (auto ok = faults::engage(*mailbox, k, chain_[rec.slave].firmware().coe(), request.params); !ok) {
+      return fail(ok.error());
     }
   } else if (k == "drive_fault") {
     if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
@@ -499,11 +531,8 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
       chain_[rec.slave].esc().set_sii_stuck(false, std::max(chain_.time_seen(), Nanoseconds{0}));
       if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());  // the command completes
       break;
-    case Impl::Where::MailboxCounter:
-      chain_[rec.slave].firmware().coe().mailbox().set_counter_frozen(false);
-      break;
-    case Impl::Where::MailboxHeld:
-      chain_[rec.slave].firmware().coe().mailbox().set_replies_held(false);
+    case Impl::Where::Mailbox:
+      faults::clear(rec.mailbox, chain_[rec.slave].firmware().coe());
       break;
     case Impl::Where::Power: {
       // The old firmware (and the guard's ESM) is gone: the guard goes with it.

@@ -87,7 +87,9 @@ TEST(FaultCatalogue, ListsExactlyTheImplementedKinds) {
   EXPECT_EQ(names, (std::set<std::string>{"link_cut", "corrupt_frames", "drop_frames", "wkc_offset", "al_error",
                                           "refuse_transition", "watchdog_expiry", "power_cycle",
                                           "sii_bad_checksum", "sii_busy_stuck", "mailbox_counter_frozen",
-                                          "mailbox_held", "drive_fault"}));
+                                          "mailbox_held", "drive_fault", "mailbox_error_replies",
+                                          "mailbox_reply_limit", "emergency_storm", "sdo_upload_truncated",
+                                          "sdo_toggle_wrong"}));
   EXPECT_EQ(FaultCatalogue::find_kind("melt"), nullptr);
 }
 
