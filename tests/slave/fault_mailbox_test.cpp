@@ -24,7 +24,6 @@ using slave::FaultId;
 using slave::FaultRequest;
 
 constexpr Nanoseconds kReplyTimeout = std::chrono::milliseconds(100);
-constexpr std::size_t kMailboxHeader = 6;
 constexpr std::uint16_t kDeviceType = 0x1000, kDeviceName = 0x1008, kTxMapping = 0x1A00;
 
 // One generic servo in PreOp with its mailbox set up; frames pass the catalogue.
