@@ -13,6 +13,7 @@
 #include "slave/faults/esm_guard.hpp"
 #include "slave/faults/frame_faults.hpp"
 #include "slave/faults/mailbox_faults.hpp"
+#include "slave/faults/reply_faults.hpp"
 
 namespace ecat::slave {
 
@@ -70,6 +71,14 @@ constexpr std::array kStormParams{
     FaultParam{"error_register", "their error register byte (0..255, default 0x80)", false},
 };
 
+constexpr std::array kDelayParams{
+    FaultParam{"us", "how long each reply is held (1..10000000 us)", true},
+    FaultParam{"count", "replies held (0 = every one until cleared; default 0)", false},
+};
+constexpr std::array kRepeatParams{
+    FaultParam{"count", "replies it acts on (0 = every one until cleared; default 1)", false},
+};
+
 constexpr std::array kKinds{
     FaultKind{"link_cut", "the cable on that port is cut: both ends lose the link (DL status 0x0110, lost-link "
                           "counter 0x0310+n), the port loops back, slaves behind it vanish from the working counters",
@@ -122,6 +131,14 @@ constexpr std::array kKinds{
     FaultKind{"sdo_upload_truncated", "a segmented SDO upload ends after its first segment: that segment carries the "
                                       "last-segment bit though bytes of the announced size remain",
               true, false, kNoParams},
+    FaultKind{"delay_frames", "every reply is held `us` microseconds before it goes back to the master (a master "
+                              "with a shorter timeout sees it lost, then a stale frame)",
+              false, false, kDelayParams},
+    FaultKind{"duplicate_frames", "every reply goes back twice: the master reads a stale copy after the real one",
+              false, false, kRepeatParams},
+    FaultKind{"replay_frames", "every reply is replaced by the reply before it: the master reads a stale frame and "
+                               "misses its own",
+              false, false, kRepeatParams},
     FaultKind{"sdo_toggle_wrong", "every SDO segment reply (upload and download) carries the toggle bit the request "
                                   "did not have",
               true, false, kNoParams},
@@ -195,6 +212,7 @@ struct FaultCatalogue::Impl {
     SiiChecksum,
     SiiBusy,
     Mailbox,
+    Reply,
   };
   struct Record {
     EngagedFault fault;
@@ -209,6 +227,7 @@ struct FaultCatalogue::Impl {
   std::map<FaultId, Record> records;
   FaultId next = 1;
   faults::FrameFaults frames;
+  faults::ReplyFaults replies;
   // Per slave, created when a state fault first needs it, registered on its ESM.
   std::vector<std::unique_ptr<faults::EsmGuard>> guards;
 };
@@ -459,6 +478,20 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       if ((high | bad) == esc::kSiiChecksumDisabled) bad = static_cast<std::uint8_t>(bad ^ 0x01);
       rec.saved_byte = e.patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, bad).value_or(0);
     }
+  } else if (k == "delay_frames" || k == "duplicate_frames" || k == "replay_frames") {
+    if (auto ok = in_range(k, request, "us", 1, 10'000'000); !ok) return fail(ok.error());
+    if (auto ok = in_range(k, request, "count", 0, 1'000'000'000); !ok) return fail(ok.error());
+    faults::ReplyRule rule;
+    rule.id = id;
+    rule.kind = k == "delay_frames"       ? faults::ReplyRule::Kind::Delay
+                : k == "duplicate_frames" ? faults::ReplyRule::Kind::Duplicate
+                                          : faults::ReplyRule::Kind::Replay;
+    rule.delay = std::chrono::microseconds(param(request, "us", 0));
+    rule.left = static_cast<std::uint64_t>(param(request, "count", k == "delay_frames" ? 0 : 1));
+    rule.until_cleared = rule.left == 0;
+    rec.where = Impl::Where::Reply;
+    im.replies.add(rule);
+    ++frame_faults_;
   } else if (const auto mailbox = faults::mailbox_fault(k)) {
     rec.where = Impl::Where::Mailbox;
     rec.mailbox = *mailbox;
@@ -531,6 +564,10 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
       chain_[rec.slave].esc().set_sii_stuck(false, std::max(chain_.time_seen(), Nanoseconds{0}));
       if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());  // the command completes
       break;
+    case Impl::Where::Reply:
+      (void)im.replies.remove(id);  // frames already held still go out
+      --frame_faults_;
+      break;
     case Impl::Where::Mailbox:
       faults::clear(rec.mailbox, chain_[rec.slave].firmware().coe());
       break;
@@ -561,6 +598,10 @@ esc::Delivery FaultCatalogue::pass_faulty(std::span<std::uint8_t> frame, Nanosec
   } else {
     d = chain_.pass_frame_on(frame, now, master_port);
     if (d.returned() && !im.frames.empty() && im.frames.lose_after(frame)) d.outcome = esc::Delivery::Outcome::Lost;
+    // Held for later or replaced: not sent now (take_reply hands it out).
+    if (d.returned() && !im.replies.empty() && im.replies.after_return(frame, d.master_port, now)) {
+      d.outcome = esc::Delivery::Outcome::Lost;
+    }
   }
   // Faults that ran their course clear themselves (the observer hears it).
   // The lists are reserved at engage time: nothing here allocates.
@@ -573,6 +614,13 @@ esc::Delivery FaultCatalogue::pass_faulty(std::span<std::uint8_t> frame, Nanosec
     }
   }
   im.frames.clear_spent();
+  for (std::size_t i = 0; i < im.replies.spent().size(); ++i) {
+    try {
+      (void)clear(im.replies.spent()[i]);
+    } catch (...) {  // an observer that throws: the fault is cleared all the same
+    }
+  }
+  im.replies.clear_spent();
   std::array<FaultId, 16> spent{};  // more cables spent in one frame: found on the next
   std::size_t n = 0;
   for (const auto& [id, r] : im.records) {
@@ -589,5 +637,14 @@ esc::Delivery FaultCatalogue::pass_faulty(std::span<std::uint8_t> frame, Nanosec
   }
   return d;
 }
+
+std::optional<FaultCatalogue::HeldReply> FaultCatalogue::take_reply(Nanoseconds now,
+                                                                    std::span<std::uint8_t> out) noexcept {
+  const auto due = impl_->replies.take_due(now, out);
+  if (!due) return std::nullopt;
+  return HeldReply{due->length, due->master_port};
+}
+
+std::optional<Nanoseconds> FaultCatalogue::next_reply_due() const noexcept { return impl_->replies.next_due(); }
 
 }  // namespace ecat::slave

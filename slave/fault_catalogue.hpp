@@ -114,6 +114,18 @@ class FaultCatalogue {
     return returned;
   }
 
+  // Replies the reply faults (delay_frames, duplicate_frames, replay_frames)
+  // send later or besides the frames pass_frame_on returned: the owner of
+  // the transport sends each one take_reply copies into `out` (room for
+  // faults::ReplyFaults::kMaxFrame bytes) on its master port, after every
+  // frame and when next_reply_due comes. Nothing waits: nullopt, cheaply.
+  struct HeldReply {
+    std::size_t length = 0;
+    unsigned master_port = 0;
+  };
+  std::optional<HeldReply> take_reply(Nanoseconds now, std::span<std::uint8_t> out) noexcept;
+  std::optional<Nanoseconds> next_reply_due() const noexcept;
+
   Chain& chain() noexcept { return chain_; }
 
  private:

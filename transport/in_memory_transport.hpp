@@ -30,6 +30,10 @@ class InMemoryTransport final : public Transport {
 
   // The next `count` frames are processed but never come back (lost reply).
   void drop_next(std::size_t count) noexcept { drop_ = count; }
+  // A frame for receive() that no send() produced (a late or repeated
+  // reply); queued now, so from inside the processor it comes before the
+  // reply to the frame being processed.
+  void inject(ConstBytes frame) { queue_.emplace_back(frame.begin(), frame.end()); }
   std::size_t frames_sent() const noexcept { return sent_; }
   std::size_t pending() const noexcept { return queue_.size(); }
   // Every frame as sent (before processing), when recording is on; for tests

@@ -15,6 +15,7 @@
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
 #include "slave/fault_catalogue.hpp"
+#include "slave/faults/reply_faults.hpp"
 #include "transport/raw_socket_transport.hpp"
 #include "transport/udp_transport.hpp"
 
@@ -156,6 +157,19 @@ void print_stats(const slave::Chain& line, const transport::UdpTransport* udp) {
   std::fputs(out.c_str(), stderr);
 }
 
+// The replies the reply faults (delay_frames, duplicate_frames,
+// replay_frames: docs/faults.md) hold or add, sent when their time has come,
+// each on its master port. `buffer` is free again: the frame in it went out.
+void send_held_replies(slave::FaultCatalogue& faults, Nanoseconds now, std::span<std::uint8_t> buffer,
+                       transport::Transport& primary, transport::Transport* redundant, bool quiet) {
+  while (const auto held = faults.take_reply(now, buffer)) {
+    transport::Transport& out = held->master_port == 0 || redundant == nullptr ? primary : *redundant;
+    if (auto s = out.send(buffer.first(held->length)); !s && !quiet) {
+      std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
+    }
+  }
+}
+
 }  // namespace
 
 int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> devices) {
@@ -201,6 +215,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   line.set_max_frame_age(std::chrono::microseconds(o.max_frame_age_us));
   transport::Transport& t = *medium->transport;
   std::array<std::uint8_t, kMaxEthernetPayload + kEthernetHeaderSize + kVlanTagSize> buffer{};
+  static_assert(sizeof buffer >= slave::faults::ReplyFaults::kMaxFrame, "a held reply fits the frame buffer");
   const Nanoseconds stats_period{static_cast<std::int64_t>(o.stats_seconds * 1e9)};
   Nanoseconds next_stats = clock.now() + stats_period;
 
@@ -248,6 +263,9 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
     }
     if (*control && (*control)->server) wait = std::min(wait, (*control)->server->until_due(clock.now()));
+    if (const auto due = faults.next_reply_due()) {  // delay_frames: a held reply's time
+      wait = std::min(wait, std::max(*due - clock.now(), Nanoseconds{0}));
+    }
     if (*control && (*control)->scenario) wait = std::min(wait, (*control)->scenario->until_due(clock.now()));
     if (g_toggle_links) {
       g_toggle_links = 0;
@@ -320,6 +338,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
           std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
         }
       }
+      send_held_replies(faults, clock.now(), buffer, t, medium->redundant.get(), o.quiet);
       line.run_firmware(at);
       continue;
     }
@@ -331,6 +350,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       break;
     }
     drained = r.error() == transport::TransportError::Timeout;
+    send_held_replies(faults, clock.now(), buffer, t, medium->redundant.get(), o.quiet);
     deadline = line.poll(clock.now());
     if (*control && (*control)->server) (*control)->server->service(clock.now());
     if (*control && (*control)->scenario) {
