@@ -131,6 +131,10 @@ constexpr std::array kKinds{
     FaultKind{"sdo_upload_truncated", "a segmented SDO upload ends after its first segment: that segment carries the "
                                       "last-segment bit though bytes of the announced size remain",
               true, false, kNoParams},
+    FaultKind{"unplug", "the slave is unplugged with its power kept: every cable of it goes down (it and the slaves "
+                        "behind it vanish, the neighbours count a lost link) while its ESC and firmware run on; "
+                        "cleared, it is plugged back as it is (hot connect: its station address and state kept)",
+              true, false, kNoParams},
     FaultKind{"delay_frames", "every reply is held `us` microseconds before it goes back to the master (a master "
                               "with a shorter timeout sees it lost, then a stale frame)",
               false, false, kDelayParams},
@@ -213,6 +217,7 @@ struct FaultCatalogue::Impl {
     SiiBusy,
     Mailbox,
     Reply,
+    Unplug,
   };
   struct Record {
     EngagedFault fault;
@@ -220,7 +225,7 @@ struct FaultCatalogue::Impl {
     std::size_t slave = 0;
     unsigned port = 0;
     ds402::Drive* drive = nullptr;
-    std::vector<unsigned> ports_cut;  // Power: the cables it took down
+    std::vector<unsigned> ports_cut;  // Power, Unplug: the cables it took down
     std::uint8_t saved_byte = 0;      // SiiChecksum: the EEPROM byte it replaced
     faults::MailboxFault mailbox = faults::MailboxFault::CounterFrozen;
   };
@@ -452,6 +457,9 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
                                 other, r.fault.request.kind));
       }
     }
+    if (auto other = same_place(Impl::Where::Unplug)) {
+      return fail(fmt::format("{}: slave {} is unplugged (fault {}): plug it back first", k, rec.slave, *other));
+    }
     if (chain_[rec.slave].spi_pdi() != nullptr) {
       return fail(fmt::format("{}: slave {} has an SPI PDI: its power-up is not emulated", k, rec.slave));
     }
@@ -478,6 +486,17 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       if ((high | bad) == esc::kSiiChecksumDisabled) bad = static_cast<std::uint8_t>(bad ^ 0x01);
       rec.saved_byte = e.patch_eeprom_and_reload(esc::kSiiConfigAreaBytes, bad).value_or(0);
     }
+  } else if (k == "unplug") {
+    rec.where = Impl::Where::Unplug;
+    if (auto other = same_place(rec.where)) return fail(fmt::format("{}: already unplugged (fault {})", k, *other));
+    esc::Segment& seg = chain_.segment();
+    for (unsigned p = 0; p < esc::kMaxPorts; ++p) {
+      if (seg.peer(rec.slave, p) && seg.link_up(rec.slave, p)) rec.ports_cut.push_back(p);
+    }
+    if (rec.ports_cut.empty()) {
+      return fail(fmt::format("{}: slave {} has no cable with a link to pull", k, rec.slave));
+    }
+    for (unsigned p : rec.ports_cut) (void)seg.set_link(rec.slave, p, false);
   } else if (k == "delay_frames" || k == "duplicate_frames" || k == "replay_frames") {
     if (auto ok = in_range(k, request, "us", 1, 10'000'000); !ok) return fail(ok.error());
     if (auto ok = in_range(k, request, "count", 0, 1'000'000'000); !ok) return fail(ok.error());
@@ -563,6 +582,9 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
     case Impl::Where::SiiBusy:
       chain_[rec.slave].esc().set_sii_stuck(false, std::max(chain_.time_seen(), Nanoseconds{0}));
       if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());  // the command completes
+      break;
+    case Impl::Where::Unplug:
+      for (unsigned p : rec.ports_cut) (void)chain_.segment().set_link(rec.slave, p, true);
       break;
     case Impl::Where::Reply:
       (void)im.replies.remove(id);  // frames already held still go out

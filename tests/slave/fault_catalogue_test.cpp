@@ -89,7 +89,7 @@ TEST(FaultCatalogue, ListsExactlyTheImplementedKinds) {
                                           "sii_bad_checksum", "sii_busy_stuck", "mailbox_counter_frozen",
                                           "mailbox_held", "drive_fault", "mailbox_error_replies",
                                           "mailbox_reply_limit", "emergency_storm", "sdo_upload_truncated",
-                                          "sdo_toggle_wrong", "delay_frames", "duplicate_frames", "replay_frames"}));
+                                          "sdo_toggle_wrong", "unplug", "delay_frames", "duplicate_frames", "replay_frames"}));
   EXPECT_EQ(FaultCatalogue::find_kind("melt"), nullptr);
 }
 

@@ -13,39 +13,27 @@
 #include "common/le.hpp"
 #include "master/coe_client.hpp"
 #include "master/mailbox.hpp"
-#include "slave/fault_catalogue.hpp"
-#include "tests/slave/inprocess_fixture.hpp"
+#include "tests/slave/fault_rig.hpp"
 
 namespace ecat::test {
 namespace {
 
-using slave::FaultCatalogue;
 using slave::FaultId;
 using slave::FaultRequest;
 
 constexpr Nanoseconds kReplyTimeout = std::chrono::milliseconds(100);
 constexpr std::uint16_t kDeviceType = 0x1000, kDeviceName = 0x1008, kTxMapping = 0x1A00;
 
-// One generic servo in PreOp with its mailbox set up; frames pass the catalogue.
-struct MailboxRig : InProcess {
-  FaultCatalogue faults{chain};
-
-  MailboxRig() {
-    add_default(1);
-    wire.set_processor([this](Bytes frame) {
-      clock.advance(kWireTime);
-      if (!faults.process_frame(frame, clock.now())) wire.drop_next(1);
-    });
+// One generic servo in PreOp with its mailbox set up.
+struct MailboxRig : FaultRig {
+  MailboxRig() : FaultRig(1) {
     EXPECT_EQ(master.scan().value_or(0), 1u);
     EXPECT_TRUE(master.configure_mailbox(0));
     EXPECT_TRUE(master.request_state(0, master::AlState::PreOp));
   }
   FaultId engage(const std::string& kind, std::map<std::string, std::int64_t> params = {}) {
-    auto id = faults.engage(FaultRequest{kind, 0, std::nullopt, std::move(params)});
-    EXPECT_TRUE(id) << (id ? "" : id.error());
-    return id ? *id : 0;
+    return FaultRig::engage(kind, 0, std::move(params));
   }
-  // Sends one CoE request and returns the reply's type and payload (empty on timeout).
   // Sends one CoE request and returns the mailbox error code of the reply
   // (the master reads a type-0 reply's service word 0001h and code), -1 for
   // any other reply or none.
@@ -203,12 +191,7 @@ TEST(FaultMailbox, RefusesBadParameters) {
       {{"emergency_storm", 0, std::nullopt, {{"count", 0}}}, "emergency_storm: count = 0 is out of range"},
       {{"sdo_toggle_wrong", 0, std::nullopt, {{"count", 1}}}, "sdo_toggle_wrong: unknown parameter 'count'"},
   };
-  for (const auto& [req, message] : bad) {
-    auto id = r.faults.engage(req);
-    ASSERT_FALSE(id) << req.kind;
-    EXPECT_EQ(id.error().substr(0, message.size()), message);
-  }
-  EXPECT_TRUE(r.faults.engaged().empty());
+  r.expect_refused(bad);
   r.engage("sdo_toggle_wrong");
   auto twice = r.faults.engage({"sdo_toggle_wrong", 0, std::nullopt, {}});
   ASSERT_FALSE(twice);

@@ -11,41 +11,20 @@
 #include <utility>
 #include <vector>
 
-#include "slave/fault_catalogue.hpp"
 #include "slave/faults/reply_faults.hpp"
-#include "tests/slave/inprocess_fixture.hpp"
+#include "tests/slave/fault_rig.hpp"
 
 namespace ecat::test {
 namespace {
 
-using slave::FaultCatalogue;
 using slave::FaultId;
 using slave::FaultRequest;
 
 constexpr std::uint16_t kStationAddress = 0x0010;
 
-// Two generic servos; each frame passes the catalogue, and whatever the
-// reply faults hand out is put on the wire before the frame's own reply.
-struct ReplyRig : InProcess {
-  FaultCatalogue faults{chain};
-  std::vector<std::pair<FaultId, bool>> events;
-  std::array<std::uint8_t, slave::faults::ReplyFaults::kMaxFrame> held{};
-
-  ReplyRig() {
-    add_default(2);
-    wire.set_processor([this](Bytes frame) {
-      clock.advance(kWireTime);
-      if (!faults.process_frame(frame, clock.now())) wire.drop_next(1);
-      while (auto r = faults.take_reply(clock.now(), held)) wire.inject({held.data(), r->length});
-    });
-    faults.set_observer([this](const slave::EngagedFault& f, bool on) { events.emplace_back(f.id, on); });
-    EXPECT_EQ(master.scan().value_or(0), 2u);
-  }
-  FaultId engage(const std::string& kind, std::map<std::string, std::int64_t> params = {}) {
-    auto id = faults.engage(FaultRequest{kind, std::nullopt, std::nullopt, std::move(params)});
-    EXPECT_TRUE(id) << (id ? "" : id.error());
-    return id ? *id : 0;
-  }
+// Two generic servos, scanned.
+struct ReplyRig : FaultRig {
+  ReplyRig() : FaultRig(2) { EXPECT_EQ(master.scan().value_or(0), 2u); }
   master::LinkStats stats() { return master.link().stats(); }
   // Register 0x0010 of slave i read back: its own station address.
   std::optional<std::uint16_t> station(std::size_t i) {
@@ -91,7 +70,7 @@ TEST(FaultReply, ReplayGivesThePreviousReplyOnce) {
 TEST(FaultReply, DelayHoldsRepliesUntilTheirTime) {
   ReplyRig r;
   const master::LinkStats before = r.stats();
-  const FaultId id = r.engage("delay_frames", {{"us", 500}});
+  const FaultId id = r.engage("delay_frames", std::nullopt, {{"us", 500}});
   EXPECT_FALSE(r.station(1));  // the master's 1 + 3 retries, none answered in time
   EXPECT_EQ(r.stats().timeouts - before.timeouts, 4u);
   const auto due = r.faults.next_reply_due();
@@ -114,12 +93,7 @@ TEST(FaultReply, RefusesBadParameters) {
       {{"duplicate_frames", std::nullopt, std::nullopt, {{"us", 5}}}, "duplicate_frames: unknown parameter 'us'"},
       {{"replay_frames", 0, std::nullopt, {}}, "replay_frames: takes no slave"},
   };
-  for (const auto& [req, message] : bad) {
-    auto id = r.faults.engage(req);
-    ASSERT_FALSE(id) << req.kind;
-    EXPECT_EQ(id.error().substr(0, message.size()), message);
-  }
-  EXPECT_TRUE(r.faults.engaged().empty());
+  r.expect_refused(bad);
   EXPECT_EQ(r.station(1), r.expected_station(1));
 }
 
