@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # The example scenarios (examples/scenarios/*.yaml, docs/scenarios.md) run by
 # ecat-slave --scenario against ecat-master over UDP on loopback (no root):
-# each file names the master's arguments on a line "# master: ARGS". What it
-# proves: each scenario passes (ecat-slave exits 0) and writes a JUnit report
-# with failures="0"; and a scenario whose expectation the master cannot meet
+# each file names the master's arguments on a line "# master: ARGS", and may
+# name more of the slave's ("# slave: ARGS"), the master's exit status when it
+# is not 0 ("# master-exit: N") and a line the master must print ("#
+# master-output: TEXT"). What it proves: each scenario passes (ecat-slave
+# exits 0) and writes a JUnit report with failures="0", and the master ended
+# as the file says; and a scenario whose expectation the master cannot meet
 # (a request for Bootstrap) fails: exit 3, its step FAIL with the reason, the
 # next SKIP, JUnit failures="1". The windows in the examples leave room for a
 # loaded host; exact timing is proven in simulated time (test_scenario).
@@ -19,12 +22,16 @@ trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 port=$((40000 + $$ % 20000))
 failures=0
 
-# run NAME FILE MASTER_ARGS...: the slave's exit status in $rc, its output in $work/NAME.log
+# run NAME FILE MASTER_ARGS...: the slave's exit status in $rc, the master's
+# in $mrc (143 when it still ran at the end and was stopped), their output in
+# $work/NAME.log and $work/NAME.master.log; the slave's own arguments in the
+# array slave_args.
+slave_args=()
 run() {
   local name=$1 file=$2
   shift 2
   port=$((port + 1))
-  "$slave" --udp "$port" --scenario "$file" --junit "$work/$name.xml" > "$work/$name.log" 2>&1 &
+  "$slave" --udp "$port" "${slave_args[@]}" --scenario "$file" --junit "$work/$name.xml" > "$work/$name.log" 2>&1 &
   local spid=$!
   sleep 0.3
   timeout 120 "$master" --udp "127.0.0.1:$port" -q "$@" > "$work/$name.master.log" 2>&1 &
@@ -33,6 +40,7 @@ run() {
   rc=$?
   kill "$mpid" 2> /dev/null
   wait "$mpid" 2> /dev/null
+  mrc=$?
 }
 
 for file in "$src"/examples/scenarios/*.yaml; do
@@ -40,11 +48,23 @@ for file in "$src"/examples/scenarios/*.yaml; do
   args=$(sed -n 's/^# master: //p' "$file" | head -1)
   [ -n "$args" ] || { echo "FAIL: $name: no '# master: ARGS' line"; failures=$((failures + 1)); continue; }
   read -r -a argv <<< "$args"
+  read -r -a slave_args <<< "$(sed -n 's/^# slave: //p' "$file" | head -1)"
+  master_exit=$(sed -n 's/^# master-exit: //p' "$file" | head -1)
+  master_output=$(sed -n 's/^# master-output: //p' "$file" | head -1)
   run "$name" "$file" "${argv[@]}"
+  slave_args=()
   sed -n '/^  \(PASS\|FAIL\|SKIP\)/p;/^scenario /p' "$work/$name.log"
   if [ "$rc" -ne 0 ] || ! grep -q 'failures="0"' "$work/$name.xml" 2> /dev/null; then
     echo "FAIL: $name: ecat-slave exit $rc (0 expected); its log and the master's:"
     cat "$work/$name.log" "$work/$name.master.log"
+    failures=$((failures + 1))
+  elif [ -n "$master_exit" ] && [ "$mrc" != "$master_exit" ]; then
+    echo "FAIL: $name: ecat-master exit $mrc ($master_exit expected); its log:"
+    cat "$work/$name.master.log"
+    failures=$((failures + 1))
+  elif [ -n "$master_output" ] && ! grep -qF -- "$master_output" "$work/$name.master.log"; then
+    echo "FAIL: $name: ecat-master did not print '$master_output'; its log:"
+    cat "$work/$name.master.log"
     failures=$((failures + 1))
   fi
 done
