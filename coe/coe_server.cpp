@@ -17,12 +17,13 @@ std::size_t CoeServer::mailbox_bytes(const od::DeviceDescription& device) noexce
 CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOptions options)
     : pdi_(pdi),
       store_(device.dictionary, ObjectStore::Options{options.variable_capacity}),
+      diagnosis_(store_),
       sdo_(store_, device.mailbox.complete_access),
       info_(store_),
       coe_(sdo_, device.mailbox.sdo_info ? &info_ : nullptr),
       foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64, options.state_quota}),
       mailbox_(pdi, mailbox_bytes(device), options.mailbox_queue),
-      emergency_(mailbox_, store_),
+      emergency_(mailbox_, store_, &diagnosis_),
       pdo_(store_, device),
       process_data_(store_, pdo_),
       parameters_(store_, options.parameter_file, options.state_quota) {

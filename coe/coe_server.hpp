@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "coe/coe_protocol.hpp"
+#include "coe/diagnosis_history.hpp"
 #include "coe/emergency.hpp"
 #include "coe/foe_server.hpp"
 #include "coe/mailbox_server.hpp"
@@ -65,6 +66,8 @@ class CoeServer {
   ObjectStore& objects() noexcept { return store_; }
   const ObjectStore& objects() const noexcept { return store_; }
   Emergency& emergency() noexcept { return emergency_; }
+  // 10F3h, when the device has it (present()).
+  DiagnosisHistory& diagnosis() noexcept { return diagnosis_; }
   const Emergency& emergency() const noexcept { return emergency_; }
   ProcessData& process_data() noexcept { return process_data_; }
   PdoConfig& pdo() noexcept { return pdo_; }
@@ -90,6 +93,7 @@ class CoeServer {
 
   esc::Pdi& pdi_;
   ObjectStore store_;
+  DiagnosisHistory diagnosis_;
   SdoServer sdo_;
   SdoInfo info_;
   CoeProtocol coe_;

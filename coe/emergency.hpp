@@ -2,12 +2,13 @@
 // §9): an 8-byte message (error code, error register, 5 manufacturer bytes)
 // sent unsolicited through the read mailbox. raise() also sets the error
 // register 1001h and, if the device has one, appends a message to the
-// diagnosis history 10F3h (ETG.1020 §13, simplified: see docs/coe.md).
+// diagnosis history 10F3h (coe::DiagnosisHistory, Diag Code E800h).
 #pragma once
 
 #include <array>
 #include <cstdint>
 
+#include "coe/diagnosis_history.hpp"
 #include "coe/mailbox_server.hpp"
 #include "coe/object_store.hpp"
 #include "coe/recent_log.hpp"
@@ -18,17 +19,12 @@ namespace ecat::coe {
 class Emergency {
  public:
   static constexpr std::uint16_t kErrorRegister = 0x1001;
-  static constexpr std::uint16_t kDiagnosisHistory = 0x10F3;
   static constexpr std::size_t kPayloadSize = 2 + 8;  // CoE header + message
   static constexpr std::size_t kManufacturerBytes = 5;
-  // 10F3h subindices (ETG.1020 §13.2).
-  static constexpr std::uint8_t kDiagMaxMessages = 1;
-  static constexpr std::uint8_t kDiagNewestMessage = 2;
-  static constexpr std::uint8_t kDiagNewMessagesAvailable = 4;
-  static constexpr std::uint8_t kDiagFirstMessage = 6;
-  static constexpr std::uint16_t kDiagFlagsError = 0x0002;  // message type "error"
 
-  Emergency(MailboxServer& mailbox, ObjectStore& store) : mailbox_(mailbox), store_(store) {}
+  // `history`: the device's 10F3h (null or absent: no message is kept).
+  Emergency(MailboxServer& mailbox, ObjectStore& store, DiagnosisHistory* history = nullptr)
+      : mailbox_(mailbox), store_(store), history_(history) {}
 
   // Queues the message; 1001h and 10F3h are updated even when the mailbox is
   // closed or full (the error is then returned: the message itself was not sent).
@@ -52,10 +48,9 @@ class Emergency {
   const RecentLog<Sent, kSentLogSize>& sent() const noexcept { return sent_; }
 
  private:
-  void record_diagnosis(std::uint16_t error_code, Nanoseconds now) noexcept;
-
   MailboxServer& mailbox_;
   ObjectStore& store_;
+  DiagnosisHistory* history_;
   RecentLog<Sent, kSentLogSize> sent_;
 };
 

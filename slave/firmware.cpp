@@ -89,6 +89,7 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
   } else if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) {
     esm_.poll(events);
   }
+  if (esm_.status_code() != code_seen_) note_al_status_code(now);
   const esc::AlState state = esm_.state();
   const bool changed = state != state_seen_;
   if (changed) {
@@ -106,6 +107,15 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
   wake_ = sp.next.value_or(Nanoseconds::max());
   pass_work_ = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
   return sp.next;
+}
+
+// A new AL status code (an error the ESM raised or a refused transition)
+// goes into the diagnosis history 10F3h when the device has one (ETG.1020
+// §13; Diag Code E001h with the code, docs/coe.md "Diagnosis history").
+void Firmware::note_al_status_code(Nanoseconds now) noexcept {
+  code_seen_ = esm_.status_code();
+  if (code_seen_ == esc::AlStatusCode::NoError) return;
+  (void)coe_.diagnosis().add(coe::DiagnosisHistory::from_al_status(static_cast<std::uint16_t>(code_seen_)), now);
 }
 
 // ETG.1000.4 §6.2 / ESC datasheet Section II 0x0204: the IRQ to the µC is

@@ -99,6 +99,7 @@ class Firmware {
   void program_event_mask(bool sms_changed, EscLines lines) noexcept;
   // The ESC no longer holds the mask programmed (an ESC reset clears it).
   bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != event_mask_; }
+  void note_al_status_code(Nanoseconds now) noexcept;
   bool sm_events_enabled(std::uint32_t mask) noexcept;
 
   esc::Pdi& pdi_;
@@ -109,6 +110,7 @@ class Firmware {
   std::unique_ptr<Application> app_;
   esc::VcdProbe* trace_ = nullptr;
   std::optional<Nanoseconds> last_cycle_;
+  esc::AlStatusCode code_seen_ = esc::AlStatusCode::NoError;  // the last one put into 10F3h
   std::optional<Nanoseconds> next_;  // deadline returned by the last poll
   // For may_want_poll(): next_ (max when none), and whether the last poll
   // left work it finishes pass by pass.

@@ -111,18 +111,24 @@ TEST(Emergency, DiagnosisHistory) {
                                      test::entry(7, "Diagnosis Message 002", od::DataType::OctetString, 8 * 28, test::kRo)});
   (void)d.dictionary.put(diag);
   test::Rig rig(std::move(d));
-  Emergency emcy(rig.mailbox, rig.store);
+  DiagnosisHistory history(rig.store);
+  ASSERT_TRUE(history.present());
+  Emergency emcy(rig.mailbox, rig.store, &history);
   (void)emcy.raise(0x2310, 0x03, {}, Nanoseconds{0x0102030405});
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 6);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 4), 1);
   const auto m = rig.store.value(0x10F3, 6);
+  // Diag Code E800h | 2310h << 16, error, no parameters, text ID 0, time stamp.
   EXPECT_EQ(Frame(m.begin(), m.end()),
-            (Frame{0x10, 0x23, 0, 0, 0x02, 0x00, 0, 0, 0x05, 0x04, 0x03, 0x02, 0x01, 0, 0, 0}));
+            (Frame{0x00, 0xE8, 0x10, 0x23, 0x02, 0x00, 0, 0, 0x05, 0x04, 0x03, 0x02, 0x01, 0, 0, 0}));
   (void)emcy.raise(0x2311, 0x03);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 7);
   (void)emcy.raise(0x2312, 0x03);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 6);  // ring of two
-  EXPECT_EQ(rig.store.value(0x10F3, 6)[0], 0x12);
+  EXPECT_EQ(rig.store.value(0x10F3, 6)[2], 0x12);
+  Emergency without(rig.mailbox, rig.store);  // no history given: 10F3h untouched
+  (void)without.raise(0x2313, 0x03);
+  EXPECT_EQ(rig.store.value(0x10F3, 6)[2], 0x12);
 }
 
 }  // namespace
