@@ -27,6 +27,8 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   s->device_ = std::move(device);
   auto config = esc_config_for(*s->device_, options.delay_figures);
   if (!config) return fail(config.error());
+  // Another process's firmware (SOES) meets silicon's SM event rule.
+  if (options.external_firmware) config->sm_status_read_clears_event = false;
   if (options.processing_delay) config->processing_delay = *options.processing_delay;
   if (options.forwarding_delay) {  // the slave's own figure, every port alike
     config->forwarding_delay = *options.forwarding_delay;
