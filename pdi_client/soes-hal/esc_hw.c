@@ -15,7 +15,11 @@
  * own process-data watchdog in main-loop passes (esc_cfg_t.watchdog_cnt),
  * so on the PC, where an access is a few µs, 150 passes can end before the
  * master's next cycle (docs/pdi-host.md). */
-#define _POSIX_C_SOURCE 200809L
+/* nanosleep, and glibc's BYTE_ORDER which SOES's cc.h tests: a bare
+ * _POSIX_C_SOURCE would hide the latter and make etohs() swap bytes. */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE
+#endif
 
 #include <stdio.h>
 #include <stdlib.h>
