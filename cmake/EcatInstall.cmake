@@ -153,10 +153,25 @@ ecat_install_library(pdi_spi pdi_spi HEADERS
   pdi_spi/lan9252_registers.hpp pdi_spi/et1100_spi_registers.hpp)
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/fault_catalogue.hpp slave/virtual_slave.hpp slave/slave_options.hpp
-  slave/slave_stats.hpp slave/firmware.hpp slave/wake_heap.hpp slave/frame_age.hpp)
+  slave/slave_stats.hpp slave/firmware.hpp slave/wake_heap.hpp slave/frame_age.hpp slave/detached_pdi.hpp)
 ecat_install_library(control control HEADERS
   control/request_handler.hpp control/control_server.hpp control/event_queue.hpp control/event_watcher.hpp
   control/object_access.hpp control/network_view.hpp control/simulated_run.hpp control/control_error.hpp)
+ecat_install_library(pdi_host pdi_host HEADERS
+  pdi_host/pdi_host.hpp pdi_host/pdi_session.hpp pdi_host/pdi_chip.hpp pdi_client/ecat_pdi_protocol.h)
+
+# --- firmware in the loop (docs/pdi-host.md): the C library a firmware links and the SOES HAL
+#   <prefix>/<libdir>/libecat_pdi.a, <prefix>/include/ecatslave/ecat_pdi{,_protocol}.h,
+#   <prefix>/share/ecatslave/soes-hal/esc_hw.{c,h}
+set_target_properties(ecat_pdi PROPERTIES EXPORT_NAME ecat_pdi VERSION ${PROJECT_VERSION} SOVERSION ${ECAT_SOVERSION})
+add_library(ecatslave::ecat_pdi ALIAS ecat_pdi)
+install(TARGETS ecat_pdi EXPORT ecatslaveTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/pdi_client/ecat_pdi.h ${PROJECT_SOURCE_DIR}/pdi_client/ecat_pdi_protocol.h
+        DESTINATION ${ECAT_INSTALL_INCLUDEDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/pdi_client/soes-hal/esc_hw.c ${PROJECT_SOURCE_DIR}/pdi_client/soes-hal/esc_hw.h
+        DESTINATION ${ECAT_INSTALL_DATADIR}/soes-hal)
 
 # --- programs --------------------------------------------------------------------------
 ecat_install_program(ecat-esigen "ESI, SII EEPROM image and C++ tables from an EtherCAT device description")

@@ -166,6 +166,9 @@ class Esc final : public Pdi {
   // Lets a host decide which slaves' firmware to run after a frame without
   // depending on the mask the firmware chose.
   bool pdi_attention() const noexcept { return al_event() != 0; }
+  // The AL event request 0x0220 as a PDI read would see it (DC bits ORed
+  // in), without the read's side effects: a PDI host's interrupt line.
+  std::uint32_t al_event_request() const noexcept { return al_event(); }
   // The earliest time the ESC's own timers (watchdogs, SII busy) need to
   // run; Nanoseconds::max() when none is armed. DC SYNC is in dc().poll().
   Nanoseconds next_timer() const noexcept { return next_timer_; }

@@ -92,6 +92,17 @@ struct EscConfig {
   // access through the per-byte checked handlers instead - same behaviour,
   // slower; the tests run both and compare (tests/esc/esc_fast_path_test.cpp).
   bool fast_paths = true;
+
+  // A PDI read of SM n's status register 0x0805+8n also clears AL event bit
+  // 8+n. Silicon does not do this: the bit mirrors the status interrupt bits,
+  // which only an access to the buffer clears (Section II 0x0220, 0x0805), and
+  // SOES depends on it (docs/pdi-host.md). The built-in firmware (slave::
+  // Firmware) still relies on the clearing to let its IRQ drop - without it
+  // it is woken on every frame (tests/slave/firmware_events_test.cpp,
+  // spi_cycle_cost_test.cpp) - so it stays the default until that firmware
+  // clears its events as on silicon; a slave whose firmware is another
+  // process (SlaveOptions::external_firmware) gets silicon's rule.
+  bool sm_status_read_clears_event = true;
 };
 
 }  // namespace ecat::esc

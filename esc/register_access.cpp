@@ -91,7 +91,12 @@ std::uint8_t Esc::reg_read_byte(std::uint16_t a, Side side) noexcept {
       const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
       const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
       if (n < config_.sync_manager_count && off == reg::sm::kActivate) clear_al_event(bits::kAlEventSmActivation);
-      if (n < config_.sync_manager_count && off == reg::sm::kStatus) clear_al_event(1u << (bits::kAlEventSmShift + n));
+      // The SM interrupt bits 8+n mirror SM status bits 0/1, which on silicon
+      // only an access to the buffer clears (Section II 0x0220, 0x0805); see
+      // EscConfig::sm_status_read_clears_event.
+      if (config_.sm_status_read_clears_event && n < config_.sync_manager_count && off == reg::sm::kStatus) {
+        clear_al_event(1u << (bits::kAlEventSmShift + n));
+      }
     }
   } else {
     // ECAT reads that acknowledge: AL status (0x0210.3), DL status (0x0210.2), SM status.

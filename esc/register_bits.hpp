@@ -47,6 +47,7 @@ inline constexpr unsigned kDlCommunicationShift = 9; // bit 9 + 2 port
 inline constexpr std::uint8_t kAlControlWritable = 0x3F;  // state, ack, id request
 inline constexpr std::uint8_t kAlStatusWritable = 0x3F;   // state, ErrInd, id loaded
 inline constexpr std::uint8_t kAlStateMask = 0x0F;
+inline constexpr std::uint8_t kAlErrorInd = 0x10;         // AL status bit 4 / AL control bit 4 (ack)
 inline constexpr std::uint16_t kAlStatusReset = 0x0001;   // Init
 inline constexpr std::uint16_t kAlControlReset = 0x0001;
 

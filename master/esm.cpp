@@ -18,22 +18,38 @@ Expected<AlStatus, MasterError> Master::read_al_status(std::size_t slave) {
   return s;
 }
 
-Expected<AlStatus, MasterError> Master::poll_state(std::size_t slave, std::uint8_t wanted) {
+Expected<AlStatus, MasterError> Master::poll_state(std::size_t slave, std::uint8_t wanted, bool ack) {
   AlStatus last;
+  bool seen = false;
   for (PollBudget budget(clock_, config_.state_timeout, config_.max_polls); budget.next();) {
     auto s = read_al_status(slave);
     if (!s) return fail(s.error());
     last = *s;
-    if (last.error()) return last;  // refused (or an earlier error not acknowledged)
-    if (last.state() == wanted) return last;
+    seen = true;
+    // Refused (or an earlier error not acknowledged). When this request
+    // acknowledges, the error may still be the old one: a µC that polls
+    // takes the request some time after the write (docs/pdi-host.md).
+    if (last.error() && !ack) return last;
+    if (!last.error() && last.state() == wanted) return last;
   }
+  if (ack && seen && last.error()) return last;  // the acknowledge was refused
   return fail(MasterError::StateTimeout);
 }
 
 Expected<AlStatus, MasterError> Master::write_al_control(std::size_t slave, std::uint16_t value) {
   if (auto c = check_slave(slave); !c) return fail(c.error());
-  if (auto r = fpwr_u16(slaves_[slave].station_address, reg::kAlControl, value); !r) return fail(r.error());
-  return poll_state(slave, static_cast<std::uint8_t>(value & kAlStateMask));
+  // Without device emulation AL control is a one-deep mailbox: after an
+  // ECAT write the ESC refuses the next one (WKC 0) until the slave's µC
+  // has read it (Section II 0x0120). A µC that polls may not have read the
+  // previous request yet: write again until it takes it, within the state
+  // timeout (docs/pdi-host.md: a firmware in another process shows it).
+  Expected<void, MasterError> written = fail(MasterError::WorkingCounter);
+  for (PollBudget budget(clock_, config_.state_timeout, config_.max_polls); budget.next();) {
+    written = fpwr_u16(slaves_[slave].station_address, reg::kAlControl, value);
+    if (written || written.error() != MasterError::WorkingCounter) break;
+  }
+  if (!written) return fail(written.error());
+  return poll_state(slave, static_cast<std::uint8_t>(value & kAlStateMask), (value & kAlErrorBit) != 0);
 }
 
 Expected<AlStatus, MasterError> Master::request_state(std::size_t slave, AlState state, bool ack) {

@@ -214,7 +214,10 @@ class Master {
   std::optional<std::size_t> reference_clock() const noexcept { return reference_clock_; }
 
  private:
-  Expected<AlStatus, MasterError> poll_state(std::size_t slave, std::uint8_t wanted);
+  // Polls AL status until `wanted` or an error shows; with `ack` (the request
+  // acknowledged an error) an error shown is the old one until the slave has
+  // taken the request: polled on until it clears or the time is up.
+  Expected<AlStatus, MasterError> poll_state(std::size_t slave, std::uint8_t wanted, bool ack);
   Expected<void, MasterError> sii_wait_idle(std::uint16_t station, std::uint16_t& status);
   Expected<std::size_t, MasterError> sii_read_word(std::uint16_t station, std::uint16_t word_address, Bytes out,
                                                    bool idle);

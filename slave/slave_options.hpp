@@ -37,6 +37,12 @@ struct SlaveOptions {
   // Keep a per-cycle motion trace of the drive (for --plot).
   bool motion_trace = false;
   PdiKind pdi = PdiKind::Direct;
+  // The firmware runs outside, in another process attached to the ESC's PDI
+  // (ecat-slave --pdi-host, docs/pdi-host.md): the built-in firmware never
+  // touches this ESC (it is built over a detached PDI, so the control
+  // interface still finds a dictionary), and the ESC behaves as silicon
+  // whose µC is whatever the other process does.
+  bool external_firmware = false;
   pdi_spi::Lan9252Options lan9252{};  // with PdiKind::Lan9252
   // Time a frame spends inside this slave's ESC (esc::EscConfig
   // processing_delay / forwarding_delay; docs/esc.md "Forwarding delays

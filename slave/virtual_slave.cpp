@@ -27,6 +27,8 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   s->device_ = std::move(device);
   auto config = esc_config_for(*s->device_, options.delay_figures);
   if (!config) return fail(config.error());
+  // Another process's firmware (SOES) meets silicon's SM event rule.
+  if (options.external_firmware) config->sm_status_read_clears_event = false;
   if (options.processing_delay) config->processing_delay = *options.processing_delay;
   if (options.forwarding_delay) {  // the slave's own figure, every port alike
     config->forwarding_delay = *options.forwarding_delay;
@@ -40,7 +42,12 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
                             "there is no firmware to run over SPI"));
   }
   esc::Pdi* pdi = s->esc_.get();
-  if (options.pdi == PdiKind::Lan9252) {
+  if (options.external_firmware) {
+    if (options.pdi != PdiKind::Direct) return fail(std::string("an external firmware brings its own PDI"));
+    s->has_firmware_ = false;
+    s->detached_ = std::make_unique<DetachedPdi>();
+    pdi = s->detached_.get();
+  } else if (options.pdi == PdiKind::Lan9252) {
     s->chip_ = std::make_unique<pdi_spi::EmulatedLan9252>(*s->esc_);
     auto backend = std::make_unique<pdi_spi::Lan9252Pdi>(*s->chip_, options.lan9252);
     if (!backend->init()) return fail(fmt::format("LAN9252 bring-up: {}", backend->error()));
@@ -59,7 +66,8 @@ Expected<void, std::string> VirtualSlave::power_on() {
   if (spi_pdi_) return fail(std::string("power-on is not emulated for a slave with an SPI PDI"));
   esc_->reset();  // power-up register values, EEPROM loaded (Section II 0x0000-0x0F00 reset values)
   firmware_.reset();  // the µC starts from scratch: its parameter store is opened again
-  firmware_ = std::make_unique<Firmware>(*esc_, *device_, options_);
+  esc::Pdi* pdi = detached_ ? static_cast<esc::Pdi*>(detached_.get()) : esc_.get();
+  firmware_ = std::make_unique<Firmware>(*pdi, *device_, options_);
   if (probe_) firmware_->attach_trace(*probe_);
   esc_next_.reset();
   esc_wake_ = Nanoseconds::max();
@@ -101,6 +109,11 @@ SlaveStatus VirtualSlave::status() const noexcept {
   if (!has_firmware_) {
     // No µC: the state is what the ESC shows (device emulation).
     s.state = static_cast<esc::AlState>(esc_->memory()[esc::reg::kAlStatus] & esc::bits::kAlStateMask);
+  }
+  if (detached_) {
+    // A firmware in another process: what it left in AL status and code.
+    s.error = (esc_->memory()[esc::reg::kAlStatus] & esc::bits::kAlErrorInd) != 0;
+    s.code = static_cast<esc::AlStatusCode>(load_le<std::uint16_t>(esc_->memory() + esc::reg::kAlStatusCode));
   }
   // The ESC counts process-data watchdog expiries itself (0x0442, saturating).
   s.watchdog_expiries = esc_->memory()[esc::reg::kWatchdogCounterProcessData];

@@ -19,6 +19,7 @@
 #include "od/device.hpp"
 #include "pdi_spi/emulated_chip.hpp"
 #include "pdi_spi/spi_pdi.hpp"
+#include "slave/detached_pdi.hpp"
 #include "slave/firmware.hpp"
 #include "slave/slave_options.hpp"
 #include "slave/slave_stats.hpp"
@@ -111,6 +112,9 @@ class VirtualSlave {
   // never runs; with device emulation
   // (0x0141 bit 0) the ESC itself copies AL control into AL status.
   bool has_firmware_ = true;
+  // SlaveOptions::external_firmware: the built-in firmware sits on this
+  // instead of the ESC and never runs.
+  std::unique_ptr<DetachedPdi> detached_;
 };
 
 }  // namespace ecat::slave

@@ -73,6 +73,8 @@ class UdpTransport final : public Transport {
 
   std::uint16_t local_port() const noexcept;
   std::size_t socket_count() const noexcept { return count_; }
+  // Socket i (< socket_count()), to wait on it with other descriptors.
+  int socket_fd(std::size_t i) const noexcept { return fds_[i].get(); }
   // Whether every socket is bound to a loopback address (127.0.0.0/8, ::1):
   // then only this machine can reach the slave.
   bool loopback_only() const noexcept;

@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <vector>
 #include <memory>
 #include <optional>
 
@@ -35,6 +36,7 @@ struct Options {
   std::vector<std::string> devices;
   unsigned count = 1;
   std::string record;
+  std::vector<std::string> sdo_reads;  // --sdo-read INDEX:SUB (hex)
   double period_us = 1000;
   double dc_lead_us = -1;
   int rt_priority = 0;
@@ -131,6 +133,9 @@ int main(int argc, char** argv) {
                  "With --dc: send each cyclic frame to reach the reference clock this long before SYNC0, locked "
                  "to the DC system time (default half the period; 0: no phase lock)")
       ->check(CLI::Range(0.0, 1e6));
+  cli.add_option("--sdo-read", o.sdo_reads,
+                 "In PreOp, upload object INDEX:SUB (hex, e.g. 1018:01) from every CoE slave and print its bytes "
+                 "(repeatable)");
   cli.add_flag("--recover", o.session.recover,
                "Acknowledge a slave that left Op with an error and request Op again (state checked every 100 cycles)");
   cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
@@ -154,6 +159,16 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   o.session.period = ecat::Nanoseconds{static_cast<std::int64_t>(o.period_us * 1e3)};
+  for (const std::string& text : o.sdo_reads) {
+    unsigned index = 0;
+    unsigned sub = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%x:%x%c", &index, &sub, &tail) != 2 || index > 0xFFFF || sub > 0xFF) {
+      std::fprintf(stderr, "ecat-master: --sdo-read %s: expected INDEX:SUB in hex, e.g. 1018:01\n", text.c_str());
+      return kExitUsage;
+    }
+    o.session.sdo_reads.emplace_back(static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub));
+  }
   if (o.dc_lead_us >= 0) {
     if (o.dc_lead_us >= o.period_us) {
       std::fprintf(stderr, "ecat-master: --dc-lead-us must be below the period (see --help)\n");

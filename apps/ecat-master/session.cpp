@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "apps/ecat-master/cia402_motion.hpp"
 #include "apps/ecat-master/error_text.hpp"
@@ -93,6 +94,11 @@ Expected<void, std::string> Session::configure_slave(std::size_t i) {
   auto pdos = PdoLocator::read(coe);
   if (!pdos) return fail(fmt::format("slave {}: {}", i + 1, pdos.error()));
   pdos_[i] = std::move(*pdos);
+  for (const auto& [index, sub] : o_.sdo_reads) {
+    auto v = coe.upload(index, sub);
+    if (!v) return fail(fmt::format("slave {}: SDO upload {:04X}h:{:02X}: {}", i + 1, index, sub, error_text(v.error())));
+    fmt::print("slave {} sdo {:04X}h:{:02X} = {:02X}\n", i + 1, index, sub, fmt::join(*v, " "));
+  }
   auto bits = [](const std::vector<MappedObject>& side) {
     std::uint32_t n = 0;
     for (const auto& m : side) n += m.bits;

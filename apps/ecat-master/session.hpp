@@ -37,6 +37,9 @@ struct SessionOptions {
   bool recover = false;
   bool topology = false;   // print each slave's parent, port and (with dc) delay (topology_report.hpp)
   bool scan_only = false;  // stop after the scan (and the topology print); no state change
+  // --sdo-read: objects uploaded from every CoE slave in PreOp and printed
+  // ("slave N sdo IIIIh:SS = bytes"), e.g. to check a firmware's dictionary.
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> sdo_reads;
 };
 
 struct SessionReport {

@@ -24,6 +24,7 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
     so.name = fmt::format("slave-{}", i + 1);
     if (i < options.ppm.size()) so.clock_ppm = options.ppm[i];
     so.motion_trace = i == 0 && !options.plot_svg.empty();
+    so.external_firmware = i == 0 && !options.pdi_host.empty();
     const TopologySlave* placed = options.topology && i < options.topology->slaves.size()
                                       ? &options.topology->slaves[i] : nullptr;
     if (placed) {

@@ -94,6 +94,13 @@ int main(int argc, char** argv) {
   cli.add_flag("--lan9252-lean", o.lan9252_lean,
                "LAN9252: FAST READ, PRAM address+command in one write, CSR data read without polling "
                "(8 instead of 11 transactions per cycle; not confirmed on the data sheet, docs/real-esc.md)");
+  auto* pdi_host = cli.add_option("--pdi-host", o.pdi_host,
+                                  "The first slave's firmware is another process: its ESC's PDI is offered on this "
+                                  "Unix socket PATH (mode 0600; docs/pdi-host.md, libecat_pdi, the SOES HAL)");
+  auto* pdi_chip = cli.add_option("--pdi-chip", o.pdi_chip,
+                                  "With --pdi-host: the PDI the firmware gets: direct (ESC memory reads/writes, "
+                                  "default), lan9252 or et1100-spi (the chip's SPI transactions)")
+                       ->check(CLI::IsMember({"direct", "lan9252", "et1100-spi"}));
   auto* control = cli.add_option("--control", o.control,
                                  "Control interface (docs/control.md, JSON lines): a Unix socket PATH (mode 0600), "
                                  "or [ADDR:]PORT for TCP (127.0.0.1 unless ADDR is named)");
@@ -123,7 +130,7 @@ int main(int argc, char** argv) {
                  "0 = never; docs/e2e.md)")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{60'000'000}));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
-  cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
+  auto* trace = cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");
   cli.add_flag("--keep-privileges", o.keep_privileges, "Do not drop root after opening the raw socket");
   cli.add_flag("-q,--quiet", o.quiet, "Print only errors");
@@ -139,6 +146,9 @@ int main(int argc, char** argv) {
   allow->needs(udp);
   pdi->excludes(iface)->excludes(pin)->excludes(udp);
   red->needs(iface);
+  pdi_host->excludes(pin)->excludes(pdi);
+  pdi_chip->needs(pdi_host);
+  pdi_host->excludes(trace);  // both take the ESC's DC observer (SYNC pulses)
   control->excludes(pin)->excludes(pdi);
   scenario->excludes(pin)->excludes(pdi);
   junit->needs(scenario);

@@ -58,6 +58,12 @@ struct SlaveProgramOptions {
   std::string irq_gpio;       // CHIP:OFFSET, e.g. /dev/gpiochip0:25
   bool lan9252_lean = false;  // FAST READ, one PRAM setup write, no CSR busy poll
 
+  // --pdi-host PATH: the first slave's firmware is another process, attached
+  // to its ESC's PDI over this Unix socket (docs/pdi-host.md); --pdi-chip:
+  // the PDI it gets (direct, lan9252, et1100-spi).
+  std::string pdi_host;
+  std::string pdi_chip = "direct";
+
   // --control: the control interface (docs/control.md), a Unix socket path
   // or [ADDR:]PORT (TCP, 127.0.0.1 when only a port is given); empty: none.
   std::string control;

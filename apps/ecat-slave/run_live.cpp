@@ -10,6 +10,7 @@
 
 #include "apps/ecat-slave/chain_setup.hpp"
 #include "apps/ecat-slave/control_setup.hpp"
+#include "apps/ecat-slave/pdi_host_setup.hpp"
 #include "scenario/junit_report.hpp"
 #include "apps/ecat-slave/realtime.hpp"
 #include "apps/ecat-slave/runners.hpp"
@@ -142,6 +143,16 @@ Expected<Medium, std::string> open_udp(const SlaveProgramOptions& o) {
   return Medium{std::move(owned), udp, nullptr, -1};
 }
 
+// The descriptors a frame may come on: the raw socket, or the UDP sockets.
+std::size_t medium_fds(const Medium& m, pollfd* out) {
+  if (!m.udp) {
+    out[0] = pollfd{m.fd, POLLIN, 0};
+    return 1;
+  }
+  for (std::size_t i = 0; i < m.udp->socket_count(); ++i) out[i] = pollfd{m.udp->socket_fd(i), POLLIN, 0};
+  return m.udp->socket_count();
+}
+
 Expected<Medium, std::string> open_medium(const SlaveProgramOptions& o) {
   return o.iface.empty() ? open_udp(o) : open_raw(o);
 }
@@ -249,6 +260,13 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     std::fprintf(stderr, "ecat-slave: %s\n", control.error().c_str());
     return 1;
   }
+  // --pdi-host: the first slave's firmware in another process (docs/pdi-host.md).
+  auto pdi_host = open_pdi_host(o, line, clock);
+  if (!pdi_host) {
+    std::fprintf(stderr, "ecat-slave: %s\n", pdi_host.error().c_str());
+    return 1;
+  }
+  pdi_host::PdiHost* host = pdi_host->get();
   std::vector<slave::FaultId> cut;  // link_cut faults engaged by the last SIGUSR2
   std::vector<std::optional<slave::FaultId>> corrupting(corrupted->size());
   bool links_cut = false;
@@ -267,6 +285,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       wait = std::min(wait, std::max(*due - clock.now(), Nanoseconds{0}));
     }
     if (*control && (*control)->scenario) wait = std::min(wait, (*control)->scenario->until_due(clock.now()));
+    if (host && host->busy()) wait = Nanoseconds{0};
     if (g_toggle_links) {
       g_toggle_links = 0;
       links_cut = !links_cut;
@@ -308,16 +327,32 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     // With a redundant port: wait on both sockets, then take a frame from
     // the one that has it (the master port it arrived on).
     unsigned port = 0;
-    if (medium->redundant) {
-      std::array<pollfd, esc::kMasterPorts> fds{{{medium->fd, POLLIN, 0}, {medium->redundant->fd(), POLLIN, 0}}};
+    bool host_ready = false;  // the firmware sent something or connects
+    if (host && !medium->redundant) {
+      // Frames or the firmware, whichever comes first.
+      std::array<pollfd, transport::UdpTransport::kMaxSockets + kPdiHostFds> fds{};
+      const std::size_t first_host = medium_fds(*medium, fds.data());
+      const std::size_t n = first_host + host->fds(fds.data() + first_host, fds.size() - first_host);
+      const timespec ts{static_cast<time_t>(wait.count() / 1'000'000'000), static_cast<long>(wait.count() % 1'000'000'000)};
+      if (::ppoll(fds.data(), n, &ts, nullptr) > 0) {
+        for (std::size_t i = first_host; i < n; ++i) host_ready |= fds[i].revents != 0;
+      }
+      wait = Nanoseconds{0};
+    } else if (medium->redundant) {
+      std::array<pollfd, esc::kMasterPorts + kPdiHostFds> fds{{{medium->fd, POLLIN, 0}, {medium->redundant->fd(), POLLIN, 0}}};
+      const std::size_t n = esc::kMasterPorts + (host ? host->fds(fds.data() + esc::kMasterPorts, kPdiHostFds) : 0);
       const auto ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(wait).count());
-      if (::poll(fds.data(), fds.size(), ms) > 0) {
+      if (::poll(fds.data(), n, ms) > 0) {
+        for (std::size_t i = esc::kMasterPorts; i < n; ++i) host_ready |= fds[i].revents != 0;
         port = (fds[0].revents & POLLIN) != 0 ? 0 : 1;
         if ((fds[0].revents & POLLIN) != 0 && (fds[1].revents & POLLIN) != 0) port = next_port;
         next_port = 1 - next_port;  // both ready: take them in turn
       }
       wait = Nanoseconds{0};
     }
+    // The firmware is answered between frames, not only when none waits:
+    // a master polling back to back must not starve it.
+    if (host && (host_ready || host->busy())) host->service(clock.now());
     transport::Transport& in = port == 0 ? t : *medium->redundant;
     auto r = in.receive_stamped(buffer, wait);
     if (r) {
@@ -340,6 +375,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       }
       send_held_replies(faults, clock.now(), buffer, t, medium->redundant.get(), o.quiet);
       line.run_firmware(at);
+      if (host) host->notify(at);
       continue;
     }
     // A datagram dropped by policy (UDP source or length) is no error: time
@@ -352,6 +388,11 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     drained = r.error() == transport::TransportError::Timeout;
     send_held_replies(faults, clock.now(), buffer, t, medium->redundant.get(), o.quiet);
     deadline = line.poll(clock.now());
+    if (host) {
+      host->notify(clock.now());  // SYNC pulses and events of the timers just run
+      // The firmware's accesses may have armed a watchdog or changed events.
+      deadline = line.poll(clock.now());
+    }
     if (*control && (*control)->server) (*control)->server->service(clock.now());
     if (*control && (*control)->scenario) {
       scenario::ScenarioRunner& run = *(*control)->scenario;

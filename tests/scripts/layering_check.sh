@@ -9,6 +9,7 @@ declare -A allowed=(
   [od]="common od"
   [esc]="common esc"
   [pdi_spi]="common esc pdi_spi"
+  [pdi_host]="common esc pdi_spi pdi_client pdi_host"
   [coe]="common od esc coe"
   [ds402]="common od esc coe ds402"
   [esi]="common od esi"

@@ -1,0 +1,148 @@
+#!/usr/bin/env bash
+# Firmware in the loop (issue 28): unmodified SOES sample applications
+# (rt-labs/SOES, OpenEtherCATsociety/SOES) built against the SOES HAL of
+# pdi_client/soes-hal and libecat_pdi, run on the ESC that
+# `ecat-slave --udp PORT --esi SAMPLE/slave.xml --pdi-host SOCKET` emulates:
+#  - linux_lan9252demo: a CoE slave with its own dictionary (LEDs out,
+#    button in, parameter 8000h);
+#  - raspberry_lan9252demo: the digital I/O sample (6 LEDs, 6 buttons); its
+#    board GPIO (bcm2835.h) is a bench stub written here, the sample's own
+#    files are compiled as they are.
+# For each: ecat-master over UDP to Op, 2000 cycles with the expected WKC
+# on every cycle (no WKC error, no state error, no frame lost), SDO uploads
+# of 1018h:01 and 1008h from SOES's dictionary with their values, and
+# ecat-conform's table printed (its verdicts are recorded in
+# docs/pdi-host.md, not checked here).
+# SOES is not in the repository and not a Debian package: its sources are
+# taken from $ECAT_SOES_SRC (a checkout); unset, or without a C compiler,
+# the test is skipped (exit 77). Everything is built in a temporary
+# directory outside the repository.
+# Usage: e2e_soes.sh SRCDIR BUILDDIR
+set -uo pipefail
+src=${1:?srcdir}
+build=${2:?builddir}
+soes=${ECAT_SOES_SRC:-}
+[ -n "$soes" ] || { echo "skip: ECAT_SOES_SRC is not set (path of a SOES checkout; docs/pdi-host.md)"; exit 77; }
+[ -f "$soes/soes/esc.c" ] || { echo "skip: ECAT_SOES_SRC=$soes has no soes/esc.c (not a SOES checkout)"; exit 77; }
+cc=${CC:-cc}
+command -v "$cc" > /dev/null || { echo "skip: no C compiler ($cc)"; exit 77; }
+for b in ecat-slave ecat-master ecat-conform; do
+  [ -x "$build/bin/$b" ] || { echo "skip: $build/bin/$b not built"; exit 77; }
+done
+
+work=$(mktemp -d /tmp/e2e_soes.XXXXXX)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2> /dev/null; done
+  wait 2> /dev/null
+  rm -rf "$work"
+}
+trap cleanup EXIT
+status=0
+fail() { echo "FAIL: $*"; status=1; }
+echo "SOES: $soes ($(git -C "$soes" rev-parse --short HEAD 2> /dev/null || echo 'not a git checkout'))"
+
+# The bench's GPIO for the Raspberry Pi sample: outputs kept, inputs low.
+mkdir -p "$work/bench"
+cat > "$work/bench/bcm2835.h" << 'STUB'
+#ifndef BENCH_BCM2835_H
+#define BENCH_BCM2835_H
+#include <stdint.h>
+enum { LOW = 0, HIGH = 1, BCM2835_GPIO_FSEL_INPT = 0, BCM2835_GPIO_FSEL_OUTP = 1, BCM2835_GPIO_PUD_DOWN = 1 };
+enum { RPI_BPLUS_GPIO_J8_15 = 22, RPI_BPLUS_GPIO_J8_16 = 23, RPI_BPLUS_GPIO_J8_18 = 24,
+       RPI_BPLUS_GPIO_J8_29 = 5, RPI_BPLUS_GPIO_J8_31 = 6, RPI_BPLUS_GPIO_J8_32 = 12,
+       RPI_BPLUS_GPIO_J8_33 = 13, RPI_BPLUS_GPIO_J8_35 = 19, RPI_BPLUS_GPIO_J8_36 = 16,
+       RPI_BPLUS_GPIO_J8_37 = 26, RPI_BPLUS_GPIO_J8_38 = 20, RPI_BPLUS_GPIO_J8_40 = 21 };
+static uint8_t bench_gpio[64];
+static inline int bcm2835_init(void) { return 1; }
+static inline void bcm2835_gpio_fsel(uint8_t pin, uint8_t mode) { (void)pin; (void)mode; }
+static inline void bcm2835_gpio_set_pud(uint8_t pin, uint8_t pud) { (void)pin; (void)pud; }
+static inline void bcm2835_gpio_write(uint8_t pin, uint8_t on) { bench_gpio[pin & 63] = on; }
+static inline uint8_t bcm2835_gpio_lev(uint8_t pin) { (void)pin; return LOW; }
+#endif
+STUB
+
+# build_sample NAME: SOES's stack, the HAL and libecat_pdi compiled with the
+# sample's own ecat_options.h, then the sample's main.c and object list.
+build_sample() {
+  local name=$1 app="$soes/applications/$1" out="$work/$1"
+  mkdir -p "$out"
+  printf '#ifndef VERSION_H\n#define VERSION_H\n#endif\n' > "$out/version.h"  # SOES's CMake makes it
+  local flags=(-O2 -I"$out" -I"$soes/soes" -I"$soes/soes/include/sys/gcc" -I"$app" -I"$work/bench"
+               -I"$src/pdi_client" -I"$src/pdi_client/soes-hal")
+  local objs=()
+  for f in "$soes"/soes/{esc,esc_coe,esc_foe,esc_eoe,esc_eep,ecat_slv}.c "$src/pdi_client/soes-hal/esc_hw.c" \
+           "$src/pdi_client/ecat_pdi.c"; do
+    local o="$out/$(basename "${f%.c}").o"
+    "$cc" "${flags[@]}" -c "$f" -o "$o" 2>> "$out/build.log" || return 1
+    objs+=("$o")
+  done
+  ar rcs "$out/libsoes.a" "${objs[@]}" || return 1
+  "$cc" "${flags[@]}" -o "$out/firmware" "$app/main.c" "$app/slave_objectlist.c" "$out/libsoes.a" \
+    2>> "$out/build.log"
+}
+
+# As e2e_soem: the emulated ESC runs SCHED_FIFO where that is allowed and
+# the master just below it (E2E_SOES_NO_RT=1: never); the firmware stays at
+# SCHED_OTHER - SOES's watchdog counts its own loop passes, so a master held
+# off the CPU for tens of ms trips it (docs/pdi-host.md).
+slave_rt=()
+master_rt=()
+if [ -z "${E2E_SOES_NO_RT:-}" ] && chrt -f 40 true 2> /dev/null; then
+  slave_rt=(--rt-priority 40)
+  master_rt=(chrt -f 30)
+fi
+# E2E_SOES_ACCESS_NS: extra time per ESC access in the HAL (the pace of a
+# board's SPI; default 0). E2E_SOES_PERIOD_US: the master's cycle (1000).
+access_ns=${E2E_SOES_ACCESS_NS:-0}
+period_us=${E2E_SOES_PERIOD_US:-1000}
+port_base=$((20000 + RANDOM % 20000))
+n=0
+# run_sample NAME DEVICE-NAME: the checks above against one sample.
+run_sample() {
+  local name=$1 device_name=$2 dir="$work/$1"
+  n=$((n + 1))
+  local port=$((port_base + n)) sock="$dir/pdi.sock"
+  "$build/bin/ecat-slave" "${slave_rt[@]}" --udp "$port" --esi "$soes/applications/$name/slave.xml" --pdi-host "$sock" \
+    > "$dir/slave.log" 2>&1 &
+  local slave_pid=$!
+  pids+=("$slave_pid")
+  for _ in $(seq 50); do [ -S "$sock" ] && break; sleep 0.1; done
+  [ -S "$sock" ] || { fail "$name: ecat-slave did not open $sock: $(tail -3 "$dir/slave.log")"; return; }
+  # The ESC is silicon: the firmware's busy loop must not take its CPU.
+  ECAT_PDI_SOCKET="$sock" ECAT_PDI_ACCESS_NS="$access_ns" "$dir/firmware" > "$dir/firmware.log" 2>&1 &
+  local fw_pid=$!
+  pids+=("$fw_pid")
+  # SOES's start-up (ESC reset to Init, SMs disabled, mailbox set-up) before the master comes.
+  for _ in $(seq 50); do grep -q "firmware attached" "$dir/slave.log" && break; sleep 0.1; done
+  sleep 1
+  timeout -s KILL 120 "${master_rt[@]}" "$build/bin/ecat-master" --udp "127.0.0.1:$port" --cycles 2000 --period-us "$period_us" --expect-slaves 1 \
+    --sdo-read 1018:01 --sdo-read 1008:00 > "$dir/master.log" 2>&1
+  local rc=$?
+  echo "--- $name: ecat-master"; cat "$dir/master.log"
+  [ "$rc" -eq 0 ] || fail "$name: ecat-master exit $rc"
+  grep -q "all 1 slave(s) in Op" "$dir/master.log" || fail "$name: Op not reached"
+  grep -qE "^cycles 2000 lost 0 wkc-errors 0 state-errors 0 " "$dir/master.log" ||
+    fail "$name: not 2000 cycles with the expected WKC and no state error"
+  grep -q "slave 1 sdo 1018h:01 = 37 13 00 00" "$dir/master.log" || fail "$name: 1018h:01 is not SOES's vendor 1337h"
+  local hex
+  hex=$(printf '%s' "$device_name" | od -An -tx1 | tr -s ' \n' ' ' | sed 's/^ //; s/ $//' | tr a-f A-F)
+  grep -qF "slave 1 sdo 1008h:00 = $hex" "$dir/master.log" || fail "$name: 1008h is not '$device_name'"
+  kill -0 "$fw_pid" 2> /dev/null || fail "$name: the firmware died: $(tail -3 "$dir/firmware.log")"
+  timeout -s KILL 300 "$build/bin/ecat-conform" --udp "127.0.0.1:$port" > "$dir/conform.log" 2>&1
+  echo "--- $name: ecat-conform (exit $?)"; cat "$dir/conform.log"
+  grep -qE "passed|failed|PASS|FAIL" "$dir/conform.log" || fail "$name: ecat-conform printed no table"
+  kill -0 "$slave_pid" 2> /dev/null || fail "$name: ecat-slave died: $(tail -3 "$dir/slave.log")"
+  kill "$fw_pid" "$slave_pid" 2> /dev/null
+  wait "$fw_pid" "$slave_pid" 2> /dev/null
+}
+
+for s in linux_lan9252demo raspberry_lan9252demo; do
+  if ! build_sample "$s"; then
+    fail "$s: build failed: $(tail -5 "$work/$s/build.log")"
+    continue
+  fi
+  run_sample "$s" evb9252_dig
+done
+[ $status -eq 0 ] && echo "e2e_soes: ok"
+exit $status
