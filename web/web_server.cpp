@@ -161,6 +161,12 @@ Expected<std::unique_ptr<WebServer>, std::string> WebServer::open(const WebOptio
   impl->url = fmt::format("http://{}{}{}:{}/", v6 ? "[" : "", ep->host, v6 ? "]" : "", port);
   Impl* m = impl.get();
   impl->thread = std::thread([m] { m->http.listen_after_bind(); });
+  // stop() only ends a server that is running: wait until it is, so that
+  // closing right after open() cannot leave the thread listening for ever.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!impl->http.is_running() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   return std::unique_ptr<WebServer>(new WebServer(std::move(impl)));
 }
 
