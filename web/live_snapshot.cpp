@@ -49,11 +49,6 @@ const std::vector<bool>& LiveSnapshot::drives(std::size_t slaves) {
 json LiveSnapshot::take() {
   json network = result_of(handler_, {{"cmd", "network"}});
   const std::size_t slaves = network["slaves"].size();
-  json pdo = json::array();
-  for (std::size_t i = 0; i < slaves; ++i) {
-    json r = result_of(handler_, {{"cmd", "pdo"}, {"slave", i}});
-    pdo.push_back(r.is_null() ? json::array() : std::move(r["entries"]));
-  }
   json drive_list = json::array();
   const std::vector<bool>& is_drive = drives(slaves);
   for (std::size_t i = 0; i < slaves; ++i) {
@@ -67,7 +62,6 @@ json LiveSnapshot::take() {
   }
   json faults = result_of(handler_, {{"cmd", "faults"}});
   return json{{"network", std::move(network)},
-              {"pdo", std::move(pdo)},
               {"drives", std::move(drive_list)},
               {"faults", faults.is_null() ? json::array() : std::move(faults["faults"])},
               {"time_ns", result_of(handler_, {{"cmd", "time"}})["time_ns"]}};

@@ -1,8 +1,9 @@
 // What the page redraws from (issue 27): one JSON object built on the loop's
 // tick, a few times a second and only while a page is connected, from the
-// control interface's own commands - "network", "pdo" per slave, "faults",
+// control interface's own commands - "network", "faults",
 // and for CiA 402 drives the objects the plots show - so the page and a
-// Python client see the same data.
+// Python client see the same data. The process data of the slave the page
+// shows is its own "pdo" request (one slave, not all of them each time).
 #pragma once
 
 #include <cstddef>
@@ -21,7 +22,7 @@ class LiveSnapshot {
  public:
   explicit LiveSnapshot(control::RequestHandler& handler) : handler_(handler) {}
 
-  // {"network": .., "pdo": [[entries] per slave], "drives": [{"slave", objects..}],
+  // {"network": .., "drives": [{"slave", objects..}],
   //  "faults": [..], "time_ns": ..}
   nlohmann::json take();
 

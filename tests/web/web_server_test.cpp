@@ -182,7 +182,7 @@ TEST(WebServer, EventsStreamASnapshotAndTheControlInterfacesEvents) {
     EXPECT_EQ(snap["drives"].size(), 2u);
     EXPECT_EQ(snap["drives"][0]["slave"], 0);
     EXPECT_TRUE(snap["drives"][0]["statusword"].is_number());
-    EXPECT_EQ(snap["pdo"].size(), 2u);
+    EXPECT_FALSE(snap.contains("pdo"));  // the page asks for its slave's own
     EXPECT_EQ(snap["faults"], json::array());
   }
   auto engaged = rig.post(R"({"cmd":"fault_engage","kind":"link_cut","slave":0,"port":1})");

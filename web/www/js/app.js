@@ -11,7 +11,8 @@ const HISTORY = 150;  // samples per drive: 30 s at 5 Hz
 const KEEP = 50;      // events in the log, emergencies and SDO writes per slave
 
 const view = { snapshot: null, selected: 0, history: new Map(), emergencies: new Map(), sdoWrites: new Map(),
-               events: [], topologyKey: '', formBuilt: false, lastFrames: null };
+               events: [], topologyKey: '', formBuilt: false, lastFrames: null,
+               pdo: { slave: -1, entries: [], asking: false } };
 const $ = (id) => document.getElementById(id);
 
 function report(text, bad = false) {
@@ -128,7 +129,7 @@ function render() {
   const s = net.slaves[view.selected];
   if (!s) return;
   $('detail-title').textContent = `Slave #${s.position} ${s.name}`;
-  renderDetail($('detail'), { slave: s, pdo: snap.pdo[view.selected] || [], drive: snap.drives.find((d) => d.slave === s.position),
+  renderDetail($('detail'), { slave: s, pdo: view.pdo.slave === s.position ? view.pdo.entries : [], drive: snap.drives.find((d) => d.slave === s.position),
                               history: view.history.get(s.position) || [], emergencies: view.emergencies.get(s.position) || [],
                               sdoWrites: view.sdoWrites.get(s.position) || [], actions });
 }
@@ -142,6 +143,13 @@ async function onSnapshot(snap) {
     if (kinds) buildFaultForm($('fault-form'), kinds.kinds, snap.network.slaves.length, actions);
   }
   render();
+  // The process data of the slave shown: one "pdo" request, not part of the snapshot.
+  if (!view.pdo.asking) {
+    view.pdo.asking = true;
+    const slave = view.selected;
+    request('pdo', { slave }).then((r) => { view.pdo = { slave, entries: r.entries, asking: false }; },
+                                   () => { view.pdo.asking = false; });
+  }
 }
 
 function onState(up) {
