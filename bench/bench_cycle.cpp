@@ -12,6 +12,7 @@
 #include "bench/drive_line.hpp"
 #include "control/control_server.hpp"
 #include "slave/fault_catalogue.hpp"
+#include "bench/http_page.hpp"
 
 namespace ecat::bench {
 namespace {
@@ -109,6 +110,33 @@ BENCHMARK(BM_Cycle_CspFullPass)->Apply(iterations_from_env)->Arg(100)->Arg(1000)
 // within 2 % of BM_Cycle_Csp in the same run).
 void BM_Cycle_CspControlIdle(benchmark::State& state) { run_cycles(state, true, true); }
 BENCHMARK(BM_Cycle_CspControlIdle)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// BM_Cycle_Csp with ecat-slave --http on (issue 27 item 6, docs/performance.md):
+// the web server serviced after every cycle as the live loop does, either
+// with no page (Idle) or with one page's event stream connected (Page: a
+// client thread reading GET /events, so the loop samples events every 10 ms
+// and builds a snapshot of the network every 200 ms).
+void run_http(benchmark::State& state, bool page) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
+  HttpPage http(line->chain(), page);
+  if (!http.error.empty()) {
+    state.SkipWithError(http.error.c_str());
+    return;
+  }
+  http.wait_connected([&] { line->cycle(); http.server->service(line->now()); });
+  for (auto _ : state) {
+    line->cycle();
+    http.server->service(line->now());
+  }
+  if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) state.SkipWithError("drive dropped out");
+  state.counters["stream_bytes"] = static_cast<double>(http.bytes());
+}
+void BM_Cycle_CspHttpIdle(benchmark::State& state) { run_http(state, false); }
+BENCHMARK(BM_Cycle_CspHttpIdle)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Unit(benchmark::kMicrosecond);
+void BM_Cycle_CspHttpPage(benchmark::State& state) { run_http(state, true); }
+BENCHMARK(BM_Cycle_CspHttpPage)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace ecat::bench

@@ -190,6 +190,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/ecatslave DESTINATION ${ECAT_INST
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/xml/devices ${PROJECT_SOURCE_DIR}/xml/profiles
                   ${PROJECT_SOURCE_DIR}/xml/schema
         DESTINATION ${ECAT_INSTALL_DATADIR})
+# The page of ecat-slave --http (docs/webview.md): found by the program as
+# BINDIR/../share/ecatslave/www.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/web/www DESTINATION ${ECAT_INSTALL_DATADIR})
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/docs/api.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
 

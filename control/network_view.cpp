@@ -71,16 +71,32 @@ json slave_view(const slave::VirtualSlave& slave, std::size_t position) {
       {"application_cycles", st.application_cycles}};
 }
 
+json peer_view(const slave::Chain& chain, std::size_t slave, unsigned port) {
+  const auto peer = chain.segment().peer(slave, port);
+  if (!peer) return nullptr;
+  if (peer->master) return json{{"master", peer->port}};
+  return json{{"slave", peer->slave}, {"port", peer->port}};
+}
+
+json slave_view(const slave::Chain& chain, std::size_t position) {
+  json view = slave_view(chain[position], position);
+  for (unsigned p = 0; p < esc::kMaxPorts; ++p) view["ports"][p]["peer"] = peer_view(chain, position, p);
+  return view;
+}
+
 json network_view(const slave::Chain& chain) {
   json slaves = json::array();
-  for (std::size_t i = 0; i < chain.size(); ++i) slaves.push_back(slave_view(chain[i], i));
+  for (std::size_t i = 0; i < chain.size(); ++i) slaves.push_back(slave_view(chain, i));
   const slave::ChainStats& s = chain.stats();
   return json{{"slaves", std::move(slaves)},
               {"frames",
                {{"received", s.frames_received},
                 {"returned", s.frames_returned},
                 {"malformed", s.frames_malformed},
-                {"lost", s.frames_lost}}}};
+                {"lost", s.frames_lost},
+                {"stale", s.frames_stale},
+                {"datagrams", s.datagrams},
+                {"wkc_total", s.wkc_total}}}};
 }
 
 }  // namespace ecat::control

@@ -17,6 +17,11 @@ class VirtualSlave;
 namespace ecat::control {
 
 nlohmann::json slave_view(const slave::VirtualSlave& slave, std::size_t position);
+// Where a port's cable goes: {"slave": n, "port": p}, {"master": master port}
+// or null (nothing cabled).
+nlohmann::json peer_view(const slave::Chain& chain, std::size_t slave, unsigned port);
+// slave_view with each port's "peer".
+nlohmann::json slave_view(const slave::Chain& chain, std::size_t position);
 // {"slaves": [slave_view...], "frames": {...chain counters}}
 nlohmann::json network_view(const slave::Chain& chain);
 

@@ -185,7 +185,7 @@ json RequestHandler::network(const json&) { return network_view(chain_); }
 json RequestHandler::slave(const json& r) {
   const std::size_t i = slave_field(r, chain_);
   const slave::Chain& chain = chain_;
-  return slave_view(chain[i], i);
+  return slave_view(chain, i);
 }
 
 json RequestHandler::read(const json& r) {

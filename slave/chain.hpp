@@ -105,6 +105,7 @@ class Chain {
     rescan_ = true;
     return segment_;
   }
+  const esc::Segment& segment() const noexcept { return segment_; }
   const ChainStats& stats() const noexcept { return stats_; }
 
   // VCD trace of every slave's SYNC pulses, SM events, application cycle and

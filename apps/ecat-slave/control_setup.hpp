@@ -12,6 +12,7 @@
 #include "control/event_queue.hpp"
 #include "control/request_handler.hpp"
 #include "scenario/scenario_runner.hpp"
+#include "web/web_server.hpp"
 
 namespace ecat::slave {
 class Chain;
@@ -28,9 +29,10 @@ struct ControlPlane {
   std::unique_ptr<control::RequestHandler> handler;
   std::unique_ptr<control::ControlServer> server;      // --control
   std::unique_ptr<scenario::ScenarioRunner> scenario;  // --scenario
+  std::unique_ptr<web::WebServer> web;                 // --http
 };
 
-// Null without --control and --scenario; an error names the option and why
+// Null without --control, --http and --scenario; an error names the option and why
 // it cannot listen, or the scenario file's line and what is wrong there.
 Expected<std::unique_ptr<ControlPlane>, std::string> open_control(const SlaveProgramOptions& o, slave::Chain& chain,
                                                                   const Clock& clock, slave::FaultCatalogue& faults);

@@ -104,6 +104,13 @@ int main(int argc, char** argv) {
   auto* control = cli.add_option("--control", o.control,
                                  "Control interface (docs/control.md, JSON lines): a Unix socket PATH (mode 0600), "
                                  "or [ADDR:]PORT for TCP (127.0.0.1 unless ADDR is named)");
+  auto* http = cli.add_option("--http", o.http,
+                              "Serve the browser's live view of the network (docs/webview.md) on [ADDR:]PORT "
+                              "(127.0.0.1 unless ADDR is named; no authentication)");
+  cli.add_option("--http-root", o.http_root,
+                 "Directory of the page's files (default: $ECAT_WWW_DIR, else share/ecatslave/www next to the "
+                 "program)")
+      ->check(CLI::ExistingDirectory);
   auto* scenario = cli.add_option("--scenario", o.scenario,
                                   "Run this scenario file (YAML, docs/scenarios.md) against the masters: steps "
                                   "through the control interface, expectations on what the master does; ecat-slave "
@@ -150,6 +157,7 @@ int main(int argc, char** argv) {
   pdi_chip->needs(pdi_host);
   pdi_host->excludes(trace);  // both take the ESC's DC observer (SYNC pulses)
   control->excludes(pin)->excludes(pdi);
+  http->excludes(pin)->excludes(pdi);
   scenario->excludes(pin)->excludes(pdi);
   junit->needs(scenario);
   topo->excludes(esi)->excludes(eni)->excludes(pdi);

@@ -67,6 +67,10 @@ struct SlaveProgramOptions {
   // --control: the control interface (docs/control.md), a Unix socket path
   // or [ADDR:]PORT (TCP, 127.0.0.1 when only a port is given); empty: none.
   std::string control;
+  // --http [ADDR:]PORT: the browser's view on the control interface
+  // (docs/webview.md), 127.0.0.1 unless ADDR is named; --http-root DIR: its files.
+  std::string http;
+  std::string http_root;
   // --scenario FILE: steps run through the control interface, with a
   // pass/fail summary (docs/scenarios.md); --junit FILE writes it as JUnit XML.
   std::string scenario;

@@ -281,6 +281,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
     }
     if (*control && (*control)->server) wait = std::min(wait, (*control)->server->until_due(clock.now()));
+    if (*control && (*control)->web) wait = std::min(wait, (*control)->web->until_due(clock.now()));
     if (const auto due = faults.next_reply_due()) {  // delay_frames: a held reply's time
       wait = std::min(wait, std::max(*due - clock.now(), Nanoseconds{0}));
     }
@@ -394,6 +395,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       deadline = line.poll(clock.now());
     }
     if (*control && (*control)->server) (*control)->server->service(clock.now());
+    if (*control && (*control)->web) (*control)->web->service(clock.now());  // --http: one comparison between ticks
     if (*control && (*control)->scenario) {
       scenario::ScenarioRunner& run = *(*control)->scenario;
       run.poll(clock.now(), line.stats().frames_received);

@@ -17,6 +17,7 @@ declare -A allowed=(
   [master]="common transport master"
   [slave]="common od esc coe ds402 esi pdi_spi slave"
   [control]="common od esc coe ds402 esi pdi_spi slave control"
+  [web]="common od esc coe ds402 esi pdi_spi slave control web"
 )
 status=0
 for layer in "${!allowed[@]}"; do

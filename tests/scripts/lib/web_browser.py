@@ -1,0 +1,165 @@
+#!/usr/bin/env python3
+"""ecat-slave --http in headless chromium (tests/scripts/web_browser.sh).
+
+5 drives over UDP on loopback, ecat-master bringing them to Op and cycling;
+the page must show 5 slaves in Op, cut the cable between slave #2 and #3 at a
+click, show both ends' link down, restore it at a click and show it up again;
+ecat-master must have counted WKC errors meanwhile. Every wait polls with a
+generous deadline; no sleep decides an outcome.
+"""
+import argparse
+import json
+import re
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+
+from selenium import webdriver
+from selenium.common.exceptions import StaleElementReferenceException, WebDriverException
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+
+SLAVES = 5
+CUT_SLAVE, CUT_PORT = 2, 1      # its port 1 goes on to slave #3's port 0
+PEER_SLAVE, PEER_PORT = 3, 0
+MASTER_CYCLES = 15000           # 1 ms each: the master runs while the page acts
+
+
+OUTPUT = {}  # what ecat-slave and ecat-master printed, shown on failure
+
+
+def free_port(kind):
+    with socket.socket(socket.AF_INET, kind) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_until(what, condition, timeout):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            value = condition()
+            if value:
+                return value
+        except (StaleElementReferenceException, OSError, ValueError):
+            pass  # the page redrew, or the server is not up yet: ask again
+        time.sleep(0.1)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+def api(url, request):
+    req = urllib.request.Request(url + "api", data=json.dumps(request).encode(),
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=10) as r:
+        return json.loads(r.read())["result"]
+
+
+def click(driver, css, what):
+    def attempt():
+        found = driver.find_elements(By.CSS_SELECTOR, css)
+        if not found:
+            return False
+        try:
+            found[0].click()
+        except WebDriverException:  # redrawn or covered just now: ask again
+            return False
+        return True
+    wait_until(f"{what} ({css}) to be clickable", attempt, 20)
+
+
+def link(driver, slave, port):
+    css = f'#slaves .card[data-slave="{slave}"] .port[data-port="{port}"]'
+    found = driver.find_elements(By.CSS_SELECTOR, css)
+    return found[0].get_attribute("data-link") if found else None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--slave", required=True)
+    ap.add_argument("--master", required=True)
+    ap.add_argument("--screenshot", required=True)
+    a = ap.parse_args()
+    started = time.monotonic()
+    udp, http = free_port(socket.SOCK_DGRAM), free_port(socket.SOCK_STREAM)
+    url = f"http://127.0.0.1:{http}/"
+    slave = subprocess.Popen([a.slave, "--udp", str(udp), "--count", str(SLAVES), "--http", str(http), "-q"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    master = driver = None
+    try:
+        wait_until("ecat-slave's page", lambda: urllib.request.urlopen(url, timeout=2).status == 200, 30)
+        master = subprocess.Popen([a.master, "--udp", f"127.0.0.1:{udp}", "--cycles", str(MASTER_CYCLES),
+                                   "--recover", "-q"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        options = webdriver.ChromeOptions()
+        options.binary_location = "/usr/bin/chromium"
+        for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                    "--window-size=1100,1500"):
+            options.add_argument(arg)
+        driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+        driver.set_page_load_timeout(30)
+        driver.get(url)
+        wait_until("5 slaves in OP on the page", lambda: len(driver.find_elements(
+            By.CSS_SELECTOR, '#slaves .card[data-state="OP"]')) == SLAVES, 40)
+        print(f"page: {SLAVES} slaves in OP after {time.monotonic() - started:.1f} s")
+        assert link(driver, CUT_SLAVE, CUT_PORT) == "up" and link(driver, PEER_SLAVE, PEER_PORT) == "up"
+
+        assert master.poll() is None, "ecat-master ended before the cable was cut (host too slow?)"
+        click(driver, f'#topology button.cut[data-slave="{CUT_SLAVE}"][data-port="{CUT_PORT}"]', "Cut cable")
+        wait_until("both ends of the cut cable shown down", lambda: link(driver, CUT_SLAVE, CUT_PORT) == "down"
+                   and link(driver, PEER_SLAVE, PEER_PORT) == "down", 20)
+        wait_until("the cut marked in the tree", lambda: driver.find_elements(
+            By.CSS_SELECTOR, f'#topology [data-cut="{CUT_SLAVE}:{CUT_PORT}"]'), 20)
+        print("page: cable cut, both ends down")
+        # The same counters through the control interface: a lost link at each end.
+        net = api(url, {"cmd": "network"})
+        assert net["slaves"][CUT_SLAVE]["ports"][CUT_PORT]["lost_links"] >= 1, net["slaves"][CUT_SLAVE]
+        assert net["slaves"][PEER_SLAVE]["ports"][PEER_PORT]["lost_links"] >= 1, net["slaves"][PEER_SLAVE]
+        click(driver, f'#slaves .card[data-slave="{PEER_SLAVE}"]', "the card of the slave behind the cut")
+        time.sleep(1.0)  # only for the picture: a few plot samples
+        driver.save_screenshot(a.screenshot)
+        print(f"screenshot: {a.screenshot}")
+
+        click(driver, f'#topology button.restore[data-slave="{CUT_SLAVE}"][data-port="{CUT_PORT}"]',
+              "Restore cable")
+        wait_until("both ends up again", lambda: link(driver, CUT_SLAVE, CUT_PORT) == "up"
+                   and link(driver, PEER_SLAVE, PEER_PORT) == "up", 20)
+        print("page: cable restored, both ends up")
+        assert api(url, {"cmd": "faults"})["faults"] == []
+
+        out, _ = master.communicate(timeout=90)
+        m = re.search(r"cycles (\d+) lost (\d+) wkc-errors (\d+)", out)
+        assert m, f"no summary from ecat-master:\n{out}"
+        assert int(m.group(3)) > 0, f"ecat-master counted no WKC errors:\n{out}"
+        print(f"ecat-master: {m.group(0)}")
+        print(f"ok in {time.monotonic() - started:.1f} s")
+        return 0
+    finally:
+        if driver:
+            try:
+                driver.quit()
+            except WebDriverException:
+                pass
+        for p in (master, slave):
+            if p and p.poll() is None:
+                p.terminate()
+                try:
+                    p.wait(timeout=10)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+        for name, p in (("ecat-master", master), ("ecat-slave", slave)):
+            if p and p.stdout and not p.stdout.closed:
+                try:
+                    OUTPUT[name] = p.stdout.read()
+                except (OSError, ValueError):
+                    pass
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main())
+    except AssertionError as e:
+        print(f"FAIL: {e}")
+        for name, text in OUTPUT.items():
+            print(f"--- {name}:\n{text}")
+        sys.exit(1)
