@@ -97,8 +97,8 @@ TEST(FaultDrive, LimitSwitch) {
   EXPECT_EQ(r.error_code(), 0);
   // Moving into it: the limit-switch fault FF03h, its EMCY, 1001h generic + manufacturer.
   r.cycles(20, 200);
-  std::printf("limit: sw %04x code %04x\n", r.statusword(), r.error_code());
-  EXPECT_EQ(r.statusword() & kStateMask, kFault);
+  // Fault 0x0008 | voltage 0x0010 | remote 0x0200 | internal limit 0x0800 (the input is still active).
+  EXPECT_EQ(r.statusword(), 0x0A18);
   EXPECT_EQ(r.error_code(), 0xFF03);
   EXPECT_EQ(upload(coe, kErrorRegister), 0x81u);
   (void)coe.upload_value(kErrorRegister, 0);  // reads the queued EMCY too
@@ -128,11 +128,18 @@ TEST(FaultDrive, QuickStopInputRampsThenSwitchOnDisabled) {
     r.cycles(1);
     sw.push_back(r.statusword());
   }
-  std::printf("qs: %04x %04x ... ", sw[0], sw[1]);
+  // Quick stop active (x00x 0111 | voltage | remote = 0x0217): for the first
+  // two cycles the ramp's start is at the torque limit (bit 11); at rest,
+  // target reached (bit 10, 0x0617) for one cycle; then transition 12 to
+  // Switch on disabled (0x0250).
+  EXPECT_EQ(sw[0] & kStateMask, kQuickStopActive);
+  std::vector<std::pair<std::size_t, std::uint16_t>> changes{{0, sw[0]}};
   for (std::size_t i = 1; i < sw.size(); ++i) {
-    if (sw[i] != sw[i - 1]) std::printf("[%zu]=%04x ", i, sw[i]);
+    if (sw[i] != sw[i - 1]) changes.emplace_back(i, sw[i]);
   }
-  std::printf("\n");
+  EXPECT_EQ(changes, (std::vector<std::pair<std::size_t, std::uint16_t>>{
+                         {0, 0x0A17}, {2, 0x0217}, {140, 0x0617}, {141, 0x0250}}));
+  EXPECT_EQ(r.error_code(), 0);
   // The master's enable sequence is refused while the input is active.
   r.command(0x0006);
   r.cycles(3);
@@ -152,9 +159,12 @@ TEST(FaultDrive, SafeTorqueOff) {
   r.cycles(50, 1000);
   const slave::FaultId id = r.engage("sto", 0);
   r.cycles(1, 1000);
-  std::printf("sto: sw %04x code %04x torque %d\n", r.statusword(), r.error_code(), r.torque());
+  // At once: Fault reaction active (0x021F) with no torque, 603Fh = 5441h.
+  EXPECT_EQ(r.statusword(), 0x021F);
+  EXPECT_EQ(r.error_code(), 0x5441);
+  EXPECT_EQ(r.torque(), 0);
   r.cycles(2, 1000);
-  EXPECT_EQ(r.statusword() & kStateMask, kFault);
+  EXPECT_EQ(r.statusword(), 0x0218);  // Fault
   EXPECT_EQ(r.error_code(), 0x5441);
   EXPECT_EQ(r.torque(), 0);
   EXPECT_EQ(upload(coe, kErrorRegister), 0x21u);  // generic + device profile
@@ -204,8 +214,10 @@ TEST(FaultDrive, BrakeStuck) {
     r.cycles(1, 1000);
     ++cycles;
   }
-  std::printf("brake: after %d cycles sw %04x code %04x pos %d held %d\n", cycles, r.statusword(), r.error_code(),
-              r.position(), held);
+  // 1000 inc per cycle: 6065h (10 000) passed after 10 cycles, held 6066h
+  // (10 ms) more, the fault in the cycle after.
+  EXPECT_EQ(cycles, 23);
+  EXPECT_EQ(r.statusword(), 0x0218);
   EXPECT_EQ(r.error_code(), 0x8611);
   EXPECT_EQ(r.position(), held);
   (void)coe.upload_value(kErrorRegister, 0);
