@@ -150,6 +150,28 @@ TEST(FaultDrive, QuickStopInputRampsThenSwitchOnDisabled) {
   r.enable();
 }
 
+// 605Ah = 6 (quick-stop ramp, stay in Quick stop active): the drive stops
+// and stays there while the input is active; cleared, the master's enable
+// operation (0x0F) takes transition 16 back to Operation enabled.
+TEST(FaultDrive, QuickStopInputStaysInQuickStopActiveWithOption6) {
+  DriveRig r;
+  ASSERT_EQ(r.bring_up(kCycle), "");
+  master::CoeClient coe(r.master, 0);
+  download(coe, kQuickStopOption, 6, 2);
+  r.cycles(2);
+  r.enable();
+  r.cycles(50, 1000);
+  const slave::FaultId id = r.engage("quick_stop_input", 0);
+  r.set_target(r.position());
+  r.cycles(200);
+  EXPECT_EQ(r.statusword(), 0x0617);  // Quick stop active, at rest (target reached)
+  EXPECT_EQ(r.error_code(), 0);
+  ASSERT_TRUE(r.faults.clear(id));
+  r.set_target(r.position());
+  r.cycles(3);
+  EXPECT_EQ(r.statusword() & kStateMask, kOperationEnabled);
+}
+
 TEST(FaultDrive, SafeTorqueOff) {
   DriveRig r;
   ASSERT_EQ(r.bring_up(kCycle), "");
