@@ -74,7 +74,11 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
 
   // Transition 15 needs the faults cleared first (CiA 402-2 §8.1.3).
   // An external fault that is still present survives the reset.
-  if (sm_.fault_reset_edge(in.controlword) && sm_.state() == PdsState::Fault && !external_) clear_faults();
+  // So does safe torque off while its input is active.
+  if (sm_.fault_reset_edge(in.controlword) && sm_.state() == PdsState::Fault && !external_ &&
+      !overrides_.safe_torque_off) {
+    clear_faults();
+  }
   if (external_ && !external_fault_latched()) raise_external_fault(*external_);
 
   StateMachine::Inputs si;
@@ -85,6 +89,7 @@ void Drive::step(const DriveInputs& in, DriveOutputs& out, Nanoseconds cycle) no
   si.shutdown_option = config_.shutdown.pick(in.shutdown_option);
   si.disable_operation_option = config_.disable_operation.pick(in.disable_operation_option);
   si.fault_reaction_option = config_.fault_reaction.pick(in.fault_reaction_option);
+  if (overridden_) [[unlikely]] apply_overrides(si);
   const PdsState before = sm_.state();
   sm_.step(si);
   if (sm_.state() == PdsState::OperationEnabled && before != PdsState::OperationEnabled) enter_mode();

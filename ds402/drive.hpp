@@ -11,6 +11,7 @@
 #include "common/clock.hpp"
 #include "ds402/axis.hpp"
 #include "ds402/drive_config.hpp"
+#include "ds402/drive_overrides.hpp"
 #include "ds402/faults.hpp"
 #include "ds402/homing.hpp"
 #include "ds402/ip_buffer.hpp"
@@ -57,6 +58,10 @@ class Drive {
   // so the next fault reset works.
   void set_external_fault(std::optional<FaultCode> fault) noexcept { external_ = fault; }
   bool external_fault_latched() const noexcept { return (latched_ & kExternalFaultBit) != 0; }
+  // Terminals and brake forced from outside (ds402/drive_overrides.hpp),
+  // from the next step on; a default DriveOverrides removes them.
+  void set_overrides(const DriveOverrides& o) noexcept;
+  const DriveOverrides& overrides() const noexcept { return overrides_; }
 
   // Logical position minus physical position (increments), set by homing.
   double home_shift() const noexcept { return home_shift_; }
@@ -83,6 +88,9 @@ class Drive {
   void monitor(const DriveInputs& in, double dt) noexcept;
   void clear_faults() noexcept;
   void raise_external_fault(const FaultCode& code) noexcept;
+  // What the overrides change in the state machine's inputs (drive_overrides.cpp).
+  void apply_overrides(StateMachine::Inputs& si) noexcept;
+  std::uint32_t forced_digital_inputs() const noexcept;
   // 603Fh, 1001h and the EMCY of a fault just latched.
   void latch(const FaultCode& code) noexcept;
   std::uint16_t mode_bits(const DriveInputs& in, double dt) noexcept;
@@ -170,6 +178,10 @@ class Drive {
   // latched_ bit of the external fault (above the FaultKind bits).
   static constexpr std::uint32_t kExternalFaultBit = 1u << 31;
   std::optional<FaultCode> external_;
+  // latched_ bit of safe torque off (DriveOverrides::safe_torque_off).
+  static constexpr std::uint32_t kSafeTorqueOffBit = 1u << 30;
+  DriveOverrides overrides_{};
+  bool overridden_ = false;  // overrides_.any()
   std::uint16_t error_code_ = 0;
   std::uint8_t error_register_ = 0;
   Timer following_timer_, torque_timer_, position_window_, velocity_window_, speed_zero_;

@@ -67,8 +67,10 @@ void Drive::monitor(const DriveInputs& in, double dt) noexcept {
   }
   // Hardware limit switches, outside homing: moving into one is a fault.
   if (operating && mode_ != OperationMode::Homing) {
-    if (axis_.active(AxisSignal::PositiveLimit, pos) && v > moving) raise_fault(FaultKind::PositiveLimitSwitch);
-    if (axis_.active(AxisSignal::NegativeLimit, pos) && v < -moving) raise_fault(FaultKind::NegativeLimitSwitch);
+    const bool positive = overrides_.positive_limit || axis_.active(AxisSignal::PositiveLimit, pos);
+    const bool negative = overrides_.negative_limit || axis_.active(AxisSignal::NegativeLimit, pos);
+    if (positive && v > moving) raise_fault(FaultKind::PositiveLimitSwitch);
+    if (negative && v < -moving) raise_fault(FaultKind::NegativeLimitSwitch);
   }
   // Software limits (607Dh) in the modes that do not clip their targets.
   const bool clipping = mode_ == OperationMode::ProfilePosition || mode_ == OperationMode::Homing ||

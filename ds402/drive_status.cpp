@@ -96,7 +96,8 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   std::uint16_t status = static_cast<std::uint16_t>(state_bits(s) | sw::kRemote | mode_bits(in, dt));
   if (s != PdsState::NotReadyToSwitchOn) status |= sw::kVoltageEnabled;  // mains assumed present
   if (warning_ || emcy_.dropped() != 0 || ip_record_lost_) status |= sw::kWarning;
-  if (internal_limit_ || plant_.torque_limited()) status |= sw::kInternalLimitActive;
+  const bool limit_input = overrides_.negative_limit || overrides_.positive_limit;  // a forced limit switch
+  if (internal_limit_ || plant_.torque_limited() || limit_input) status |= sw::kInternalLimitActive;
   if (homed_) status |= config_.home_found_bit;
   out.statusword = status;
   out.modes_of_operation_display = static_cast<std::int8_t>(mode_);
@@ -120,7 +121,7 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   out.touch_probe_1_negative = probe_.value(1);
   out.touch_probe_2_positive = probe_.value(2);
   out.touch_probe_2_negative = probe_.value(3);
-  out.digital_inputs = numeric_.digital_inputs;
+  out.digital_inputs = numeric_.digital_inputs | (overridden_ ? forced_digital_inputs() : 0);
   out.supported_drive_modes = config_.supported_modes;
   out.ip_buffer_position = ip_buffer_.ring() ? ip_buffer_.position() : in.ip_buffer_position;
   out.vl_velocity_demand = numeric_.vl_velocity_demand;

@@ -265,6 +265,11 @@ void Plant::step(const LoopDemand& demand, const LoopLimits& limits, double dt) 
 // stops dead (an inelastic stop, resolved once per cycle). NaN: no stop.
 void Plant::apply_hard_stops() noexcept {
   at_hard_stop_ = false;
+  if (held_) [[unlikely]] {  // the brake: the rotor did not move in this step
+    position_ = previous_position_;
+    velocity_ = 0;
+    return;
+  }
   if (!has_hard_stops_) return;
   if (position_ >= p_.positive_hard_stop) {
     position_ = p_.positive_hard_stop;

@@ -116,6 +116,10 @@ class Plant {
 
   // A load torque acting against the motor (N·m), e.g. a stall or collision.
   void set_external_torque(double nm) noexcept { external_torque_ = nm; }
+  // A holding brake that does not release (fault brake_stuck): the rotor
+  // stays where it is whatever torque the motor produces.
+  void set_held(bool held) noexcept { held_ = held; }
+  bool held() const noexcept { return held_; }
 
   double position() const noexcept { return position_; }  // increments
   double velocity() const noexcept { return velocity_; }  // increments/s
@@ -212,6 +216,7 @@ class Plant {
   bool last_was_position_ = false;
   bool torque_limited_ = false;
   bool at_hard_stop_ = false;
+  bool held_ = false;  // set_held: the brake holds the rotor
   bool has_hard_stops_ = false;  // either end stop is set (not NaN)
   void apply_hard_stops() noexcept;
   Path last_path_ = Path::SubSteps;

@@ -14,6 +14,8 @@
 #include "slave/faults/frame_faults.hpp"
 #include "slave/faults/mailbox_faults.hpp"
 #include "slave/faults/reply_faults.hpp"
+#include "slave/faults/dc_faults.hpp"
+#include "slave/faults/drive_faults.hpp"
 
 namespace ecat::slave {
 
@@ -77,6 +79,20 @@ constexpr std::array kDelayParams{
 };
 constexpr std::array kRepeatParams{
     FaultParam{"count", "replies it acts on (0 = every one until cleared; default 1)", false},
+};
+
+constexpr std::array kDcDriftParams{
+    FaultParam{"ppm", "added to the oscillator's error from now on (-5000..5000, not 0; the ESC corrects +-1000)", true},
+};
+constexpr std::array kDcJumpParams{
+    FaultParam{"ns", "the local time steps by this once (signed ns, not 0)", true},
+};
+constexpr std::array kAxisParams{
+    FaultParam{"axis", "axis of a multi-axis drive (0-based, default 0)", false},
+};
+constexpr std::array kLimitSwitchParams{
+    FaultParam{"side", "0: negative limit (60FDh bit 0), 1: positive limit (bit 1)", true},
+    FaultParam{"axis", "axis of a multi-axis drive (0-based, default 0)", false},
 };
 
 constexpr std::array kKinds{
@@ -146,6 +162,26 @@ constexpr std::array kKinds{
     FaultKind{"sdo_toggle_wrong", "every SDO segment reply (upload and download) carries the toggle bit the request "
                                   "did not have",
               true, false, kNoParams},
+    FaultKind{"dc_drift", "the slave's oscillator runs `ppm` off from now on: the time loop corrects it within +-1000 "
+                          "ppm, beyond that the system-time difference 0x092C grows",
+              true, false, kDcDriftParams},
+    FaultKind{"dc_time_jump", "the slave's local time jumps by `ns` once: the system-time difference 0x092C follows",
+              true, false, kDcJumpParams},
+    FaultKind{"sync0_stopped", "the SYNC unit puts out no SYNC0 though 0x0981 stays activated: a DC slave in SafeOp/Op "
+                               "goes to SafeOp | ErrInd with 0x0034 after 3 cycles",
+              true, false, kNoParams},
+    FaultKind{"limit_switch", "a limit switch input (60FDh bit 0/1) goes active: statusword bit 11; motion into it is "
+                              "the limit-switch fault FF04h/FF03h with its EMCY",
+              true, false, kLimitSwitchParams},
+    FaultKind{"quick_stop_input", "the drive's quick-stop input goes active: quick stop per 605Ah (Quick stop active, "
+                                  "then Switch on disabled), no enable while it is active",
+              true, false, kAxisParams},
+    FaultKind{"sto", "safe torque off: no torque at once, Fault with 603Fh = 5441h and its EMCY; fault reset refused "
+                     "while engaged",
+              true, false, kAxisParams},
+    FaultKind{"brake_stuck", "the holding brake does not release: the motor cannot move, so under motion the following "
+                             "error reaches 6065h and the drive faults with 8611h",
+              true, false, kAxisParams},
 };
 
 // The state an AL status code forces when raised at run time
@@ -218,6 +254,8 @@ struct FaultCatalogue::Impl {
     Mailbox,
     Reply,
     Unplug,
+    Dc,
+    DriveInput,
   };
   struct Record {
     EngagedFault fault;
@@ -228,6 +266,9 @@ struct FaultCatalogue::Impl {
     std::vector<unsigned> ports_cut;  // Power, Unplug: the cables it took down
     std::uint8_t saved_byte = 0;      // SiiChecksum: the EEPROM byte it replaced
     faults::MailboxFault mailbox = faults::MailboxFault::CounterFrozen;
+    faults::DcFault dc = faults::DcFault::Drift;  // Dc
+    faults::DcFaultState dc_state;                 // Dc
+    faults::DriveInputFault input;                 // DriveInput (with drive)
   };
   std::map<FaultId, Record> records;
   FaultId next = 1;
@@ -452,7 +493,8 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     rec.where = Impl::Where::Power;
     for (const auto& [other, r] : im.records) {
       if (r.slave != rec.slave) continue;
-      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive || r.where == Impl::Where::Mailbox) {
+      if (r.where == Impl::Where::Esm || r.where == Impl::Where::Drive || r.where == Impl::Where::Mailbox ||
+          r.where == Impl::Where::Dc || r.where == Impl::Where::DriveInput) {
         return fail(fmt::format("{}: slave {} has fault {} ({}) engaged on its firmware: clear it first", k, rec.slave,
                                 other, r.fault.request.kind));
       }
@@ -545,6 +587,27 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     const auto reg =
         static_cast<std::uint8_t>(param(request, "error_register", ds402::error_register_for(code)));
     rec.drive->set_external_fault(ds402::FaultCode{code, reg});
+  } else if (const auto dc = faults::dc_fault(k)) {
+    rec.where = Impl::Where::Dc;
+    rec.dc = *dc;
+    const Nanoseconds now = std::max(chain_.time_seen(), Nanoseconds{0});
+    auto ok = faults::engage(*dc, k, rec.slave, chain_[rec.slave].esc(), now, request.params);
+    if (!ok) return fail(ok.error());
+    rec.dc_state = *ok;
+  } else if (const auto input = faults::drive_input(k)) {
+    if (auto ok = in_range(k, request, "axis", 0, 0xFF); !ok) return fail(ok.error());
+    Application* app = chain_[rec.slave].firmware().application();
+    const auto axis = static_cast<std::size_t>(param(request, "axis", 0));
+    rec.drive = app ? app->drive(axis) : nullptr;
+    if (rec.drive == nullptr) {
+      return fail(fmt::format("{}: slave {} runs no CiA 402 drive{}", k, rec.slave,
+                              axis == 0 ? "" : fmt::format(" with an axis {}", axis)));
+    }
+    rec.where = Impl::Where::DriveInput;
+    rec.port = static_cast<unsigned>(axis);
+    auto ok = faults::engage(*input, k, *rec.drive, request.params);
+    if (!ok) return fail(ok.error());
+    rec.input = *ok;
   }
   ++im.next;
   const EngagedFault& f = im.records.emplace(id, std::move(rec)).first->second.fault;
@@ -602,6 +665,12 @@ Expected<void, std::string> FaultCatalogue::clear(FaultId id) {
       if (chain_.time_seen() != Nanoseconds::min()) (void)chain_.poll(chain_.time_seen());
       break;
     }
+    case Impl::Where::Dc:
+      faults::clear(rec.dc, rec.dc_state, chain_[rec.slave].esc(), std::max(chain_.time_seen(), Nanoseconds{0}));
+      break;
+    case Impl::Where::DriveInput:
+      faults::clear(rec.input, *rec.drive);
+      break;
   }
   if (observer_) observer_(rec.fault, false);
   return {};

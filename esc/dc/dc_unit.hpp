@@ -106,6 +106,17 @@ class DcUnit : private SyncUnit::Sink {
   void set_observer(DcObserver* observer) noexcept { observer_ = observer; }
   const TimeLoop& time_loop() const noexcept { return loop_; }
 
+  // --- Faults (slave::FaultCatalogue, docs/faults.md "DC") ---
+  // The oscillator runs `ppm` off from true time t on (the ESC's own error;
+  // the time loop's correction stays as it is), or its local time steps by
+  // `ns` at t: what the time loop then compares shows it in 0x092C.
+  void set_oscillator_ppm(Nanoseconds t, double ppm) noexcept { clock_.set_ppm(t, ppm); }
+  void jump_local_time(Nanoseconds t, std::int64_t ns) noexcept { clock_.jump(t, ns); }
+  // SYNC0 stopped: the unit keeps its schedule (0x0981, 0x0990 as they
+  // were) but no SYNC0 pulse reaches the output or AL event bit 2.
+  void inhibit_sync0(bool on) noexcept { sync0_inhibited_ = on; }
+  bool sync0_inhibited() const noexcept { return sync0_inhibited_; }
+
  private:
   void pulse(const SyncUnit::Pulse& p) noexcept override;
   void render(std::span<std::uint8_t, kSize> view, Nanoseconds t, Side side) const noexcept;
@@ -143,6 +154,7 @@ class DcUnit : private SyncUnit::Sink {
   std::uint16_t ecat_events_ = 0;
   bool receive_latch_armed_ = false;
   Nanoseconds last_t_{0};  // latest time the unit has seen
+  bool sync0_inhibited_ = false;  // fault: SYNC0 pulses suppressed
 };
 
 }  // namespace ecat::esc

@@ -66,6 +66,7 @@ bool DcUnit::touches_high(std::uint16_t first, std::uint16_t end) noexcept {
 // 0x0220 bit 2/3; in pulse mode it ends after 0x0982 x 10 ns, in acknowledge
 // mode (0x0982 = 0) when the PDI reads 0x098E/0x098F.
 void DcUnit::pulse(const SyncUnit::Pulse& p) noexcept {
+  if (p.signal == 0 && sync0_inhibited_) return;  // fault sync0_stopped: the pulse never comes out
   const Nanoseconds t = when_system(p.time);
   if (sync_level_[p.signal] && !acknowledge_mode()) {
     set_sync_level(p.signal, false, when_system(std::min(pulse_end_[p.signal], p.time)));

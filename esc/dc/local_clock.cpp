@@ -51,14 +51,29 @@ Nanoseconds LocalClock::when(std::uint64_t local) const noexcept {
   return Nanoseconds{t};
 }
 
-void LocalClock::set_rate_correction(Nanoseconds t, double correction) noexcept {
+void LocalClock::anchor_at(Nanoseconds t) noexcept {
   const double elapsed = static_cast<double>(t.count() - anchor_t_) * rate() + anchor_frac_;
   const double whole = std::floor(elapsed);
   anchor_local_ += static_cast<std::uint64_t>(static_cast<std::int64_t>(whole));
   anchor_frac_ = elapsed - whole;
   anchor_t_ = t.count();
+}
+
+void LocalClock::set_rate_correction(Nanoseconds t, double correction) noexcept {
+  anchor_at(t);
   correction_ = correction;
   update_rate();
+}
+
+void LocalClock::set_ppm(Nanoseconds t, double ppm) noexcept {
+  anchor_at(t);
+  ppm_ = ppm;
+  update_rate();
+}
+
+void LocalClock::jump(Nanoseconds t, std::int64_t ns) noexcept {
+  anchor_at(t);
+  anchor_local_ += static_cast<std::uint64_t>(ns);  // two's complement: a negative step goes back
 }
 
 }  // namespace ecat::esc

@@ -38,6 +38,12 @@ class LocalClock {
   // Re-initialises as at power-on.
   void reset(double ppm, std::uint64_t start) noexcept;
 
+  // Faults (slave::FaultCatalogue dc_drift, dc_time_jump; docs/faults.md):
+  // the oscillator's error becomes `ppm` from true time t on (the clock stays
+  // continuous at t), or the local time steps by `ns` at t (negative: back).
+  void set_ppm(Nanoseconds t, double ppm) noexcept;
+  void jump(Nanoseconds t, std::int64_t ns) noexcept;
+
  private:
   double ppm_ = 0.0;
   double correction_ = 0.0;
@@ -49,6 +55,7 @@ class LocalClock {
   // on each use: at() runs for every DC register access).
   double rate_ = 1.0;
   void update_rate() noexcept;
+  void anchor_at(Nanoseconds t) noexcept;  // moves the anchor to t, the clock unchanged
 };
 
 }  // namespace ecat::esc

@@ -89,7 +89,9 @@ TEST(FaultCatalogue, ListsExactlyTheImplementedKinds) {
                                           "sii_bad_checksum", "sii_busy_stuck", "mailbox_counter_frozen",
                                           "mailbox_held", "drive_fault", "mailbox_error_replies",
                                           "mailbox_reply_limit", "emergency_storm", "sdo_upload_truncated",
-                                          "sdo_toggle_wrong", "unplug", "delay_frames", "duplicate_frames", "replay_frames"}));
+                                          "sdo_toggle_wrong", "unplug", "delay_frames", "duplicate_frames", "replay_frames",
+                                          "dc_drift", "dc_time_jump", "sync0_stopped", "limit_switch",
+                                          "quick_stop_input", "sto", "brake_stuck"}));
   EXPECT_EQ(FaultCatalogue::find_kind("melt"), nullptr);
 }
 
