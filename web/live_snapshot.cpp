@@ -6,6 +6,8 @@
 #include <utility>
 
 #include "control/request_handler.hpp"
+#include "od/firmware.hpp"
+#include "slave/chain.hpp"
 
 namespace ecat::web {
 namespace {
@@ -34,13 +36,25 @@ json result_of(control::RequestHandler& h, json request) {
   return reply.contains("result") ? std::move(reply["result"]) : json();
 }
 
+// A drive object's value straight from the slave's object store (what the
+// "read" command returns as "value"), without building a request and a
+// reply per object: 8 objects of 100 drives through "read" took about 8 ms
+// of the loop's time per snapshot.
+json drive_value(const coe::ObjectStore& store, std::uint16_t index) {
+  const coe::ObjectStore::Slot* s = store.slot(index, 0);
+  if (s == nullptr) return json();
+  return store.get<std::int64_t>(*s);
+}
+
 }  // namespace
 
 const std::vector<bool>& LiveSnapshot::drives(std::size_t slaves) {
   if (!drives_) {
     drives_.emplace(slaves, false);
-    for (std::size_t i = 0; i < slaves; ++i) {
-      (*drives_)[i] = !result_of(handler_, {{"cmd", "read"}, {"slave", i}, {"index", kStatusword}}).is_null();
+    slave::Chain& chain = handler_.chain();
+    for (std::size_t i = 0; i < slaves && i < chain.size(); ++i) {
+      (*drives_)[i] = od::runs_firmware(chain[i].device()) &&
+                      chain[i].firmware().coe().objects().slot(kStatusword, 0) != nullptr;
     }
   }
   return *drives_;
@@ -54,10 +68,9 @@ json LiveSnapshot::take() {
   for (std::size_t i = 0; i < slaves; ++i) {
     if (!is_drive[i]) continue;
     json d{{"slave", i}};
-    for (const DriveObject& o : kDriveObjects) {
-      const json r = result_of(handler_, {{"cmd", "read"}, {"slave", i}, {"index", o.index}});
-      d[std::string(o.key)] = r.is_null() ? json() : r["value"];
-    }
+    // (the firmware is looked up each time: a power cycle replaces it)
+    const coe::ObjectStore& store = handler_.chain()[i].firmware().coe().objects();
+    for (const DriveObject& o : kDriveObjects) d[std::string(o.key)] = drive_value(store, o.index);
     drive_list.push_back(std::move(d));
   }
   json faults = result_of(handler_, {{"cmd", "faults"}});
