@@ -119,7 +119,7 @@ ecat_install_library(coe coe HEADERS
   coe/sync_checks.hpp coe/sync_mode.hpp)
 ecat_install_library(ds402 ds402 HEADERS
   # public
-  ds402/drive.hpp ds402/drive_config.hpp ds402/plant.hpp ds402/objects.hpp
+  ds402/drive.hpp ds402/drive_overrides.hpp ds402/drive_config.hpp ds402/plant.hpp ds402/objects.hpp
   ds402/controlword.hpp ds402/statusword.hpp ds402/modes.hpp ds402/units.hpp
   ds402/svg_plot.hpp ds402/motion_trace.hpp ds402/od_binding.hpp
   # internal

@@ -15,6 +15,8 @@
 
 #include <fmt/format.h>
 
+#include "common/unix_listener.hpp"
+
 #include "control/control_error.hpp"
 
 namespace ecat::control {
@@ -22,10 +24,9 @@ namespace {
 
 using nlohmann::json;
 
-// Owner-only: the control interface reads and writes any object of any slave.
-constexpr mode_t kSocketMode = 0600;
-constexpr mode_t kSocketUmask = 0177;
-constexpr int kListenBacklog = 8;
+// The Unix socket is owner-only (common/unix_listener.hpp): the control
+// interface reads and writes any object of any slave.
+constexpr int kListenBacklog = kUnixListenBacklog;
 constexpr std::size_t kReadChunk = 64 * 1024;
 constexpr std::size_t kReadPerTick = 1 << 20;
 constexpr std::size_t kEventsPerTick = 1000;
@@ -47,31 +48,7 @@ std::optional<std::uint16_t> parse_port(std::string_view s) {
 bool all_digits(std::string_view s) { return !s.empty() && s.find_first_not_of("0123456789") == std::string_view::npos; }
 
 Expected<int, std::string> listen_unix(const std::string& path) {
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  if (path.empty() || path.size() >= sizeof(addr.sun_path)) {
-    return fail(fmt::format("--control {}: a Unix socket path of 1..{} bytes is needed", path,
-                            sizeof(addr.sun_path) - 1));
-  }
-  std::memcpy(addr.sun_path, path.data(), path.size());
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) == 0) {
-    if (!S_ISSOCK(st.st_mode)) return fail(fmt::format("--control {}: exists and is not a socket", path));
-    ::unlink(path.c_str());  // a stale socket of an earlier run
-  }
-  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return fail(fmt::format("--control {}: socket: {}", path, errno_text()));
-  // Created 0600 (umask) rather than chmod-ed afterwards: no moment where others may connect.
-  const mode_t old = ::umask(kSocketUmask);
-  const int bound = ::bind(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr));
-  ::umask(old);
-  if (bound != 0 || ::chmod(path.c_str(), kSocketMode) != 0 || ::listen(fd, kListenBacklog) != 0 ||
-      !set_nonblocking(fd)) {
-    const std::string why = errno_text();
-    ::close(fd);
-    return fail(fmt::format("--control {}: {}", path, why));
-  }
-  return fd;
+  return listen_unix_owner_only(path, "--control");
 }
 
 Expected<int, std::string> listen_tcp(const ControlEndpoint& ep, std::string& address, bool& loopback) {

@@ -11,49 +11,21 @@
 
 #include <fmt/format.h>
 
+#include "common/unix_listener.hpp"
+
 #include "pdi_spi/emulated_et1100_spi.hpp"
 #include "pdi_spi/emulated_lan9252.hpp"
 
 namespace ecat::pdi_host {
 namespace {
 
-constexpr mode_t kSocketMode = 0600;   // the owner's firmware only
-constexpr mode_t kSocketUmask = 0177;  // created so, not chmod-ed after
-constexpr int kListenBacklog = 4;
 constexpr std::size_t kReadChunk = 16384;
 
 std::string errno_text() { return std::strerror(errno); }
 
-bool set_nonblocking(int fd) {
-  const int flags = ::fcntl(fd, F_GETFL);
-  return flags >= 0 && ::fcntl(fd, F_SETFL, flags | O_NONBLOCK) == 0;
-}
-
+// The owner's firmware only (mode 0600).
 Expected<int, std::string> listen_unix(const std::string& path) {
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  if (path.empty() || path.size() >= sizeof(addr.sun_path)) {
-    return fail(fmt::format("--pdi-host {}: a Unix socket path of 1..{} bytes is needed", path,
-                            sizeof(addr.sun_path) - 1));
-  }
-  std::memcpy(addr.sun_path, path.data(), path.size());
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) == 0) {
-    if (!S_ISSOCK(st.st_mode)) return fail(fmt::format("--pdi-host {}: exists and is not a socket", path));
-    ::unlink(path.c_str());  // a stale socket of an earlier run
-  }
-  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return fail(fmt::format("--pdi-host {}: socket: {}", path, errno_text()));
-  const mode_t old = ::umask(kSocketUmask);
-  const int bound = ::bind(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr));
-  ::umask(old);
-  if (bound != 0 || ::chmod(path.c_str(), kSocketMode) != 0 || ::listen(fd, kListenBacklog) != 0 ||
-      !set_nonblocking(fd)) {
-    const std::string why = errno_text();
-    ::close(fd);
-    return fail(fmt::format("--pdi-host {}: {}", path, why));
-  }
-  return fd;
+  return listen_unix_owner_only(path, "--pdi-host");
 }
 
 std::unique_ptr<pdi_spi::EmulatedChip> make_chip(esc::Esc& esc, PdiChip kind) {

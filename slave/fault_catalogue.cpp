@@ -368,6 +368,17 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     }
     return std::nullopt;
   };
+  // The CiA 402 drive of an axis of the slave (drive_fault and the drive's inputs).
+  auto drive_of = [this](std::string_view kind_name, std::size_t slave,
+                         std::size_t axis) -> Expected<ds402::Drive*, std::string> {
+    Application* app = chain_[slave].firmware().application();
+    ds402::Drive* d = app ? app->drive(axis) : nullptr;
+    if (d == nullptr) {
+      return fail(fmt::format("{}: slave {} runs no CiA 402 drive{}", kind_name, slave,
+                              axis == 0 ? "" : fmt::format(" with an axis {}", axis)));
+    }
+    return d;
+  };
   // Firmware faults need the slave powered (power_cycle replaces its firmware).
   if (kind->needs_slave && k != "link_cut" && k != "corrupt_frames") {
     for (const auto& [other, r] : im.records) {
@@ -571,13 +582,10 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     if (auto ok = in_range(k, request, "code", 1, 0xFFFF); !ok) return fail(ok.error());
     if (auto ok = in_range(k, request, "error_register", 0, 0xFF); !ok) return fail(ok.error());
     if (auto ok = in_range(k, request, "axis", 0, 0xFF); !ok) return fail(ok.error());
-    Application* app = chain_[rec.slave].firmware().application();
     const auto axis = static_cast<std::size_t>(param(request, "axis", 0));
-    rec.drive = app ? app->drive(axis) : nullptr;
-    if (rec.drive == nullptr) {
-      return fail(fmt::format("{}: slave {} runs no CiA 402 drive{}", k, rec.slave,
-                              axis == 0 ? "" : fmt::format(" with an axis {}", axis)));
-    }
+    auto drive = drive_of(k, rec.slave, axis);
+    if (!drive) return fail(drive.error());
+    rec.drive = *drive;
     rec.where = Impl::Where::Drive;
     rec.port = static_cast<unsigned>(axis);
     if (auto other = same_place(rec.where)) {
@@ -596,13 +604,10 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     rec.dc_state = *ok;
   } else if (const auto input = faults::drive_input(k)) {
     if (auto ok = in_range(k, request, "axis", 0, 0xFF); !ok) return fail(ok.error());
-    Application* app = chain_[rec.slave].firmware().application();
     const auto axis = static_cast<std::size_t>(param(request, "axis", 0));
-    rec.drive = app ? app->drive(axis) : nullptr;
-    if (rec.drive == nullptr) {
-      return fail(fmt::format("{}: slave {} runs no CiA 402 drive{}", k, rec.slave,
-                              axis == 0 ? "" : fmt::format(" with an axis {}", axis)));
-    }
+    auto drive = drive_of(k, rec.slave, axis);
+    if (!drive) return fail(drive.error());
+    rec.drive = *drive;
     rec.where = Impl::Where::DriveInput;
     rec.port = static_cast<unsigned>(axis);
     auto ok = faults::engage(*input, k, *rec.drive, request.params);
