@@ -96,7 +96,9 @@ void Drive::fill(const DriveInputs& in, DriveOutputs& out, double dt) noexcept {
   std::uint16_t status = static_cast<std::uint16_t>(state_bits(s) | sw::kRemote | mode_bits(in, dt));
   if (s != PdsState::NotReadyToSwitchOn) status |= sw::kVoltageEnabled;  // mains assumed present
   if (warning_ || emcy_.dropped() != 0 || ip_record_lost_) status |= sw::kWarning;
-  const bool limit_input = overrides_.negative_limit || overrides_.positive_limit;  // a forced limit switch
+  // A forced limit switch (slave::FaultCatalogue's limit_switch); overridden_ first: the
+  // cycle with nothing forced tests one flag.
+  const bool limit_input = overridden_ && (overrides_.negative_limit || overrides_.positive_limit);
   if (internal_limit_ || plant_.torque_limited() || limit_input) status |= sw::kInternalLimitActive;
   if (homed_) status |= config_.home_found_bit;
   out.statusword = status;
