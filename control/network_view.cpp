@@ -87,16 +87,17 @@ json slave_view(const slave::Chain& chain, std::size_t position) {
 json network_view(const slave::Chain& chain) {
   json slaves = json::array();
   for (std::size_t i = 0; i < chain.size(); ++i) slaves.push_back(slave_view(chain, i));
-  const slave::ChainStats& s = chain.stats();
-  return json{{"slaves", std::move(slaves)},
-              {"frames",
-               {{"received", s.frames_received},
-                {"returned", s.frames_returned},
-                {"malformed", s.frames_malformed},
-                {"lost", s.frames_lost},
-                {"stale", s.frames_stale},
-                {"datagrams", s.datagrams},
-                {"wkc_total", s.wkc_total}}}};
+  return json{{"slaves", std::move(slaves)}, {"frames", frames_view(chain.stats())}};
+}
+
+json frames_view(const slave::ChainStats& s) {
+  return json{{"received", s.frames_received},
+              {"returned", s.frames_returned},
+              {"malformed", s.frames_malformed},
+              {"lost", s.frames_lost},
+              {"stale", s.frames_stale},
+              {"datagrams", s.datagrams},
+              {"wkc_total", s.wkc_total}};
 }
 
 }  // namespace ecat::control

@@ -12,6 +12,7 @@
 namespace ecat::slave {
 class Chain;
 class VirtualSlave;
+struct ChainStats;
 }  // namespace ecat::slave
 
 namespace ecat::control {
@@ -22,7 +23,10 @@ nlohmann::json slave_view(const slave::VirtualSlave& slave, std::size_t position
 nlohmann::json peer_view(const slave::Chain& chain, std::size_t slave, unsigned port);
 // slave_view with each port's "peer".
 nlohmann::json slave_view(const slave::Chain& chain, std::size_t position);
-// {"slaves": [slave_view...], "frames": {...chain counters}}
+// {"slaves": [slave_view...], "frames": frames_view}
 nlohmann::json network_view(const slave::Chain& chain);
+// The chain's frame counters: {"received", "returned", "malformed", "lost",
+// "stale", "datagrams", "wkc_total"}.
+nlohmann::json frames_view(const slave::ChainStats& stats);
 
 }  // namespace ecat::control

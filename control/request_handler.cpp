@@ -151,7 +151,7 @@ json RequestHandler::dispatch(const json& request) {
       {"fault_kinds", &RequestHandler::fault_kinds},
       {"fault_engage", &RequestHandler::fault_engage},
       {"fault_clear", &RequestHandler::fault_clear},
-      {"faults", &RequestHandler::faults_engaged},
+      {"faults", &RequestHandler::faults_list},
       {"pause", &RequestHandler::pause},
       {"run", &RequestHandler::run},
       {"step", &RequestHandler::step},
@@ -307,7 +307,9 @@ json RequestHandler::fault_clear(const json& r) {
   return json{{"cleared", 1}};
 }
 
-json RequestHandler::faults_engaged(const json&) {
+bool RequestHandler::faults_engaged() const { return faults_ != nullptr && !faults_->engaged().empty(); }
+
+json RequestHandler::faults_list(const json&) {
   json list = json::array();
   for (const slave::EngagedFault& f : need_faults().engaged()) list.push_back(fault_json(f));
   return json{{"faults", std::move(list)}};

@@ -53,6 +53,9 @@ class RequestHandler {
 
   EventQueue& events() noexcept { return events_; }
   slave::Chain& chain() noexcept { return chain_; }
+  const Clock& clock() const noexcept { return clock_; }
+  // Whether the "faults" command would list anything.
+  bool faults_engaged() const;
 
  private:
   struct Command;
@@ -68,7 +71,7 @@ class RequestHandler {
   nlohmann::json fault_kinds(const nlohmann::json& r);
   nlohmann::json fault_engage(const nlohmann::json& r);
   nlohmann::json fault_clear(const nlohmann::json& r);
-  nlohmann::json faults_engaged(const nlohmann::json& r);
+  nlohmann::json faults_list(const nlohmann::json& r);
   nlohmann::json pause(const nlohmann::json& r);
   nlohmann::json run(const nlohmann::json& r);
   nlohmann::json step(const nlohmann::json& r);

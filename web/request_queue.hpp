@@ -5,6 +5,7 @@
 // RequestHandler, between frames, as ControlServer does for its sockets.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <deque>
@@ -40,6 +41,9 @@ class RequestQueue {
   };
   std::mutex mutex_;
   std::deque<Pending> waiting_;
+  // waiting_.size(), read by serve() without the lock: an idle loop's tick
+  // costs one load, not a lock and an empty deque (which allocates).
+  std::atomic<std::size_t> count_{0};
   bool closed_ = false;
 };
 

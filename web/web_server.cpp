@@ -208,6 +208,7 @@ void WebServer::tick(Nanoseconds now) {
       s->cursor = m.handler.events().next_seq();
       fresh = true;
     }
+    if (s->cursor == m.handler.events().next_seq()) continue;  // nothing new: no list built
     const json batch = m.handler.events().since(s->cursor, kMaxEventsPerTick);
     if (batch.value("lost", std::uint64_t{0}) > 0) s->send("event", json{{"type", "events_lost"}, {"count", batch["lost"]}}.dump());
     for (const json& e : batch["events"]) s->send("event", e.dump());
@@ -215,7 +216,7 @@ void WebServer::tick(Nanoseconds now) {
   }
   if (fresh || now >= m.next_snapshot) {
     m.next_snapshot = now + kSnapshotPeriod;
-    const std::string text = m.snapshot.take().dump();
+    const std::string& text = m.snapshot.take();
     for (const auto& s : live) s->send("snapshot", text);
   }
 }
