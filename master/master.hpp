@@ -16,6 +16,7 @@
 
 #include "common/clock.hpp"
 #include "common/expected.hpp"
+#include "master/datagram_batch.hpp"
 #include "master/datagram_link.hpp"
 #include "master/mailbox.hpp"
 #include "master/process_image_plan.hpp"
@@ -174,6 +175,9 @@ class Master {
   // every SM in pd.sms when sized per SM (pd.per_sm), one FMMU per run of
   // SMs of a direction that lie back to back.
   Expected<void, MasterError> configure_process_data();
+  // Writes one slave's process-data SMs and FMMUs again, as
+  // configure_process_data() laid them out (after readdress()).
+  Expected<void, MasterError> write_process_data_config(std::size_t slave);
   // Sizes every SII SM of type 3/4 from the SII PDOs assigned to it (a
   // slave without CoE, as SOEM's ecx_map_sii): fills pd.sms, sets pd.per_sm.
   void size_process_data_from_sii(std::size_t slave);
@@ -200,6 +204,18 @@ class Master {
   const CyclicStats& cyclic_stats() const noexcept { return cyclic_stats_; }
   bool uses_lrw() const noexcept { return use_lrw_; }
 
+  // --- hot connect (SOEM ec_recover_slave; docs/master.md "Hot connect") ----------
+  // A slave that no longer answers at its station address but does at its
+  // position (a power cycle resets 0x0010 to 0): given a temporary station
+  // address, its identity (SII words 8-13) compared with the scan's, then
+  // its station address again. true: re-addressed; false: it still answers
+  // at its address (nothing done). Errors: nothing at the position
+  // (Timeout/WorkingCounter), another device there (WrongSlave: its
+  // address is set back to 0).
+  Expected<bool, MasterError> readdress(std::size_t slave);
+  // The temporary station address readdress() uses (SOEM's EC_TEMPNODE).
+  static constexpr std::uint16_t kTemporaryStation = 0xFFFF;
+
   // --- distributed clocks (masters.md §1.3 DC, §4.3; esc-registers.md §10) ---------
   // BWR 0x0900 latch, read port times and 0x0918 per DC slave, compute line
   // delays, write 0x0920 offsets and 0x0928 delays. Returns the DC slave count.
@@ -224,6 +240,8 @@ class Master {
   Expected<void, MasterError> check_slave(std::size_t slave) const;
   Expected<void, MasterError> read_mailbox_area(std::size_t slave, bool& got);
   void set_mailbox_layout(std::size_t slave, const MailboxLayout& layout, bool enable);
+  bool add_process_data_config(DatagramBatch& batch, const SlaveInfo& s);
+  Expected<void, MasterError> write_station_address(std::uint16_t position, std::uint16_t station);
 
   transport::Transport& transport_;
   const Clock& clock_;

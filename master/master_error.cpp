@@ -21,6 +21,7 @@ std::string_view describe(MasterError e) noexcept {
     case MasterError::InvalidResponse: return "unexpected response";
     case MasterError::InvalidArgument: return "invalid argument";
     case MasterError::NotConfigured: return "not configured";
+    case MasterError::WrongSlave: return "another device answers at this position";
   }
   return "unknown master error";
 }

@@ -26,6 +26,7 @@ enum class MasterError : std::uint8_t {
   InvalidResponse,     // reply of the wrong type/service/index
   InvalidArgument,     // caller error (slave position, sizes)
   NotConfigured,       // operation needs a step not done yet (scan, mailbox, PDO layout)
+  WrongSlave,          // another device than the one scanned answers at a position (identity differs)
 };
 
 std::string_view describe(MasterError e) noexcept;

@@ -110,6 +110,53 @@ void Master::size_process_data_from_sii(std::size_t slave) {
   }
 }
 
+// The process-data SMs and FMMUs of one slave, as datagrams added to
+// `batch`; false when the slave has too few FMMUs.
+bool Master::add_process_data_config(DatagramBatch& batch, const SlaveInfo& s) {
+  static constexpr std::array<std::uint8_t, reg::kSyncManagerSize> kOff{};
+  const auto station = s.station_address;
+  // Each SM first off (start/length/control are writable only while it is
+  // off, Section II 0x0800), then enabled iff length > 0 (SOEM, IgH).
+  for (const ProcessSm& p : s.pd.sms) {
+    batch.add(Command::Fpwr, device_address(station, reg::sync_manager(p.sm)), kOff);
+    batch.add(Command::Fpwr, device_address(station, reg::sync_manager(p.sm)),
+              sync_manager_block(p.start, p.bytes, p.control, p.bytes > 0));
+  }
+  // One FMMU per run of SMs of a direction that lie back to back in the
+  // ESC (EK1828's SM0 at 0F00h and SM1 at 0F01h: one 2-byte FMMU, as SOEM
+  // joins them) - the logical side is back to back by construction.
+  unsigned next_fmmu = 0;
+  for (const bool outputs : {true, false}) {
+    const ProcessSm* run = nullptr;
+    std::uint32_t run_bytes = 0;
+    auto flush = [&]() -> bool {
+      if (run == nullptr || run_bytes == 0) return true;
+      if (s.esc.fmmus != 0 && next_fmmu >= s.esc.fmmus) return false;
+      batch.add(Command::Fpwr, device_address(station, reg::fmmu(next_fmmu++)),
+                fmmu_block(run->logical, static_cast<std::uint16_t>(run_bytes), run->start,
+                           outputs ? reg::kFmmuWrite : reg::kFmmuRead));
+      return true;
+    };
+    for (const ProcessSm& p : s.pd.sms) {
+      if (p.outputs != outputs || p.bytes == 0) continue;
+      if (run != nullptr && run->start + run_bytes == p.start && run->logical + run_bytes == p.logical) {
+        run_bytes += p.bytes;
+        continue;
+      }
+      if (!flush()) return false;
+      run = &p;
+      run_bytes = p.bytes;
+    }
+    if (!flush()) return false;
+  }
+  if (s.pd.mailbox_status_offset) {
+    const auto status = static_cast<std::uint16_t>(reg::sync_manager(1) + reg::kSmStatusOffset);
+    batch.add(Command::Fpwr, device_address(station, reg::fmmu(next_fmmu++)),
+              fmmu_block(*s.pd.mailbox_status_offset, 1, status, reg::kFmmuRead));
+  }
+  return true;
+}
+
 Expected<void, MasterError> Master::configure_process_data() {
   pd_configured_ = false;
   output_bytes_ = 0;
@@ -182,49 +229,8 @@ Expected<void, MasterError> Master::configure_process_data() {
   // The process-data SMs and the FMMUs of every slave, packed into as few
   // frames as fit.
   DatagramBatch batch;
-  static constexpr std::array<std::uint8_t, reg::kSyncManagerSize> kOff{};
-  for (std::size_t i = 0; i < slaves_.size(); ++i) {
-    SlaveInfo& s = slaves_[i];
-    const auto station = s.station_address;
-    // Each SM first off (start/length/control are writable only while it is
-    // off, Section II 0x0800), then enabled iff length > 0 (SOEM, IgH).
-    for (const ProcessSm& p : s.pd.sms) {
-      batch.add(Command::Fpwr, device_address(station, reg::sync_manager(p.sm)), kOff);
-      batch.add(Command::Fpwr, device_address(station, reg::sync_manager(p.sm)),
-                sync_manager_block(p.start, p.bytes, p.control, p.bytes > 0));
-    }
-    // One FMMU per run of SMs of a direction that lie back to back in the
-    // ESC (EK1828's SM0 at 0F00h and SM1 at 0F01h: one 2-byte FMMU, as SOEM
-    // joins them) - the logical side is back to back by construction.
-    unsigned next_fmmu = 0;
-    for (const bool outputs : {true, false}) {
-      const ProcessSm* run = nullptr;
-      std::uint32_t run_bytes = 0;
-      auto flush = [&]() -> bool {
-        if (run == nullptr || run_bytes == 0) return true;
-        if (s.esc.fmmus != 0 && next_fmmu >= s.esc.fmmus) return false;
-        batch.add(Command::Fpwr, device_address(station, reg::fmmu(next_fmmu++)),
-                  fmmu_block(run->logical, static_cast<std::uint16_t>(run_bytes), run->start,
-                             outputs ? reg::kFmmuWrite : reg::kFmmuRead));
-        return true;
-      };
-      for (const ProcessSm& p : s.pd.sms) {
-        if (p.outputs != outputs || p.bytes == 0) continue;
-        if (run != nullptr && run->start + run_bytes == p.start && run->logical + run_bytes == p.logical) {
-          run_bytes += p.bytes;
-          continue;
-        }
-        if (!flush()) return fail(MasterError::InvalidArgument);
-        run = &p;
-        run_bytes = p.bytes;
-      }
-      if (!flush()) return fail(MasterError::InvalidArgument);
-    }
-    if (s.pd.mailbox_status_offset) {
-      const auto status = static_cast<std::uint16_t>(reg::sync_manager(1) + reg::kSmStatusOffset);
-      batch.add(Command::Fpwr, device_address(station, reg::fmmu(next_fmmu++)),
-                fmmu_block(*s.pd.mailbox_status_offset, 1, status, reg::kFmmuRead));
-    }
+  for (const SlaveInfo& s : slaves_) {
+    if (!add_process_data_config(batch, s)) return fail(MasterError::InvalidArgument);
   }
   if (auto r = batch.exchange(link_); !r) return fail(r.error());
   if (!batch.all_wkc(1)) return fail(MasterError::WorkingCounter);

@@ -81,6 +81,12 @@ int report(const ecat::app::SessionReport& r, const Options& o) {
                   r.last_code[i]);
     }
   }
+  for (std::size_t i = 0; i < r.reconnected.size(); ++i) {
+    if (r.reconnected[i] != 0) {
+      std::printf("slave %zu: came back fresh %u time(s), addressed and configured again (hot connect)\n", i + 1,
+                  r.reconnected[i]);
+    }
+  }
   bool ok = r.lost_frames == 0 && r.wkc_errors == 0 && r.state_errors == 0;
   if (o.session.move && !r.moved_ok) {
     std::fprintf(stderr, "ecat-master: a drive did not follow the move\n");
@@ -137,7 +143,7 @@ int main(int argc, char** argv) {
                  "In PreOp, upload object INDEX:SUB (hex, e.g. 1018:01) from every CoE slave and print its bytes "
                  "(repeatable)");
   cli.add_flag("--recover", o.session.recover,
-               "Acknowledge a slave that left Op with an error and request Op again (state checked every 100 cycles)");
+               "Acknowledge a slave that left Op with an error and request Op again (state checked every 100 cycles); a slave that came back fresh at its position (power cycle) is addressed and configured again (hot connect; not with --dc)");
   cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
       ->check(CLI::Range(1, 99));
   cli.add_option("--record", o.record, "Write every frame the master sends to this pcap file");

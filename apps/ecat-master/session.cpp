@@ -71,7 +71,7 @@ Nanoseconds percentile(std::vector<Nanoseconds>& v, double p) {
 
 }  // namespace
 
-Expected<void, std::string> Session::configure_slave(std::size_t i) {
+Expected<void, std::string> Session::configure_slave(std::size_t i, bool again) {
   auto& s = master_.slave(i);
   has_coe_[i] = s.sii.has_coe();
   // Every slave goes through PreOp (ETG.1000.6 §6.4.1: Init->SafeOp is not a
@@ -94,7 +94,7 @@ Expected<void, std::string> Session::configure_slave(std::size_t i) {
   auto pdos = PdoLocator::read(coe);
   if (!pdos) return fail(fmt::format("slave {}: {}", i + 1, pdos.error()));
   pdos_[i] = std::move(*pdos);
-  for (const auto& [index, sub] : o_.sdo_reads) {
+  for (const auto& [index, sub] : again ? decltype(o_.sdo_reads){} : o_.sdo_reads) {
     auto v = coe.upload(index, sub);
     if (!v) return fail(fmt::format("slave {}: SDO upload {:04X}h:{:02X}: {}", i + 1, index, sub, error_text(v.error())));
     fmt::print("slave {} sdo {:04X}h:{:02X} = {:02X}\n", i + 1, index, sub, fmt::join(*v, " "));
@@ -290,6 +290,7 @@ void Session::check_states() {
   if (wkc && *wkc == report_.slaves && load_le<std::uint16_t>(all) == op) return;
   report_.left_op.resize(report_.slaves, 0);
   report_.last_code.resize(report_.slaves, 0);
+  report_.reconnected.resize(report_.slaves, 0);
   for (std::size_t i = 0; i < report_.slaves; ++i) {
     auto st = master_.read_al_status(i);
     if (!st || !st->is(master::AlState::Op) || st->error()) {
@@ -297,7 +298,11 @@ void Session::check_states() {
       if (o_.verbose && st) {
         std::printf("slave %zu left Op: AL status 0x%04X, AL status code 0x%04X\n", i + 1, st->raw, st->code);
       }
-      if (!st || !o_.recover) continue;
+      if (!o_.recover) continue;
+      if (!st) {
+        reconnect(i);
+        continue;
+      }
       // --recover, as SOEM's ec_sample check thread: acknowledge the error
       // (state | 0x10), and ask a slave back in SafeOp for Op; no waiting,
       // the next check sees the result.
@@ -312,6 +317,45 @@ void Session::check_states() {
       }
     }
   }
+}
+
+// SOEM's ec_recover_slave + ec_reconfig_slave: a slave that does not answer
+// at its station address but at its position with address 0 (it was power
+// cycled) is checked to be the same device, addressed, configured as at
+// start-up and its process-data SMs and FMMUs written again, then asked for
+// SafeOp; the next check asks for Op. Nothing answers at the position yet:
+// tried again at the next check. No waiting beyond the set-up's own
+// exchanges (its SDO reads are the longest part).
+void Session::reconnect(std::size_t i) {
+  auto back = master_.readdress(i);
+  if (!back || !*back) {
+    if (!back && back.error() == master::MasterError::WrongSlave) {
+      std::printf("slave %zu: another device answers at its position: not configured\n", i + 1);
+    }
+    return;
+  }
+  if (o_.dc) {
+    // Its DC offset, delay and SYNC0 would have to be set up again while the
+    // others run: not done (docs/master.md "Hot connect").
+    std::printf("slave %zu: came back at its position; not configured again with --dc\n", i + 1);
+    return;
+  }
+  auto& s = master_.slave(i);
+  const master::ProcessDataLayout layout = s.pd;
+  auto ok = configure_slave(i, true);
+  const bool same = s.pd.output_bytes == layout.output_bytes && s.pd.input_bytes == layout.input_bytes;
+  s.pd = layout;  // the image's layout stays as configured at start-up
+  if (!ok || !same) {
+    std::printf("slave %zu: came back but cannot be configured again: %s\n", i + 1,
+                ok ? "its process data sizes changed" : ok.error().c_str());
+    return;
+  }
+  if (auto pd = master_.write_process_data_config(i); !pd) {
+    std::printf("slave %zu: came back; process data set-up: %s\n", i + 1, error_text(pd.error()).c_str());
+    return;
+  }
+  ++report_.reconnected[i];
+  (void)master_.write_al_control(i, static_cast<std::uint16_t>(master::AlState::SafeOp));
 }
 
 Expected<SessionReport, std::string> Session::run() {

@@ -64,6 +64,9 @@ struct SessionReport {
   // --recover: per slave, how often it was found in an error state and acknowledged, and its last code.
   std::vector<std::uint32_t> left_op;
   std::vector<std::uint16_t> last_code;
+  // --recover: per slave, how often it came back fresh at its position (a
+  // power cycle) and was addressed and configured again (hot connect).
+  std::vector<std::uint32_t> reconnected;
   std::vector<std::int32_t> final_positions;  // 6064h per drive after --move
   bool moved_ok = true;
 };
@@ -89,7 +92,10 @@ class Session {
   Nanoseconds startup_gap_max() const noexcept { return startup_gap_max_; }
 
  private:
-  Expected<void, std::string> configure_slave(std::size_t i);
+  // `again`: a hot connect (the SDO reads of --sdo-read are not repeated).
+  Expected<void, std::string> configure_slave(std::size_t i, bool again = false);
+  // --recover for a slave that no longer answers at its station address.
+  void reconnect(std::size_t i);
   void drive_cycle(std::uint64_t cycle);
   void check_states();
   // Waits for the next cycle (the phase lock's send time, else the fixed
