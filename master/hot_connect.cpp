@@ -4,6 +4,7 @@
 #include <array>
 
 #include "common/le.hpp"
+#include "master/datagram_batch.hpp"
 #include "master/master.hpp"
 #include "master/registers.hpp"
 #include "master/sii.hpp"

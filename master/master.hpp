@@ -16,7 +16,6 @@
 
 #include "common/clock.hpp"
 #include "common/expected.hpp"
-#include "master/datagram_batch.hpp"
 #include "master/datagram_link.hpp"
 #include "master/mailbox.hpp"
 #include "master/process_image_plan.hpp"
@@ -25,6 +24,8 @@
 #include "transport/transport.hpp"
 
 namespace ecat::master {
+
+class DatagramBatch;
 
 struct MasterConfig {
   LinkConfig link{};
