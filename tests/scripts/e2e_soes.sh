@@ -7,7 +7,10 @@
 #    button in, parameter 8000h);
 #  - raspberry_lan9252demo: the digital I/O sample (6 LEDs, 6 buttons); its
 #    board GPIO (bcm2835.h) is a bench stub written here, the sample's own
-#    files are compiled as they are.
+#    files are compiled as they are;
+#  - linux_lan9252demo again, built with SOES's own Linux LAN9252 HAL
+#    (unmodified) and run under LD_PRELOAD=libecat_lan9252_shim.so on
+#    `--pdi-chip lan9252` (skipped when the shim is not built).
 # For each: ecat-master over UDP to Op, 2000 cycles with the expected WKC
 # on every cycle (no WKC error, no state error, no frame lost; the
 # Raspberry sample's 1-byte SM2 is not activated on an ESC, so its state
