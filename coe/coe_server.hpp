@@ -51,15 +51,8 @@ struct CoeOptions {
   // (FoE files + parameter file); null: unbounded. Must outlive the server.
   StorageQuota* state_quota = nullptr;
   // EoE start-up IP parameters (devices that list EoE); Set IP Parameter
-  // overrides them. Default: the MAC below (locally administered), no IP,
-  // so the built-in responder stays silent until an address is set.
-  eoe::IpParameters eoe_defaults = default_eoe_parameters();
-  static eoe::IpParameters default_eoe_parameters() noexcept {
-    eoe::IpParameters p;
-    p.flags = eoe::kHasMac;
-    p.mac = {0x02, 0x00, 0x00, 0x00, 0x00, 0x01};
-    return p;
-  }
+  // overrides them.
+  eoe::IpParameters eoe_defaults = eoe::default_parameters();
 };
 
 class CoeServer {

@@ -62,6 +62,15 @@ struct IpParameters {
   std::array<char, kDnsNameSize> dns_name{};
 };
 
+// Start-up values: a locally administered MAC (02:00:00:00:00:01), no IP, so
+// the built-in responder stays silent until an address is set.
+inline IpParameters default_parameters() noexcept {
+  IpParameters p;
+  p.flags = kHasMac;
+  p.mac = {0x02, 0x00, 0x00, 0x00, 0x00, 0x01};
+  return p;
+}
+
 // Address filter (Set Address Filter): UINT16 options (bits 0-3 filter
 // count, 4-5 mask count, 7 no broadcasts), then the filters, then masks.
 inline constexpr std::uint16_t kFilterCountMask = 0x000F;
