@@ -29,6 +29,11 @@ CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOpti
       parameters_(store_, options.parameter_file, options.state_quota) {
   if (device.mailbox.coe) mailbox_.add_service(coe_);
   if (device.mailbox.foe) mailbox_.add_service(foe_);
+  if (device.mailbox.eoe) {
+    eoe_.set_ip_parameters(options.eoe_defaults);
+    eoe_.set_port(&eoe_responder_);
+    mailbox_.add_service(eoe_);
+  }
   if (auto loaded = parameters_.load(); !loaded) warnings_.push_back(loaded.error());
   pdo_.rebuild();
 }

@@ -25,6 +25,8 @@
 #include "coe/coe_protocol.hpp"
 #include "coe/diagnosis_history.hpp"
 #include "coe/emergency.hpp"
+#include "coe/eoe_responder.hpp"
+#include "coe/eoe_server.hpp"
 #include "coe/foe_server.hpp"
 #include "coe/mailbox_server.hpp"
 #include "coe/object_store.hpp"
@@ -48,6 +50,9 @@ struct CoeOptions {
   // Budget of the state directory, shared by the slaves that write there
   // (FoE files + parameter file); null: unbounded. Must outlive the server.
   StorageQuota* state_quota = nullptr;
+  // EoE start-up IP parameters (devices that list EoE); Set IP Parameter
+  // overrides them.
+  eoe::IpParameters eoe_defaults = eoe::default_parameters();
 };
 
 class CoeServer {
@@ -72,6 +77,10 @@ class CoeServer {
   ProcessData& process_data() noexcept { return process_data_; }
   PdoConfig& pdo() noexcept { return pdo_; }
   SdoServer& sdo() noexcept { return sdo_; }
+  // EoE (serving only when the device lists EoE) and its built-in responder,
+  // the Ethernet side until set_port gives it another one (a TAP).
+  EoeServer& eoe() noexcept { return eoe_; }
+  EoeResponder& eoe_responder() noexcept { return eoe_responder_; }
   MailboxServer& mailbox() noexcept { return mailbox_; }
   const MailboxServer& mailbox() const noexcept { return mailbox_; }
   ParameterStore& parameters() noexcept { return parameters_; }
@@ -98,6 +107,8 @@ class CoeServer {
   SdoInfo info_;
   CoeProtocol coe_;
   FoeServer foe_;
+  EoeServer eoe_;
+  EoeResponder eoe_responder_{eoe_};
   MailboxServer mailbox_;
   Emergency emergency_;
   PdoConfig pdo_;

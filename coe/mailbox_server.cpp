@@ -162,14 +162,28 @@ bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcep
   if (sm1.status & bits::kSmStatusMailboxFull) return false;
   const int slot = 1 - newest_;
   std::size_t length = 0;
-  if (!queue_.empty()) {
-    const ConstBytes frame = queue_.front();
-    std::memcpy(written_[slot].data(), frame.data(), frame.size());
-    length = frame.size();
-    queue_.pop_front();
-  } else if (continuing_) {
-    length = next_fragment(slot, sm1.length);
+  auto next_reply = [&]() -> std::size_t {
+    if (!queue_.empty()) {
+      const ConstBytes frame = queue_.front();
+      std::memcpy(written_[slot].data(), frame.data(), frame.size());
+      queue_.pop_front();
+      return frame.size();
+    }
+    return continuing_ ? next_fragment(slot, sm1.length) : 0;
+  };
+  // Messages a service starts itself (EoE frames) and replies take turns
+  // when both wait, so neither starves the other (docs/eoe.md "Fairness").
+  MailboxService* streamer = output_service();
+  const bool replies_waiting = !queue_.empty() || continuing_ != nullptr;
+  if (streamer && (!replies_waiting || reply_went_last_)) {
+    length = next_output(slot, sm1.length, *streamer);
+    if (length > 0) reply_went_last_ = false;
   }
+  if (length == 0) {
+    length = next_reply();
+    if (length > 0) reply_went_last_ = true;
+  }
+  if (length == 0 && streamer) length = next_output(slot, sm1.length, *streamer);
   if (length == 0 && unsolicited_allowed && !unsolicited_.empty() && !busy()) {
     // Emergencies go out only while no request waits for its answer
     // (shared/spec/masters.md §6 #26: ethercrab fails on an emergency
@@ -187,6 +201,24 @@ bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcep
   newest_ = slot;
   write_sm1(sm1, {written_[slot].data(), length});
   return true;
+}
+
+MailboxService* MailboxServer::output_service() const noexcept {
+  for (std::size_t i = 0; i < service_count_; ++i) {
+    if (services_[i]->has_output() && services_[i]->active_in(state_)) return services_[i];
+  }
+  return nullptr;
+}
+
+// A message the service starts itself: Address 0, priority 0, as an
+// unsolicited message (docs/coe.md "Mailbox header of replies").
+std::size_t MailboxServer::next_output(int slot, std::uint16_t sm1_length, MailboxService& service) noexcept {
+  const std::size_t room = reply_limit_ == 0 ? static_cast<std::size_t>(sm1_length - MailboxHeader::kSize)
+                                             : std::min<std::size_t>(sm1_length - MailboxHeader::kSize, reply_limit_);
+  const std::size_t n = service.next_output({written_[slot].data() + MailboxHeader::kSize, room});
+  if (n == 0) return 0;
+  reply_header(service.type(), n, MailboxHeader{}).pack({written_[slot].data(), MailboxHeader::kSize});
+  return MailboxHeader::kSize + n;
 }
 
 std::size_t MailboxServer::next_fragment(int slot, std::uint16_t sm1_length) noexcept {

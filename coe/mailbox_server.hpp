@@ -74,7 +74,9 @@ class MailboxServer {
   // change (0x0220 bit 4), which the ESM consumes first.
   static constexpr std::uint32_t kEventsHandled = bits::al_event_sm(kWriteMailboxSm) | bits::al_event_sm(kReadMailboxSm);
   // Replies or unsolicited messages wait to go into SM1.
-  bool has_output() const noexcept { return !queue_.empty() || !unsolicited_.empty() || storm_left_ > 0; }
+  bool has_output() const noexcept {
+    return !queue_.empty() || !unsolicited_.empty() || storm_left_ > 0 || output_service() != nullptr;
+  }
 
   // Fault injection (slave::FaultCatalogue, docs/faults.md), as SSC's test
   // application offers it. Counter frozen: every reply carries the counter
@@ -124,6 +126,8 @@ class MailboxServer {
   bool deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcept;
   bool busy() const noexcept;
   std::size_t next_fragment(int slot, std::uint16_t sm1_length) noexcept;
+  MailboxService* output_service() const noexcept;
+  std::size_t next_output(int slot, std::uint16_t sm1_length, MailboxService& service) noexcept;
   void write_sm1(const SmRegs& sm1, ConstBytes frame) noexcept;
   void receive(const SmRegs& sm0) noexcept;
   void dispatch(const MailboxHeader& header, ConstBytes payload) noexcept;
@@ -176,6 +180,7 @@ class MailboxServer {
   // master had that one): a repeat while SM1 is full keeps SM1's content.
   bool follows_request_[2] = {false, false};
   bool request_since_write_ = false;
+  bool reply_went_last_ = false;  // the last message in SM1 was a reply (fair turns with service output)
 };
 
 }  // namespace ecat::coe

@@ -32,6 +32,14 @@ class MailboxService {
     (void)reply;
     return 0;
   }
+  // Messages the service starts itself (EoE frames toward the master), one
+  // payload per free SM1, interleaved fairly with replies by the mailbox
+  // server. next_output writes the next one into `out` (SM1 room); 0: none.
+  virtual bool has_output() const noexcept { return false; }
+  virtual std::size_t next_output(Bytes out) noexcept {
+    (void)out;
+    return 0;
+  }
   // Payload room of SM0 (requests) and SM1 (replies) as the master set them;
   // told before every request (FoE needs it to see a file's last packet).
   virtual void set_sizes(std::size_t request_payload, std::size_t reply_payload) noexcept {

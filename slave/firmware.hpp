@@ -70,6 +70,9 @@ class Firmware {
   // slave and asks only the slaves a frame entered, the pending ones and
   // the ones whose time came): the time alone, and what does not wait for it.
   Nanoseconds wake_time() const noexcept { return wake_; }
+  // Work arrived from outside the ESC (an EoE frame from a TAP): look at the
+  // next frame even without an IRQ.
+  void wake() noexcept { pass_work_ = true; }
   bool pending(EscLines lines) const noexcept { return lines.irq || pass_work_ || mask_lost(lines); }
   // The time poll() last asked to run again at.
   std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }

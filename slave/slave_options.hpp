@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 
+#include "coe/eoe_server.hpp"
 #include "coe/storage_quota.hpp"
 #include "common/clock.hpp"
 #include "esc/inner_delay_figures.hpp"
@@ -54,6 +55,8 @@ struct SlaveOptions {
   // The per-ESC-type figures the defaults come from (docs/esc.md "Forwarding
   // delay figures per ESC type"); a test may give its own table.
   std::span<const esc::InnerDelayFigures> delay_figures = esc::datasheet_inner_delays();
+  // EoE start-up IP parameters, for a device that lists EoE (docs/eoe.md).
+  coe::eoe::IpParameters eoe = coe::eoe::default_parameters();
 };
 
 }  // namespace ecat::slave

@@ -1,5 +1,6 @@
 #include "apps/ecat-slave/chain_setup.hpp"
 
+#include <arpa/inet.h>
 #include <fmt/format.h>
 
 namespace ecat::app {
@@ -17,8 +18,25 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
       return fail(fmt::format("--state-dir {}: cannot read the directory", options.state_dir));
     }
   }
+  std::uint32_t eoe_ip = 0;
+  if (!options.eoe_ip.empty()) {
+    in_addr a{};
+    if (::inet_pton(AF_INET, options.eoe_ip.c_str(), &a) != 1) {
+      return fail(fmt::format("--eoe-ip {}: not an IPv4 address (A.B.C.D)", options.eoe_ip));
+    }
+    eoe_ip = ntohl(a.s_addr);
+  }
+  std::uint32_t eoe_slaves = 0;
   for (std::size_t i = 0; i < devices.size(); ++i) {
     slave::SlaveOptions so;
+    // EoE: a MAC of the slave's position, 02:00:00:00:hi:lo (locally
+    // administered), and the next --eoe-ip address (docs/eoe.md).
+    so.eoe.mac[4] = static_cast<std::uint8_t>((i + 1) >> 8);
+    so.eoe.mac[5] = static_cast<std::uint8_t>(i + 1);
+    if (eoe_ip != 0 && devices[i].mailbox.eoe) {
+      so.eoe.ip = eoe_ip + eoe_slaves++;
+      so.eoe.flags |= coe::eoe::kHasIp;
+    }
     so.state_dir = options.state_dir;
     so.state_quota = quota;
     so.name = fmt::format("slave-{}", i + 1);

@@ -117,6 +117,12 @@ int main(int argc, char** argv) {
                                   "exits when it is over, 0 if it passed, 3 if it failed")
                        ->check(CLI::ExistingFile);
   auto* junit = cli.add_option("--junit", o.junit, "With --scenario: write its result as JUnit XML to this file");
+  cli.add_option("--eoe-ip", o.eoe_ip,
+                 "Start-up IPv4 address of the EoE slaves (the next ones count up); the built-in responder answers "
+                 "ARP and ping for it");
+  cli.add_option("--eoe-tap", o.eoe_tap,
+                 "Bridge the first EoE slave's Ethernet side to this Linux TAP interface (created if missing; "
+                 "needs CAP_NET_ADMIN)");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
   cli.add_option("--state-quota", o.state_quota_bytes,
                  "Most bytes all files in --state-dir may hold (FoE files + stored parameters; "

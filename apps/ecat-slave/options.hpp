@@ -76,6 +76,12 @@ struct SlaveProgramOptions {
   std::string scenario;
   std::string junit;
 
+  // --eoe-ip A.B.C.D: start-up IP of the EoE slaves (the n-th EoE slave
+  // of the chain gets A.B.C.D + n - 1, MAC 02:00:00:00:hi:lo of its
+  // position); --eoe-tap NAME: the first EoE slave's Ethernet side is TAP
+  // NAME instead of the built-in ARP/ping responder (docs/eoe.md).
+  std::string eoe_ip;
+  std::string eoe_tap;
   std::string state_dir;  // stored parameters and FoE files
   std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together
   std::uint64_t state_max_files = kDefaultStateMaxFiles;

@@ -11,6 +11,7 @@
 
 #include "apps/ecat-slave/chain_setup.hpp"
 #include "apps/ecat-slave/control_setup.hpp"
+#include "slave/eoe_tap.hpp"
 #include "apps/ecat-slave/pdi_host_setup.hpp"
 #include "scenario/junit_report.hpp"
 #include "apps/ecat-slave/realtime.hpp"
@@ -221,6 +222,23 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       return 1;
     }
   }
+  // --eoe-tap: the TAP is created before the raw socket drops root's privileges.
+  std::unique_ptr<slave::EoeTap> tap;
+  std::size_t tap_slave = 0;
+  if (!o.eoe_tap.empty()) {
+    while (tap_slave < (*chain)->size() && !(**chain)[tap_slave].device().mailbox.eoe) ++tap_slave;
+    if (tap_slave == (*chain)->size()) {
+      std::fprintf(stderr, "ecat-slave: --eoe-tap: no slave's device lists EoE (Mailbox eoe=\"true\")\n");
+      return 1;
+    }
+    auto opened = slave::EoeTap::open(o.eoe_tap, (**chain)[tap_slave].firmware().coe().eoe());
+    if (!opened) {
+      std::fprintf(stderr, "ecat-slave: %s\n", opened.error().c_str());
+      return 1;
+    }
+    tap = std::move(*opened);
+    if (!o.quiet) std::fprintf(stderr, "ecat-slave: slave %zu's EoE bridged to TAP %s\n", tap_slave + 1, tap->name().c_str());
+  }
   auto medium = open_medium(o);
   if (!medium) {
     std::fprintf(stderr, "ecat-slave: %s\n", medium.error().c_str());
@@ -406,6 +424,12 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       deadline = line.poll(clock.now());
     }
     if (*control && (*control)->server) (*control)->server->service(clock.now());
+    if (tap && tap->is_open()) {
+      // Frames the host sent out of the TAP go to the master through the
+      // next mailbox polls: the firmware looks at the next frame.
+      if (tap->service() > 0) line[tap_slave].firmware().wake();
+      if (!tap->is_open()) std::fprintf(stderr, "ecat-slave: --eoe-tap %s failed; EoE frames are dropped from now on\n", tap->name().c_str());
+    }
     if (*control && (*control)->web) (*control)->web->service(clock.now());  // --http: one comparison between ticks
     if (*control && (*control)->scenario) {
       scenario::ScenarioRunner& run = *(*control)->scenario;

@@ -201,3 +201,49 @@ TEST(SiiWriter, FourKibSizeWord) {
 
 }  // namespace
 }  // namespace ecat::esi
+
+namespace ecat::esi {
+namespace {
+
+// EoE is announced only by a device that lists it (ETG.2010: word 0x1C bit 1,
+// General byte 7 bit 0; ESI Mailbox/EoE); the test servo does not.
+TEST(SiiEoeAnnouncement, OnlyForDevicesThatListEoe) {
+  auto plain = write_sii(test::make_test_device());
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(slice(*plain, 0x38, 2), (Bytes{0x04, 0x00}));    // CoE only
+  EXPECT_EQ((*plain)[0x84 + 150 + 4 + 0x07], 0x00);         // General: EoE details 0
+  auto d = test::make_test_device();
+  d.mailbox.eoe = true;
+  auto with = write_sii(d);
+  ASSERT_TRUE(with);
+  EXPECT_EQ(slice(*with, 0x38, 2), (Bytes{0x06, 0x00}));     // CoE + EoE
+  EXPECT_EQ((*with)[0x84 + 150 + 4 + 0x07], 0x01);          // General: EoE enabled
+}
+
+}  // namespace
+}  // namespace ecat::esi
+
+#include "esi/esi_reader.hpp"
+#include "esi/esi_writer.hpp"
+
+namespace ecat::esi {
+namespace {
+
+// The ESI side: <EoE/> written for such a device, read back; a vendor ESI
+// that lists EoE (Elmo Gold, shipped twin corpus) gives an EoE device.
+TEST(EsiEoeAnnouncement, WrittenReadBackAndFromAVendorFile) {
+  auto d = test::make_test_device();
+  EXPECT_EQ(write_esi(d).find("<EoE"), std::string::npos);
+  d.mailbox.eoe = true;
+  const std::string xml = write_esi(d);
+  EXPECT_NE(xml.find("<EoE"), std::string::npos);
+  auto back = read_esi_string(xml, "eoe.xml");
+  ASSERT_TRUE(back);
+  EXPECT_TRUE(back->mailbox.eoe);
+  auto elmo = read_esi(std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-vendor/elmo-gold-ecat.xml");
+  ASSERT_TRUE(elmo);
+  EXPECT_TRUE(elmo->mailbox.eoe);
+}
+
+}  // namespace
+}  // namespace ecat::esi
