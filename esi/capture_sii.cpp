@@ -1,0 +1,151 @@
+// The model of a captured slave from its SII image and ESC registers
+// (esi/capture_model.hpp). The SII says what a master configures from
+// (identity, names, SMs, FMMUs, mailbox, DC op modes, and the PDOs of a slave
+// without CoE); the registers say what the silicon is (type, ports, features).
+#include <fmt/format.h>
+
+#include "common/le.hpp"
+#include "esi/capture_model.hpp"
+#include "esi/capture_process_objects.hpp"
+#include "esi/sii_parser.hpp"
+
+namespace ecat::esi {
+namespace {
+
+// ESC information registers (ESC datasheet Section II, 0x0000-0x0009).
+constexpr std::size_t kRegType = 0x0000, kRegRevision = 0x0001, kRegBuild = 0x0002;
+constexpr std::size_t kRegFmmus = 0x0004, kRegSyncManagers = 0x0005, kRegRamKib = 0x0006;
+constexpr std::size_t kRegPortDescriptor = 0x0007, kRegFeatures = 0x0008;
+constexpr std::uint16_t kFeatureDc = 1u << 2, kFeatureDc64 = 1u << 3;
+constexpr std::uint16_t kFeatureNoLrw = 1u << 9, kFeatureNoReadWrite = 1u << 10;
+constexpr std::uint32_t kBytesPerKib = 1024;
+// Port descriptor 0x0007: two bits per port (00 not implemented, 01 not
+// configured, 10 E-bus, 11 MII).
+constexpr unsigned kPorts = 4, kPortBits = 2;
+constexpr unsigned kPortMask = 0x3, kPortEbus = 0x2, kPortMii = 0x3;
+
+od::FmmuUsage fmmu_usage(std::uint8_t code) {
+  switch (code) {
+    case sii::kFmmuOutputs: return od::FmmuUsage::Outputs;
+    case sii::kFmmuInputs: return od::FmmuUsage::Inputs;
+    case sii::kFmmuSyncMStatus: return od::FmmuUsage::MailboxState;
+    default: return od::FmmuUsage::Unused;
+  }
+}
+
+constexpr std::uint8_t kSmTypeMax = static_cast<std::uint8_t>(od::SmType::Inputs);
+
+void apply_identity(const SiiImage& img, od::DeviceDescription& d) {
+  d.identity.vendor_id = img.vendor_id;
+  d.identity.product_code = img.product_code;
+  d.identity.revision = img.revision;
+  d.identity.serial = img.serial;
+  if (img.general) {
+    d.identity.name = img.string_at(img.general->name_idx);
+    d.identity.type_name = img.string_at(img.general->order_idx);
+    d.identity.group_type = img.string_at(img.general->group_idx);
+  }
+}
+
+void apply_config(const SiiImage& img, od::DeviceDescription& d, std::vector<std::string>& notes) {
+  d.esc.pdi_control = img.config.pdi_control;
+  d.esc.pdi_configuration = img.config.pdi_configuration;
+  d.esc.sync_impulse_length = img.config.sync_impulse_length;
+  d.esc.pdi_configuration2 = img.config.pdi_configuration2;
+  d.esc.configured_station_alias = img.config.station_alias;
+  d.esc.eeprom_bytes = static_cast<std::uint16_t>(img.eeprom_bytes());
+  if (!img.checksum_ok) notes.push_back("SII: configuration area checksum (word 7) does not match; kept as read");
+  d.bootstrap_supported = img.bootstrap_mailbox.receive_size != 0;
+  auto& mb = d.mailbox;
+  mb.coe = (img.mailbox_protocols & sii::kProtoCoE) != 0;
+  mb.foe = (img.mailbox_protocols & sii::kProtoFoE) != 0;
+  mb.eoe = (img.mailbox_protocols & sii::kProtoEoE) != 0;
+  mb.soe = (img.mailbox_protocols & sii::kProtoSoE) != 0;
+  if (!img.general) {
+    notes.push_back("SII: no GENERAL category: no names, CoE details and ports; defaults used");
+    return;
+  }
+  const std::uint8_t coe = img.general->coe_details;
+  mb.sdo_info = (coe & sii::kCoeSdoInfo) != 0;
+  mb.pdo_assign = (coe & sii::kCoePdoAssign) != 0;
+  mb.pdo_config = (coe & sii::kCoePdoConfig) != 0;
+  mb.pdo_upload = (coe & sii::kCoePdoUpload) != 0;
+  mb.complete_access = (coe & sii::kCoeCompleteAccess) != 0;
+  d.esc.no_lrw = d.esc.no_lrw || (img.general->flags & sii::kFlagNotLrw) != 0;
+}
+
+void apply_layout(const SiiImage& img, od::DeviceDescription& d, std::vector<std::string>& notes) {
+  d.sync_managers.clear();
+  for (std::size_t n = 0; n < img.sync_managers.size(); ++n) {
+    const SiiSyncManager& s = img.sync_managers[n];
+    od::SyncManagerConfig c;
+    if (s.type > kSmTypeMax) {
+      notes.push_back(fmt::format("SII: SM{} has type {}; captured as unused", n, s.type));
+    } else {
+      c.type = static_cast<od::SmType>(s.type);
+    }
+    c.start_address = s.start_address;
+    c.default_size = s.length;
+    c.control = s.control;
+    c.enable = (s.enable & sii::kSmEnable) != 0;
+    d.sync_managers.push_back(c);
+  }
+  if (img.sync_managers.empty()) notes.push_back("SII: no SYNCM category: the device file has no sync managers");
+  d.fmmus.clear();
+  for (std::uint8_t code : img.fmmus) d.fmmus.push_back(fmmu_usage(code));
+  d.dc_op_modes.clear();
+  for (const SiiDcMode& m : img.dc_modes) {
+    od::DcOpMode o;
+    o.name = img.string_at(m.name_idx);
+    o.description = img.string_at(m.desc_idx);
+    o.assign_activate = m.assign_activate;
+    o.cycle_time_sync0_factor = m.cycle_time_sync0_factor;
+    o.shift_time_sync0 = static_cast<std::int32_t>(m.shift_time_sync0);
+    o.cycle_time_sync1_factor = m.cycle_time_sync1_factor;
+    o.shift_time_sync1 = static_cast<std::int32_t>(m.shift_time_sync1);
+    d.dc_op_modes.push_back(o);
+  }
+}
+
+}  // namespace
+
+void apply_esc_registers(const std::array<std::uint8_t, kEscInfoBytes>& regs, od::DeviceDescription& d) {
+  d.esc.esc_type = regs[kRegType];
+  d.esc.revision = regs[kRegRevision];
+  d.esc.build = load_le<std::uint16_t>(regs.data() + kRegBuild);
+  d.esc.fmmu_count = regs[kRegFmmus];
+  d.esc.sm_count = regs[kRegSyncManagers];
+  d.esc.process_ram_bytes = std::uint32_t{regs[kRegRamKib]} * kBytesPerKib;
+  std::string physics;
+  for (unsigned p = 0; p < kPorts; ++p) {
+    const unsigned t = (regs[kRegPortDescriptor] >> (kPortBits * p)) & kPortMask;
+    physics += t == kPortMii ? 'Y' : t == kPortEbus ? 'K' : ' ';
+  }
+  while (!physics.empty() && physics.back() == ' ') physics.pop_back();
+  d.esc.physics = physics;
+  const auto features = load_le<std::uint16_t>(regs.data() + kRegFeatures);
+  d.esc.dc_supported = (features & kFeatureDc) != 0;
+  d.esc.dc_64bit = (features & kFeatureDc64) != 0;
+  d.esc.no_lrw = (features & kFeatureNoLrw) != 0;
+  d.esc.no_read_write = (features & kFeatureNoReadWrite) != 0;
+}
+
+Expected<CaptureResult, std::string> device_from_capture(const CaptureInput& in) {
+  auto img = parse_sii(in.sii);
+  if (!img) return fail("SII: " + img.error());
+  CaptureResult r;
+  od::DeviceDescription& d = r.device;
+  d.dictionary = od::Dictionary{};
+  apply_esc_registers(in.esc_info, d);
+  apply_identity(*img, d);
+  apply_config(*img, d, r.notes);
+  apply_layout(*img, d, r.notes);
+  if (in.dictionary_read) {
+    apply_dictionary(in.objects, d, r.notes);
+  } else {
+    apply_sii_pdos(*img, d, r.notes);
+  }
+  return r;
+}
+
+}  // namespace ecat::esi
