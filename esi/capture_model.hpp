@@ -22,6 +22,9 @@ namespace ecat::esi {
 
 // ESC information registers 0x0000-0x000F (ESC datasheet Section II).
 inline constexpr std::size_t kEscInfoBytes = 16;
+// The most of an SII a capture reads (a size word may announce up to 8 MiB):
+// 64 KiB, 512 Kbit, more than any EEPROM an ESC is specified for.
+inline constexpr std::size_t kCaptureMaxSiiBytes = 0x10000;
 
 // One entry as Get Entry Description returned it, with its uploaded value.
 struct CapturedEntry {

@@ -2,6 +2,8 @@
 // (esi/capture_model.hpp). The SII says what a master configures from
 // (identity, names, SMs, FMMUs, mailbox, DC op modes, and the PDOs of a slave
 // without CoE); the registers say what the silicon is (type, ports, features).
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "common/le.hpp"
@@ -33,6 +35,9 @@ od::FmmuUsage fmmu_usage(std::uint8_t code) {
   }
 }
 
+// The largest EEPROM a device file's eepromSize (16 bits) holds in 128-byte units.
+constexpr std::size_t kMaxDeviceFileEeprom = 0xFFFF / sii::kBytesPerSizeUnit * sii::kBytesPerSizeUnit;
+
 constexpr std::uint8_t kSmTypeMax = static_cast<std::uint8_t>(od::SmType::Inputs);
 
 void apply_identity(const SiiImage& img, od::DeviceDescription& d) {
@@ -47,13 +52,25 @@ void apply_identity(const SiiImage& img, od::DeviceDescription& d) {
   }
 }
 
+// The EEPROM size the device file keeps: the size word's, unless the image
+// read disagrees (a reader stops at kCaptureMaxSiiBytes; an EEPROM may be
+// smaller than its size word says): then the image's, in whole 128-byte units.
+std::uint16_t eeprom_size(const SiiImage& img, std::size_t read, std::vector<std::string>& notes) {
+  std::size_t bytes = img.eeprom_bytes();
+  if (bytes != read) {
+    notes.push_back(fmt::format("SII: the size word announces {} bytes, the image read has {}; the device file says {}",
+                                bytes, read, read / sii::kBytesPerSizeUnit * sii::kBytesPerSizeUnit));
+    bytes = read / sii::kBytesPerSizeUnit * sii::kBytesPerSizeUnit;
+  }
+  return static_cast<std::uint16_t>(std::min<std::size_t>(bytes, kMaxDeviceFileEeprom));
+}
+
 void apply_config(const SiiImage& img, od::DeviceDescription& d, std::vector<std::string>& notes) {
   d.esc.pdi_control = img.config.pdi_control;
   d.esc.pdi_configuration = img.config.pdi_configuration;
   d.esc.sync_impulse_length = img.config.sync_impulse_length;
   d.esc.pdi_configuration2 = img.config.pdi_configuration2;
   d.esc.configured_station_alias = img.config.station_alias;
-  d.esc.eeprom_bytes = static_cast<std::uint16_t>(img.eeprom_bytes());
   if (!img.checksum_ok) notes.push_back("SII: configuration area checksum (word 7) does not match; kept as read");
   d.bootstrap_supported = img.bootstrap_mailbox.receive_size != 0;
   auto& mb = d.mailbox;
@@ -107,6 +124,30 @@ void apply_layout(const SiiImage& img, od::DeviceDescription& d, std::vector<std
   }
 }
 
+// What only the SII says of a PDO the dictionary gave: Mandatory (SII PDO
+// flag 0001h, ESI @Mandatory; sii-eeprom.md §3.6) has no CoE object. Without
+// it the twin's SII would lose the flag and differ from the image read.
+// Fixed stays the dictionary's (SI0 of the mapping object writable or not,
+// what the device does), with a note where the SII says otherwise.
+void apply_sii_pdo_flags(const SiiImage& img, od::DeviceDescription& d, std::vector<std::string>& notes) {
+  for (auto* list : {&d.rx_pdos, &d.tx_pdos}) {
+    for (od::Pdo& p : *list) {
+      for (const auto* sii_list : {&img.rx_pdos, &img.tx_pdos}) {
+        for (const SiiPdo& s : *sii_list) {
+          if (s.index != p.index) continue;
+          p.mandatory = (s.flags & sii::kPdoMandatory) != 0;
+          const bool fixed = (s.flags & sii::kPdoFixed) != 0;
+          if (fixed != p.fixed) {
+            notes.push_back(fmt::format("PDO {:04X}h: the SII says {}, the mapping object's subindex 0 is {}; captured "
+                                        "as the dictionary says",
+                                        p.index, fixed ? "fixed" : "not fixed", p.fixed ? "read-only" : "writable"));
+          }
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void apply_esc_registers(const std::array<std::uint8_t, kEscInfoBytes>& regs, od::DeviceDescription& d) {
@@ -139,9 +180,11 @@ Expected<CaptureResult, std::string> device_from_capture(const CaptureInput& in)
   apply_esc_registers(in.esc_info, d);
   apply_identity(*img, d);
   apply_config(*img, d, r.notes);
+  d.esc.eeprom_bytes = eeprom_size(*img, in.sii.size(), r.notes);
   apply_layout(*img, d, r.notes);
   if (in.dictionary_read) {
     apply_dictionary(in.objects, d, r.notes);
+    apply_sii_pdo_flags(*img, d, r.notes);
   } else {
     apply_sii_pdos(*img, d, r.notes);
   }

@@ -44,7 +44,9 @@ Expected<void, std::string> read_slave_memory(master::Master& master, std::size_
     if (!n) return fail(fmt::format("SII word 0x{:04X}: {}", word, error_text(n.error())));
     const std::size_t take = std::min(*n, total - in.sii.size());
     in.sii.insert(in.sii.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(take));
-    if (in.sii.size() == esi::sii::kFixedAreaBytes) total = std::max(total, eeprom_bytes(in.sii));
+    if (in.sii.size() == esi::sii::kFixedAreaBytes) {
+      total = std::clamp(eeprom_bytes(in.sii), total, esi::kCaptureMaxSiiBytes);
+    }
   }
   return {};
 }
