@@ -149,8 +149,10 @@ int main(int argc, char** argv) {
   cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
       ->check(CLI::Range(1, 99));
   cli.add_option("--capture", o.capture,
-                 "Scan and write each slave's device file, SII image and the topology to this directory "
-                 "(reads only; slaves go to PreOp at most: docs/twins.md)");
+                 "Scan and write each slave's device file (dictionary through SDO information, uploaded values as "
+                 "defaults; SII-only without it), SII image and the topology (for ecat-slave --topology) to this "
+                 "directory, then exit. Writes only the scan's registers, SM0/SM1 and AL control (PreOp and back to "
+                 "Init), no SDO download: docs/twins.md");
   cli.add_option("--record", o.record, "Write every frame the master sends to this pcap file");
   cli.add_flag("-q,--quiet", [&](std::int64_t) { o.session.verbose = false; }, "Print only the summary");
   iface->excludes(udp)->excludes(inproc);
