@@ -148,6 +148,19 @@ void apply_sii_pdo_flags(const SiiImage& img, od::DeviceDescription& d, std::vec
   }
 }
 
+// GENERAL physical ports (sii-eeprom.md §3.2): 4 bits per port, 1 MII, 3 E-bus;
+// the Physics letters Y/K, blank for an unused port (trailing blanks dropped).
+constexpr unsigned kSiiPortBits = 4, kSiiPortMask = 0xF, kSiiPortMii = 1, kSiiPortEbus = 3;
+std::string physics_of_ports(std::uint16_t ports) {
+  std::string physics;
+  for (unsigned p = 0; p < kPorts; ++p) {
+    const unsigned t = (ports >> (kSiiPortBits * p)) & kSiiPortMask;
+    physics += t == kSiiPortMii ? 'Y' : t == kSiiPortEbus ? 'K' : ' ';
+  }
+  while (!physics.empty() && physics.back() == ' ') physics.pop_back();
+  return physics;
+}
+
 }  // namespace
 
 void apply_esc_registers(const std::array<std::uint8_t, kEscInfoBytes>& regs, od::DeviceDescription& d) {
@@ -177,11 +190,31 @@ Expected<CaptureResult, std::string> device_from_capture(const CaptureInput& in)
   CaptureResult r;
   od::DeviceDescription& d = r.device;
   d.dictionary = od::Dictionary{};
-  apply_esc_registers(in.esc_info, d);
+  const bool registers_read = std::any_of(in.esc_info.begin(), in.esc_info.end(), [](std::uint8_t b) { return b != 0; });
+  if (registers_read) {
+    apply_esc_registers(in.esc_info, d);
+  } else {
+    r.notes.push_back("ESC registers 0x0000-0x000F not read (all 0): the device file keeps the ESC defaults");
+  }
   apply_identity(*img, d);
   apply_config(*img, d, r.notes);
+  if (img->general && (!registers_read || d.esc.physics.empty())) {
+    std::string from_sii = physics_of_ports(img->general->physical_ports);
+    if (!from_sii.empty()) d.esc.physics = std::move(from_sii);
+  }
+  if (d.esc.physics.empty()) {
+    r.notes.push_back("ports: neither the port descriptor (0x0007) nor the SII's GENERAL names one; captured as one MII "
+                      "port");
+    d.esc.physics = "Y";
+  }
   d.esc.eeprom_bytes = eeprom_size(*img, in.sii.size(), r.notes);
   apply_layout(*img, d, r.notes);
+  if (d.esc.sm_count < d.sync_managers.size() || d.esc.fmmu_count < d.fmmus.size()) {
+    r.notes.push_back(fmt::format("ESC registers: {} SMs and {} FMMUs, the SII describes {} and {}; the SII's counts kept",
+                                  d.esc.sm_count, d.esc.fmmu_count, d.sync_managers.size(), d.fmmus.size()));
+    d.esc.sm_count = static_cast<std::uint8_t>(std::max<std::size_t>(d.esc.sm_count, d.sync_managers.size()));
+    d.esc.fmmu_count = static_cast<std::uint8_t>(std::max<std::size_t>(d.esc.fmmu_count, d.fmmus.size()));
+  }
   if (in.dictionary_read) {
     apply_dictionary(in.objects, d, r.notes);
     apply_sii_pdo_flags(*img, d, r.notes);
