@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "apps/ecat-master/capture.hpp"
 #include "apps/ecat-master/session.hpp"
 #include "apps/ecat-slave/realtime.hpp"
 #include "master/redundant_transport.hpp"
@@ -37,6 +38,7 @@ struct Options {
   unsigned count = 1;
   std::string record;
   std::vector<std::string> sdo_reads;  // --sdo-read INDEX:SUB (hex)
+  std::string capture;  // --capture DIR
   double period_us = 1000;
   double dc_lead_us = -1;
   int rt_priority = 0;
@@ -146,6 +148,11 @@ int main(int argc, char** argv) {
                "Acknowledge a slave that left Op with an error and request Op again (state checked every 100 cycles); a slave that came back fresh at its position (power cycle) is addressed and configured again (hot connect; not with --dc)");
   cli.add_option("--rt-priority", o.rt_priority, "Run with SCHED_FIFO at this priority and lock memory")
       ->check(CLI::Range(1, 99));
+  cli.add_option("--capture", o.capture,
+                 "Scan and write each slave's device file (dictionary through SDO information, uploaded values as "
+                 "defaults; SII-only without it), SII image and the topology (for ecat-slave --topology) to this "
+                 "directory, then exit. Writes only the scan's registers, SM0/SM1 and AL control (PreOp and back to "
+                 "Init), no SDO download: docs/twins.md");
   cli.add_option("--record", o.record, "Write every frame the master sends to this pcap file");
   cli.add_flag("-q,--quiet", [&](std::int64_t) { o.session.verbose = false; }, "Print only the summary");
   iface->excludes(udp)->excludes(inproc);
@@ -297,6 +304,15 @@ int main(int argc, char** argv) {
       sleep_until(deadline);
     }
   };
+  if (!o.capture.empty()) {
+    auto captured = ecat::app::capture_network(master, o.capture);
+    if (!captured) {
+      std::fprintf(stderr, "ecat-master: %s\n", captured.error().c_str());
+      return kExitFailure;
+    }
+    std::printf("captured %zu slave(s) into %s, %zu note(s)\n", captured->slaves, o.capture.c_str(), captured->notes);
+    return 0;
+  }
   ecat::app::Session session(master, clock, wait, o.session);
   if (auto ok = session.bring_up(); !ok) {
     std::fprintf(stderr, "ecat-master: %s\n", ok.error().c_str());
