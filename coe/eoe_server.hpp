@@ -128,6 +128,7 @@ class EoeServer final : public MailboxService {
   MailboxType type() const noexcept override { return MailboxType::EoE; }
   Expected<std::size_t, MailboxError> handle(ConstBytes request, Bytes reply, od::EsmState state) noexcept override;
   bool has_output() const noexcept override { return tx_count_ > 0; }
+  bool starts_messages() const noexcept override { return true; }
   std::size_t next_output(Bytes out) noexcept override;
   void reset() noexcept override;
 

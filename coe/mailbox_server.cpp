@@ -39,6 +39,7 @@ MailboxServer::MailboxServer(esc::Pdi& pdi, std::size_t max_mailbox_bytes, std::
 bool MailboxServer::add_service(MailboxService& service) noexcept {
   if (service_count_ == services_.size()) return false;
   services_[service_count_++] = &service;
+  if (service.starts_messages()) streamers_[streamer_count_++] = &service;
   return true;
 }
 
@@ -173,7 +174,7 @@ bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcep
   };
   // Messages a service starts itself (EoE frames) and replies take turns
   // when both wait, so neither starves the other (docs/eoe.md "Fairness").
-  MailboxService* streamer = output_service();
+  MailboxService* streamer = streamer_count_ == 0 ? nullptr : output_service();
   const bool replies_waiting = !queue_.empty() || continuing_ != nullptr;
   if (streamer && (!replies_waiting || reply_went_last_)) {
     length = next_output(slot, sm1.length, *streamer);
@@ -204,8 +205,8 @@ bool MailboxServer::deliver(const SmRegs& sm1, bool unsolicited_allowed) noexcep
 }
 
 MailboxService* MailboxServer::output_service() const noexcept {
-  for (std::size_t i = 0; i < service_count_; ++i) {
-    if (services_[i]->has_output() && services_[i]->active_in(state_)) return services_[i];
+  for (std::size_t i = 0; i < streamer_count_; ++i) {
+    if (streamers_[i]->has_output() && streamers_[i]->active_in(state_)) return streamers_[i];
   }
   return nullptr;
 }

@@ -148,6 +148,10 @@ class MailboxServer {
   MailboxQueue unsolicited_;  // emergencies, sent when no request waits for a reply
   std::array<MailboxService*, kMaxServices> services_{};
   std::size_t service_count_ = 0;
+  // The services that start messages themselves (EoE), polled on every
+  // deliver; none for most devices: one compare per poll.
+  std::array<MailboxService*, kMaxServices> streamers_{};
+  std::size_t streamer_count_ = 0;
   MailboxService* continuing_ = nullptr;  // service with more replies to give
   MailboxHeader request_header_;          // of the request being answered: its address and priority
   MailboxHeader continuing_header_;       // of the request continuing_ answers

@@ -36,6 +36,9 @@ class MailboxService {
   // payload per free SM1, interleaved fairly with replies by the mailbox
   // server. next_output writes the next one into `out` (SM1 room); 0: none.
   virtual bool has_output() const noexcept { return false; }
+  // Whether the service ever starts messages (overrides has_output): asked
+  // once when it is registered, so the mailbox server polls only those.
+  virtual bool starts_messages() const noexcept { return false; }
   virtual std::size_t next_output(Bytes out) noexcept {
     (void)out;
     return 0;
