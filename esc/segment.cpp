@@ -200,15 +200,20 @@ Delivery Segment::carry_walk(DatagramView first, std::size_t count, Nanoseconds 
 Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
   if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
+  // A frame that enters every ESC (a broadcast: the cycle's first frame)
+  // needs no plan, and the ESCs accessed since the last frame are read
+  // again as it enters them (their dirty bit cleared there), not before
+  // as well: only the ones it does not reach are read after it.
+  const bool all = enters_all(first, count);
   if (index_stale_) [[unlikely]] {
     // Dense frames kept no index: every ESC is entered once and read again.
     index_stale_ = false;
     index_.must_visit_all();
     for (std::uint64_t& w : index_.dirty_words()) w = 0;
-  } else {
+  } else if (!all) {
     refresh_dirty();
   }
-  const bool all = !plan(first, count, now);
+  if (!all) plan(first, count, now);
   const std::size_t n = escs_.size();
   std::size_t reached = 0;  // ESCs whose processing unit the frame entered
   std::size_t passed = 0;   // ... and left again (the ADP increments)
@@ -241,6 +246,7 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
     }
     passed = reached;
     note_entered(i);
+    if (all) index_.dirty_words()[i / SkipIndex::kWordBits] &= ~SkipIndex::bit(i);
     const Esc::LineRoute route = esc->line_route_;
     if (route == Esc::LineRoute::Back) {  // closed: the frame turns back here
       back = true;
@@ -252,6 +258,7 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
     }
   }
   if (!ended && !back) reached = passed = n;  // went on out of the last ESC's port 1 (skipped or not)
+  if (all) refresh_dirty();  // the ESCs it did not reach (or that were touched while it passed)
   if (!all) {
     for (std::size_t k = 0; k < auto_increments_; ++k) {
       auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + passed));
@@ -347,7 +354,31 @@ void Segment::refresh_dirty() noexcept {
   }
 }
 
-bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+bool Segment::enters_all(DatagramView first, std::size_t count) noexcept {
+  std::size_t auto_increments = 0;
+  DatagramView dg = first;
+  for (std::size_t left = count;;) {
+    const engine_detail::CommandTraits& traits =
+        engine_detail::kCommandTraits[static_cast<std::uint8_t>(dg.command())];
+    switch (traits.mode) {
+      case Addressing::Broadcast:
+        return true;
+      case Addressing::AutoIncrement:
+        if (traits.rmw || auto_increments++ == kMaxAutoIncrement) return true;
+        break;
+      case Addressing::Configured:
+        if (traits.rmw) return true;
+        break;
+      case Addressing::None:
+      case Addressing::Logical:
+        break;
+    }
+    if (--left == 0) return false;
+    dg = dg.next();
+  }
+}
+
+void Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   index_.begin_frame();
   auto_increments_ = 0;
   DatagramView dg = first;
@@ -356,11 +387,9 @@ bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexc
     const engine_detail::CommandTraits& traits = engine_detail::kCommandTraits[static_cast<std::uint8_t>(cmd)];
     switch (traits.mode) {
       case Addressing::None:
+      case Addressing::Broadcast:  // not planned: enters_all
         break;
-      case Addressing::Broadcast:
-        return false;
       case Addressing::AutoIncrement: {
-        if (traits.rmw || auto_increments_ == kMaxAutoIncrement) return false;
         const std::uint16_t adp = dg.adp();
         auto_increment_[auto_increments_++] = AutoIncrement{dg, adp};
         // Addressed where the ADP has been incremented to 0 (Section I Table 5).
@@ -369,7 +398,6 @@ bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexc
         break;
       }
       case Addressing::Configured:
-        if (traits.rmw) return false;
         index_.mark_address(dg.adp());
         break;
       case Addressing::Logical:
@@ -380,7 +408,6 @@ bool Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexc
     dg = dg.next();
   }
   index_.mark_due(now, out_step_);
-  return true;
 }
 
 // The logical bytes of each active FMMU (Section I §6: [logical_start,

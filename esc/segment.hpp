@@ -202,9 +202,11 @@ class Segment {
     std::uint64_t hit_frame = 0;
   };
   CableFaultState* fault_on(std::size_t slave, unsigned port) noexcept;
-  // Marks the ESCs a frame must enter (SkipIndex); false when it addresses
-  // every ESC (a broadcast, xRMW, or more APxx than kMaxAutoIncrement).
-  bool plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // Whether a frame addresses every ESC (a broadcast, xRMW, or more APxx
+  // than kMaxAutoIncrement): it enters all of them, unplanned.
+  static bool enters_all(DatagramView first, std::size_t count) noexcept;
+  // Marks the ESCs a frame that does not enter all must enter (SkipIndex).
+  void plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // What the index keeps of ESC i, read after a frame entered it.
   [[gnu::always_inline]] inline void note_entered(std::size_t i) noexcept;
   static std::size_t logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept;

@@ -96,13 +96,9 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
     }
     return;
   }
-  // The ones whose time came leave the top of the heap (after_frame puts
-  // them back at their new time), then every candidate once, in order.
-  while (!wakes_.empty() && wakes_.top_time() <= now) {
-    const std::size_t i = wakes_.top();
-    due_[i / 64] |= std::uint64_t{1} << (i % 64);
-    wakes_.set(i, Nanoseconds::max());
-  }
+  // The ones whose time came are taken out (after_frame puts them back at
+  // their new time), then every candidate once, in order.
+  wakes_.take_due(now, due_);
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = entered[w] | pending_[w] | due_[w];
     entered[w] = 0;

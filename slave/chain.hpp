@@ -18,7 +18,7 @@
 #include "slave/frame_age.hpp"
 #include "slave/slave_stats.hpp"
 #include "slave/virtual_slave.hpp"
-#include "slave/wake_heap.hpp"
+#include "slave/wake_times.hpp"
 
 namespace ecat::slave {
 
@@ -143,7 +143,7 @@ class Chain {
   // wake_at() (as last asked, in wakes_) has come (due_: this call's).
   std::vector<std::uint64_t> pending_;
   std::vector<std::uint64_t> due_;
-  WakeHeap wakes_;
+  WakeTimes wakes_;
   bool rescan_ = true;  // every slave next time (set-up, poll, a slave handed out)
   bool ask_all_ = false;  // set_skipping(false)
 };

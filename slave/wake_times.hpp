@@ -1,0 +1,57 @@
+// The slaves of a chain by the time they next need to run (issue 16 item 5,
+// issue 30): one time per slave in a flat array and a lower bound on all of
+// them. Setting a time is a store and a compare; the ones due are found by
+// a scan of the array, made only when the time reaches the lower bound (as
+// esc::SkipIndex::mark_due does for the ESCs' timers). It replaced an
+// indexed min-heap whose sift on every set cost the 100-drive CSP cycle
+// more than the scans it saved (docs/performance.md "Session 11").
+// Sized at set-up; nothing allocates afterwards.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/clock.hpp"
+
+namespace ecat::slave {
+
+class WakeTimes {
+ public:
+  static constexpr std::size_t kWordBits = 64;
+
+  // Set-up: slaves 0..n-1, the new ones waking at `at`.
+  void resize(std::size_t n, Nanoseconds at = Nanoseconds::min()) {
+    if (n > at_.size()) earliest_ = std::min(earliest_, at);
+    at_.resize(n, at);
+  }
+  Nanoseconds time(std::size_t i) const noexcept { return at_[i]; }
+  void set(std::size_t i, Nanoseconds at) noexcept {
+    at_[i] = at;
+    earliest_ = std::min(earliest_, at);
+  }
+
+  // Every slave whose time is <= now: bit i of word i / 64 set in `due`,
+  // its time set to Nanoseconds::max() (the caller sets it again).
+  void take_due(Nanoseconds now, std::span<std::uint64_t> due) noexcept {
+    if (earliest_ > now) return;
+    Nanoseconds earliest = Nanoseconds::max();
+    for (std::size_t i = 0; i < at_.size(); ++i) {
+      if (at_[i] <= now) {
+        due[i / kWordBits] |= std::uint64_t{1} << (i % kWordBits);
+        at_[i] = Nanoseconds::max();
+      } else {
+        earliest = std::min(earliest, at_[i]);
+      }
+    }
+    earliest_ = earliest;
+  }
+
+ private:
+  std::vector<Nanoseconds> at_;  // per slave: when it wakes
+  // No slave wakes before this (a lower bound: set() only lowers it, a scan sets it exactly).
+  Nanoseconds earliest_ = Nanoseconds::max();
+};
+
+}  // namespace ecat::slave
