@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "od/type_of_bits.hpp"
+
 namespace ecat::esi {
 namespace {
 
@@ -31,23 +33,7 @@ od::Entry count_entry(std::uint8_t highest) {
 
 }  // namespace
 
-std::optional<od::DataType> type_of_bits(std::uint16_t bits) noexcept {
-  constexpr std::uint16_t kByte = 8, kWord = 16, kDword = 32, kQword = 64;
-  switch (bits) {
-    case 1: return od::DataType::Boolean;
-    case 2: return od::DataType::Bit2;
-    case 3: return od::DataType::Bit3;
-    case 4: return od::DataType::Bit4;
-    case 5: return od::DataType::Bit5;
-    case 6: return od::DataType::Bit6;
-    case 7: return od::DataType::Bit7;
-    case kByte: return od::DataType::Unsigned8;
-    case kWord: return od::DataType::Unsigned16;
-    case kDword: return od::DataType::Unsigned32;
-    case kQword: return od::DataType::Unsigned64;
-    default: return std::nullopt;
-  }
-}
+std::optional<od::DataType> type_of_bits(std::uint16_t bits) noexcept { return od::unsigned_type_of_bits(bits); }
 
 void add_process_objects(const od::Pdo& pdo, od::DeviceDescription& d, std::vector<std::string>& notes) {
   for (const od::PdoEntry& pe : pdo.entries) {

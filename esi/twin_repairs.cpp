@@ -17,6 +17,7 @@
 #include "esi/sii_layout.hpp"
 #include "esi/sii_writer.hpp"
 #include "od/firmware.hpp"
+#include "od/type_of_bits.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -54,21 +55,7 @@ std::uint64_t value_of(const od::Value& v) {
 // The type a PDO entry without a dictionary object gets, by its bit length.
 std::optional<od::DataType> type_for_bits(od::DataType named, unsigned bits) {
   if (od::fixed_bit_size(named) == bits) return named;
-  switch (bits) {
-    case 1: return od::DataType::Boolean;
-    case 2: return od::DataType::Bit2;
-    case 3: return od::DataType::Bit3;
-    case 4: return od::DataType::Bit4;
-    case 5: return od::DataType::Bit5;
-    case 6: return od::DataType::Bit6;
-    case 7: return od::DataType::Bit7;
-    case 8: return od::DataType::Unsigned8;
-    case 16: return od::DataType::Unsigned16;
-    case 24: return od::DataType::Unsigned24;
-    case 32: return od::DataType::Unsigned32;
-    case 64: return od::DataType::Unsigned64;
-    default: return std::nullopt;
-  }
+  return od::unsigned_type_of_bits(bits);
 }
 
 std::uint8_t sm_type_code(od::SmType t) { return static_cast<std::uint8_t>(t); }
