@@ -326,8 +326,10 @@ TEST(CaptureModel, LyingSdoInformationBecomesNotes) {
   o.push_back(var(0x2001, kUdint, 16, kRw, {0x01, 0x02, 0x03, 0x04}, "Wrong length"));
   // A string longer than its description.
   o.push_back(var(0x2002, kVisible, 16, kRo, {'a', 'b', 'c', 'd'}, "Long string"));
-  // An unknown data type of 24 bits: captured as an OCTET_STRING.
+  // An unknown data type of 24 bits: captured as UNSIGNED24; of 40 bits (no
+  // UNSIGNEDn the rule gives): as an OCTET_STRING.
   o.push_back(var(0x2003, 0x0777, 24, kRo, {1, 2, 3}, "Odd type"));
+  o.push_back(var(0x2006, 0x0777, 40, kRo, {1, 2, 3, 4, 5}, "Odd type, 40 bits"));
   // An unknown data type of 12 bits: no device-file type, the object has no SI0 left.
   o.push_back(var(0x2004, 0x0777, 12, kRo, {}, "Bits"));
   // No subindex 0 described.
@@ -364,7 +366,9 @@ TEST(CaptureModel, LyingSdoInformationBecomesNotes) {
   EXPECT_EQ(dict.find(0x2001, 0)->bit_length, 32);
   EXPECT_TRUE(has_note(n, "2002h:00: value of 4 bytes longer than the described 16 bits; length taken from the value"));
   EXPECT_EQ(dict.find(0x2002, 0)->bit_length, 32);
-  EXPECT_TRUE(has_note(n, "2003h:00: data type 0777h unknown; captured as OCTET_STRING (24 bits)"));
+  // 24 bits: UNSIGNED24, as for 8, 16, 32 and 64 (od/type_of_bits.hpp); other whole bytes: OCTET_STRING.
+  EXPECT_TRUE(has_note(n, "2003h:00: data type 0777h unknown; captured as UNSIGNED24 (24 bits)")) << all_notes(n);
+  EXPECT_TRUE(has_note(n, "2006h:00: data type 0777h unknown; captured as OCTET_STRING (40 bits)")) << all_notes(n);
   EXPECT_TRUE(has_note(n, "2004h:00: data type 0777h of 12 bits has no device-file type; left out"));
   EXPECT_EQ(dict.find(0x2004), nullptr);
   EXPECT_TRUE(has_note(n, "2005h: no usable subindex 0; object left out"));
