@@ -70,9 +70,11 @@ def click(driver, css, what):
 
 
 def link(driver, slave, port):
+    # One script reads the attribute where it finds the element: the page
+    # redraws a card between a find and a read, and a held element goes stale.
     css = f'#slaves .card[data-slave="{slave}"] .port[data-port="{port}"]'
-    found = driver.find_elements(By.CSS_SELECTOR, css)
-    return found[0].get_attribute("data-link") if found else None
+    return driver.execute_script(
+        "const e = document.querySelector(arguments[0]); return e ? e.getAttribute('data-link') : null;", css)
 
 
 def main():
@@ -102,7 +104,8 @@ def main():
         wait_until("5 slaves in OP on the page", lambda: len(driver.find_elements(
             By.CSS_SELECTOR, '#slaves .card[data-state="OP"]')) == SLAVES, 40)
         print(f"page: {SLAVES} slaves in OP after {time.monotonic() - started:.1f} s")
-        assert link(driver, CUT_SLAVE, CUT_PORT) == "up" and link(driver, PEER_SLAVE, PEER_PORT) == "up"
+        wait_until("both ends of the cable to cut shown up", lambda: link(driver, CUT_SLAVE, CUT_PORT) == "up"
+                   and link(driver, PEER_SLAVE, PEER_PORT) == "up", 20)
 
         assert master.poll() is None, "ecat-master ended before the cable was cut (host too slow?)"
         click(driver, f'#topology button.cut[data-slave="{CUT_SLAVE}"][data-port="{CUT_PORT}"]', "Cut cable")
