@@ -173,6 +173,9 @@ class Segment {
   std::size_t append(Esc& esc);
   void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
   Delivery carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // carry_line for a frame that enters every ESC (all) or one that skips.
+  template <bool all>
+  Delivery carry_line_as(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // The line without skipping: every ESC entered until the frame turns back
   // (inline in send).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
