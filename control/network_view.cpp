@@ -87,17 +87,25 @@ json slave_view(const slave::Chain& chain, std::size_t position) {
 json network_view(const slave::Chain& chain) {
   json slaves = json::array();
   for (std::size_t i = 0; i < chain.size(); ++i) slaves.push_back(slave_view(chain, i));
-  return json{{"slaves", std::move(slaves)}, {"frames", frames_view(chain.stats())}};
+  return json{{"slaves", std::move(slaves)}, {"frames", frames_view(chain.stats(), chain.cycle_timing())}};
 }
 
-json frames_view(const slave::ChainStats& s) {
+json frames_view(const slave::ChainStats& s, const slave::CycleTiming& cycles) {
+  json lateness = json::object();
+  for (std::size_t b = 0; b < slave::CycleTiming::kBuckets; ++b) {
+    lateness[std::string(slave::CycleTiming::kBucketNames[b])] = cycles.buckets()[b];
+  }
   return json{{"received", s.frames_received},
               {"returned", s.frames_returned},
               {"malformed", s.frames_malformed},
               {"lost", s.frames_lost},
               {"stale", s.frames_stale},
               {"datagrams", s.datagrams},
-              {"wkc_total", s.wkc_total}};
+              {"wkc_total", s.wkc_total},
+              {"cycles", cycles.cycles()},
+              {"cycle_period_ns", cycles.period().count()},
+              {"lateness", std::move(lateness)},
+              {"lateness_unsorted", cycles.unsorted()}};
 }
 
 }  // namespace ecat::control

@@ -13,6 +13,7 @@ namespace ecat::slave {
 class Chain;
 class VirtualSlave;
 struct ChainStats;
+class CycleTiming;
 }  // namespace ecat::slave
 
 namespace ecat::control {
@@ -27,6 +28,8 @@ nlohmann::json slave_view(const slave::Chain& chain, std::size_t position);
 nlohmann::json network_view(const slave::Chain& chain);
 // The chain's frame counters: {"received", "returned", "malformed", "lost",
 // "stale", "datagrams", "wkc_total"}.
-nlohmann::json frames_view(const slave::ChainStats& stats);
+// The chain's frame counters and the master's cycle (slave::CycleTiming,
+// settled by the caller): cycles, the period and the lateness buckets.
+nlohmann::json frames_view(const slave::ChainStats& stats, const slave::CycleTiming& cycles);
 
 }  // namespace ecat::control

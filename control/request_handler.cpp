@@ -180,7 +180,10 @@ json RequestHandler::hello(const json&) {
               {"next_event", events_.next_seq()}};
 }
 
-json RequestHandler::network(const json&) { return network_view(chain_); }
+json RequestHandler::network(const json&) {
+  chain_.cycle_timing().settle();
+  return network_view(chain_);
+}
 
 json RequestHandler::slave(const json& r) {
   const std::size_t i = slave_field(r, chain_);

@@ -64,13 +64,20 @@ Expected<void, std::string> Chain::connect_redundant(std::size_t slave, unsigned
   return {};
 }
 
+inline void Chain::count_returned(std::span<const std::uint8_t> frame, Nanoseconds now) noexcept {
+  const FrameTally t = tally_frame(frame);
+  stats_.datagrams += t.datagrams;
+  stats_.wkc_total += t.wkc_total;
+  if (t.logical) cycle_timing_.on_frame(now, t.first_logical);
+}
+
 esc::Delivery Chain::pass_frame_on(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept {
   seen_ = std::max(seen_, now);
   ++stats_.frames_received;
   const esc::Delivery d = segment_.send(frame, now, master_port);
   if (d.returned()) {
     ++stats_.frames_returned;
-    count_returned(frame);
+    count_returned(frame, now);
   } else if (d.outcome == esc::Delivery::Outcome::Malformed) {
     ++stats_.frames_malformed;
   } else {
@@ -135,11 +142,6 @@ void Chain::note(std::size_t i) noexcept {
   wakes_.set(i, s.wake_at());
 }
 
-void Chain::count_returned(std::span<const std::uint8_t> frame) noexcept {
-  const FrameTally t = tally_frame(frame);
-  stats_.datagrams += t.datagrams;
-  stats_.wkc_total += t.wkc_total;
-}
 
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
   seen_ = std::max(seen_, now);

@@ -15,6 +15,7 @@
 #include "common/expected.hpp"
 #include "esc/dc/vcd_trace.hpp"
 #include "esc/segment.hpp"
+#include "slave/cycle_timing.hpp"
 #include "slave/frame_age.hpp"
 #include "slave/slave_stats.hpp"
 #include "slave/virtual_slave.hpp"
@@ -107,6 +108,10 @@ class Chain {
   }
   const esc::Segment& segment() const noexcept { return segment_; }
   const ChainStats& stats() const noexcept { return stats_; }
+  // The master's cycle as the returned process-data frames show it
+  // (settle() it on the loop thread before reading).
+  CycleTiming& cycle_timing() noexcept { return cycle_timing_; }
+  const CycleTiming& cycle_timing() const noexcept { return cycle_timing_; }
 
   // VCD trace of every slave's SYNC pulses, SM events, application cycle and
   // ESM state (set-up, after the last add()).
@@ -118,7 +123,7 @@ class Chain {
   Expected<void, std::string> shutdown() noexcept;
 
  private:
-  void count_returned(std::span<const std::uint8_t> frame) noexcept;
+  [[gnu::always_inline]] inline void count_returned(std::span<const std::uint8_t> frame, Nanoseconds now) noexcept;
   void added() noexcept;
   // Runs slave i's firmware if a frame left it work; keeps what it waits for.
   void after_frame(std::size_t i, Nanoseconds now) noexcept;
@@ -135,6 +140,7 @@ class Chain {
   std::unique_ptr<esc::VcdTrace> trace_;
   esc::Segment segment_;
   ChainStats stats_;
+  CycleTiming cycle_timing_;
   Nanoseconds seen_{Nanoseconds::min()};
   Nanoseconds max_frame_age_{0};
   // Which slaves run_firmware asks (issue 16 item 5): the ones whose ESC a

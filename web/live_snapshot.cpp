@@ -120,14 +120,15 @@ LiveSnapshot::Fingerprint LiveSnapshot::fingerprint(std::size_t i) const {
 }
 
 // "frames":{...}, as control::frames_view has them, written as numbers.
-void LiveSnapshot::append_frames(const slave::ChainStats& s) {
-  const std::array<std::pair<std::string_view, std::uint64_t>, 7> counters{{{"received", s.frames_received},
+void LiveSnapshot::append_frames(const slave::ChainStats& s, const slave::CycleTiming& cycles) {
+  const std::array<std::pair<std::string_view, std::uint64_t>, 8> counters{{{"received", s.frames_received},
                                                                             {"returned", s.frames_returned},
                                                                             {"malformed", s.frames_malformed},
                                                                             {"lost", s.frames_lost},
                                                                             {"stale", s.frames_stale},
                                                                             {"datagrams", s.datagrams},
-                                                                            {"wkc_total", s.wkc_total}}};
+                                                                            {"wkc_total", s.wkc_total},
+                                                                            {"cycles", cycles.cycles()}}};
   append_key(text_, "frames");
   char sep = '{';
   for (const auto& [key, value] : counters) {
@@ -136,6 +137,21 @@ void LiveSnapshot::append_frames(const slave::ChainStats& s) {
     append_key(text_, key);
     append_number(text_, value);
   }
+  text_ += ',';
+  append_key(text_, "cycle_period_ns");
+  append_number(text_, cycles.period().count());
+  text_ += ',';
+  append_key(text_, "lateness");
+  sep = '{';
+  for (std::size_t b = 0; b < slave::CycleTiming::kBuckets; ++b) {
+    text_ += sep;
+    sep = ',';
+    append_key(text_, slave::CycleTiming::kBucketNames[b]);
+    append_number(text_, cycles.buckets()[b]);
+  }
+  text_ += "},";
+  append_key(text_, "lateness_unsorted");
+  append_number(text_, cycles.unsorted());
   text_ += "},";
 }
 
@@ -215,7 +231,8 @@ const std::string& LiveSnapshot::take() {
   text_ += ',';
   append_key(text_, "network");
   text_ += '{';
-  append_frames(chain.stats());
+  chain.cycle_timing().settle();
+  append_frames(chain.stats(), chain.cycle_timing());
   append_slaves();
   text_ += "},";
   append_key(text_, "time_ns");  // the "time" command's

@@ -28,6 +28,7 @@ class RequestHandler;
 }
 namespace ecat::slave {
 struct ChainStats;
+class CycleTiming;
 }
 
 namespace ecat::web {
@@ -61,7 +62,7 @@ class LiveSnapshot {
   // Which slaves have a statusword 6041h (found on the first take).
   const std::vector<bool>& drives(std::size_t slaves);
   Fingerprint fingerprint(std::size_t slave) const;
-  void append_frames(const slave::ChainStats& stats);
+  void append_frames(const slave::ChainStats& stats, const slave::CycleTiming& cycles);
   void append_slaves();
   void append_drives(const std::vector<bool>& is_drive);
 

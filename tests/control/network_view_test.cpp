@@ -57,7 +57,18 @@ TEST(ControlNetworkView, FrameCountersAreTheChainsOwn) {
   const json expected = {{"received", s.frames_received}, {"returned", s.frames_returned},
                          {"malformed", s.frames_malformed}, {"lost", s.frames_lost},
                          {"stale", s.frames_stale},        {"datagrams", s.datagrams},
-                         {"wkc_total", s.wkc_total}};
+                         {"wkc_total", s.wkc_total},
+                         // bring_up's 10 cycles in SafeOp, 1 ms + 5 us of wire time apart
+                         {"cycles", 10},
+                         {"cycle_period_ns", 1'005'000},
+                         {"lateness",
+                          {{"early", 0},
+                           {"on_time", 9},
+                           {"late_10_25", 0},
+                           {"late_25_50", 0},
+                           {"missed_1", 0},
+                           {"missed_2_or_more", 0}}},
+                         {"lateness_unsorted", 0}};
   EXPECT_EQ(rig.network()["frames"], expected);
 }
 

@@ -104,6 +104,11 @@ def main():
         wait_until("5 slaves in OP on the page", lambda: len(driver.find_elements(
             By.CSS_SELECTOR, '#slaves .card[data-state="OP"]')) == SLAVES, 40)
         print(f"page: {SLAVES} slaves in OP after {time.monotonic() - started:.1f} s")
+        # The master's cycles as the slaves see them, with their lateness histogram.
+        wait_until("cycles and on-time cycles counted on the page", lambda: int(driver.execute_script(
+            "const c = document.querySelector('#lateness [data-frames=cycles]');"
+            "const t = document.querySelector('#lateness tr[data-lateness=on_time] td.num');"
+            "return c && t ? Math.min(Number(c.textContent), Number(t.textContent.trim())) : 0;")) > 0, 20)
         wait_until("both ends of the cable to cut shown up", lambda: link(driver, CUT_SLAVE, CUT_PORT) == "up"
                    and link(driver, PEER_SLAVE, PEER_PORT) == "up", 20)
 

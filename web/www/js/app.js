@@ -82,6 +82,30 @@ function renderFrames(f, time) {
                 ['Malformed', f.malformed], ['Stale (too old)', f.stale], ['Datagrams', f.datagrams],
                 ['Sum of WKCs', f.wkc_total]];
   replace($('frames'), rows.map(([k, v]) => el('tr', {}, el('td', {}, k), el('td', { class: 'num', 'data-frames': k }, v))));
+  renderLateness(f);
+}
+
+// The master's cycle as the slaves see it (slave::CycleTiming): the period is
+// the median interval between cycle starts, each interval sorted by how late
+// it came against it. Bars with their counts as text, not length alone.
+const LATENESS = [['early', 'early (< -10 %)'], ['on_time', 'on time (\u00b110 %)'],
+                  ['late_10_25', 'late 10-25 %'], ['late_25_50', 'late 25-50 %'],
+                  ['missed_1', '~1 cycle missed'],
+                  ['missed_2_or_more', '2+ cycles missed']];
+
+function renderLateness(f) {
+  const period = f.cycle_period_ns > 0 ? `${(f.cycle_period_ns / 1e3).toFixed(1)} \u00b5s` : '-';
+  const total = Math.max(1, LATENESS.reduce((n, [key]) => n + f.lateness[key], 0));
+  const rows = [el('tr', {}, el('td', {}, 'Cycles'), el('td', { class: 'num', 'data-frames': 'cycles' }, f.cycles)),
+                el('tr', {}, el('td', {}, 'Cycle period'), el('td', { class: 'num', 'data-frames': 'period' }, period))];
+  for (const [key, label] of LATENESS) {
+    const n = f.lateness[key];
+    const bar = el('span', { class: `bar${key === 'on_time' ? '' : ' late'}` });
+    bar.style.width = `${Math.round((100 * n) / total)}%`;
+    rows.push(el('tr', { 'data-lateness': key }, el('td', {}, label),
+                 el('td', { class: 'num' }, el('span', { class: 'barbox' }, bar), ` ${n}`)));
+  }
+  replace($('lateness'), rows);
 }
 
 function slaveCard(s) {
