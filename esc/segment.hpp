@@ -204,6 +204,8 @@ class Segment {
   [[gnu::noinline]] Delivery carry_route(DatagramView first, std::size_t count, Nanoseconds now,
                                          unsigned master_port) noexcept;
   struct Route;
+  template <bool all>
+  Delivery carry_route_as(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
   void build_route(unsigned master_port);
   void plan_route(const Route& r, DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // The frame leaves the route after the event `at` of its route: the

@@ -252,13 +252,20 @@ void Segment::record_route_pass(unsigned master_port, Nanoseconds start) noexcep
   rp.seen_at = r.seen_at.data();
 }
 
+// As on the line (carry_line): a frame that enters every unit reads the
+// ESCs touched since the last frame as it enters them (only their ports
+// first), and the two kinds are two instances of one loop.
 Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
+  if (master_port >= kMasterPorts) return Delivery{};
+  return enters_all(first, count) ? carry_route_as<true>(first, count, now, master_port)
+                                  : carry_route_as<false>(first, count, now, master_port);
+}
+
+template <bool all>
+Delivery Segment::carry_route_as(DatagramView first, std::size_t count, Nanoseconds now,
+                                 unsigned master_port) noexcept {
   Delivery d;
-  if (master_port >= kMasterPorts) return d;
-  // As on the line: a frame that enters every unit reads the ESCs touched
-  // since the last frame as it enters them (only their ports first).
-  const bool all = enters_all(first, count);
-  if (all) {
+  if constexpr (all) {
     check_dirty_ports();
   } else {
     refresh_dirty<true>();
@@ -269,7 +276,7 @@ Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds
   const Link& entry = master_[master_port];
   if (entry.slave == kNoSlave || !entry.up) return d;
   ++frame_number_;
-  if (!all) {
+  if constexpr (!all) {
     plan_route(r, first, count, now);
     for (std::size_t i = index_.next(0); i < escs_.size(); i = index_.next(i + 1)) {
       const std::uint32_t o = r.ordinal[i];
@@ -280,7 +287,7 @@ Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds
   std::size_t visited = 0;
   std::size_t o = 0;
   for (;;) {
-    if (all) {
+    if constexpr (all) {
       if (o >= units) break;
     } else {
       // The next marked unit in route order (the bits are cleared as taken).
@@ -295,7 +302,7 @@ Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds
     const RouteEvent& u = r.events[r.unit_event[o]];
     Esc* esc = escs_[i];
     esc->sync_pass();
-    if (!all) {
+    if constexpr (!all) {
       for (std::size_t k = 0; k < auto_increments_; ++k) {
         auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + o));
       }
@@ -323,7 +330,7 @@ Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds
     }
     const std::uint64_t epoch = topology_epoch_;
     note_entered_route(i);
-    if (all) index_.dirty_words()[i / SkipIndex::kWordBits] &= ~SkipIndex::bit(i);
+    if constexpr (all) index_.dirty_words()[i / SkipIndex::kWordBits] &= ~SkipIndex::bit(i);
     if (topology_epoch_ != epoch) [[unlikely]] {
       // Its ports changed under the frame: the port walk carries it on from here.
       materialize(r, r.unit_event[o], now);
@@ -335,9 +342,9 @@ Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds
       index_.entered_all();
       return d;
     }
-    if (all) ++o;
+    if constexpr (all) ++o;
   }
-  if (!all) {
+  if constexpr (!all) {
     for (std::size_t k = 0; k < auto_increments_; ++k) {
       auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + units));
     }
@@ -361,7 +368,7 @@ Delivery Segment::carry_route(DatagramView first, std::size_t count, Nanoseconds
   }
   record_route_pass(master_port, now);
   for (std::size_t k = 0; k < visited; ++k) escs_[visited_[k]]->hook_.synced = pass_.frame;
-  if (all) refresh_dirty<true>();  // the ESCs it did not enter (or that were touched while it passed)
+  if constexpr (all) refresh_dirty<true>();  // the ESCs it did not enter (or that were touched while it passed)
   d.outcome = r.outcome;
   d.processed = static_cast<unsigned>(units);
   if (r.outcome == Delivery::Outcome::Returned) {
