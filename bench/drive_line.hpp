@@ -63,7 +63,7 @@ class DriveLine {
     const auto& sms = dev->sync_managers;
     if (branch > 0) {
       auto four = std::make_shared<od::DeviceDescription>(*dev);
-      four->physics = "YYYY";
+      four->esc.physics = "YYYY";
       dev = std::move(four);
     }
     for (std::size_t i = 0; i < n; ++i) {

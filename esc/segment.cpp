@@ -147,8 +147,6 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   if (faults_.empty() && line_ && master_port == 0) [[likely]] {
     d = !skipping_ || escs_.size() < kSkipFrom ? carry_dense(first, valid.count, now)
                                                : carry_line(first, valid.count, now);
-  } else if (faults_.empty() && skipping_ && !line_) {
-    d = carry_route(first, valid.count, now, master_port);
   } else {
     d = carry_walk(first, valid.count, now, master_port);
   }
@@ -184,6 +182,14 @@ Delivery Segment::reject(FrameError error, Nanoseconds now, unsigned master_port
 // The port walks enter ESCs without the line's bookkeeping: each takes in
 // the line's last frame first, and all are entered in full afterwards.
 Delivery Segment::carry_walk(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
+  // Trees and rings skip (esc/segment_route.cpp); decided here, not in
+  // send, whose lines' path stays as it was (issue 30: every instruction
+  // there is paid by every frame).
+  if (faults_.empty() && skipping_ && !line_) return carry_route(first, count, now, master_port);
+  return carry_every(first, count, now, master_port);
+}
+
+Delivery Segment::carry_every(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
   ++topology_epoch_;  // ports may open or close on the way: the routes of carry_route are built again
   for (Esc* e : escs_) e->sync_pass();
   const Delivery d = !faults_.empty() ? carry_faulty(first, count, now, master_port, true)

@@ -183,6 +183,9 @@ class Segment {
   [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
   [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,
                                         unsigned master_port) noexcept;
+  // The port walk proper (carry_walk takes trees and rings with skipping
+  // on to carry_route instead).
+  Delivery carry_every(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
   // Lines shorter than this take carry_dense: planning a frame (SkipIndex)
   // costs about as much as entering three or four passive ESCs, and the
   // index kept up to date after every entered ESC more (issue 30: the

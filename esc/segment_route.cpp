@@ -272,7 +272,7 @@ Delivery Segment::carry_route_as(DatagramView first, std::size_t count, Nanoseco
   }
   Route& r = routes_[master_port];
   if (!r.built || r.epoch != topology_epoch_) build_route(master_port);
-  if (!r.usable) [[unlikely]] return carry_walk(first, count, now, master_port);
+  if (!r.usable) [[unlikely]] return carry_every(first, count, now, master_port);
   const Link& entry = master_[master_port];
   if (entry.slave == kNoSlave || !entry.up) return d;
   ++frame_number_;
