@@ -19,9 +19,9 @@ namespace {
 
 // The case's line of state.range(0) drives, or null with the case skipped
 // and the reason given when it cannot be built.
-std::unique_ptr<DriveLine> make_line(benchmark::State& state) {
+std::unique_ptr<DriveLine> make_line(benchmark::State& state, std::size_t branch = 0) {
   try {
-    return std::make_unique<DriveLine>(static_cast<std::size_t>(state.range(0)));
+    return std::make_unique<DriveLine>(static_cast<std::size_t>(state.range(0)), DriveLine::default_device(), branch);
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return nullptr;
@@ -34,9 +34,9 @@ std::unique_ptr<DriveLine> make_line(benchmark::State& state) {
 // with --control and no client (docs/control.md): a Unix socket server
 // serviced after every cycle, doing its tick's work (poll of the socket,
 // event sample) every 10 ms of the simulated time.
-void run_cycles(benchmark::State& state, bool skipping, bool control = false) {
+void run_cycles(benchmark::State& state, bool skipping, bool control = false, std::size_t branch = 0) {
   const auto n = static_cast<std::size_t>(state.range(0));
-  std::unique_ptr<DriveLine> line = make_line(state);
+  std::unique_ptr<DriveLine> line = make_line(state, branch);
   if (!line) return;
   line->chain().set_skipping(skipping);
   ManualClock clock;
@@ -105,6 +105,15 @@ BENCHMARK(BM_Cycle_CspFaultsIdle)
 // The reference for BM_Cycle_Csp in the same binary and the same minutes.
 void BM_Cycle_CspFullPass(benchmark::State& state) { run_cycles(state, false); }
 BENCHMARK(BM_Cycle_CspFullPass)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// The same cycle on a tree (issue 30 item 2: within 1.2x of BM_Cycle_Csp):
+// junctions every 10 drives, each with a branch of 9 drives on its port 3
+// (DriveLine's `branch`), skipping on, and off (the port walk).
+constexpr std::size_t kTreeBranch = 10;
+void BM_Cycle_CspTree(benchmark::State& state) { run_cycles(state, true, false, kTreeBranch); }
+BENCHMARK(BM_Cycle_CspTree)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+void BM_Cycle_CspTreeFullPass(benchmark::State& state) { run_cycles(state, false, false, kTreeBranch); }
+BENCHMARK(BM_Cycle_CspTreeFullPass)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
 // BM_Cycle_Csp with the control interface on and idle (issue 26 item 5:
 // within 2 % of BM_Cycle_Csp in the same run).

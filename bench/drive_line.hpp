@@ -50,14 +50,34 @@ class DriveLine {
   // N slaves of `dev`, one description shared by all (issue 16). A device
   // without a CiA 402 drive (an I/O slave) is taken to Op and cycled with
   // its process data as it is; a drive is also enabled in CSP.
-  DriveLine(std::size_t n, std::shared_ptr<const od::DeviceDescription> dev) : chain_(clock_), n_(n) {
+  //
+  // With `branch` > 0 the slaves form a tree instead (issue 30 item 2):
+  // every branch-th slave is a junction on the previous junction's port 1,
+  // the branch - 1 slaves after it hang in a line off its port 3; all with
+  // four MII ports. The frame's order through the units is the slaves'
+  // order, as on the line.
+  DriveLine(std::size_t n, std::shared_ptr<const od::DeviceDescription> dev, std::size_t branch = 0)
+      : chain_(clock_), n_(n) {
     for (const auto& p : dev->rx_pdos) if (p.sm == 2) out_ += p.bit_length() / 8;
     for (const auto& p : dev->tx_pdos) if (p.sm == 3) in_ += p.bit_length() / 8;
     const auto& sms = dev->sync_managers;
+    if (branch > 0) {
+      auto four = std::make_shared<od::DeviceDescription>(*dev);
+      four->esc.physics = "YYYY";
+      dev = std::move(four);
+    }
     for (std::size_t i = 0; i < n; ++i) {
       slave::SlaveOptions o;
       o.name = "drive-" + std::to_string(i + 1);
-      if (auto r = chain_.add(dev, o); !r) throw std::runtime_error(r.error());
+      Expected<void, std::string> r;
+      if (branch == 0 || i == 0) {
+        r = chain_.add(dev, o);
+      } else if (i % branch == 0) {
+        r = chain_.attach(dev, o, i - branch, esc::kDownstreamPort);
+      } else {
+        r = chain_.attach(dev, o, i - 1, i % branch == 1 ? 3u : esc::kDownstreamPort);
+      }
+      if (!r) throw std::runtime_error(r.error());
     }
     // Station addresses, many APWRs per frame.
     batch([&](Frame& f, std::size_t i) {
@@ -137,6 +157,12 @@ class DriveLine {
   }
   std::uint16_t al_status(std::size_t d) noexcept { return chain_[d].esc().register_u16(esc::reg::kAlStatus); }
   slave::Chain& chain() noexcept { return chain_; }
+  // The built-in generic servo (esi::load_default_device).
+  static std::shared_ptr<const od::DeviceDescription> default_device() {
+    auto loaded = esi::load_default_device();
+    if (!loaded) throw std::runtime_error(loaded.error().to_string());
+    return std::make_shared<const od::DeviceDescription>(std::move(*loaded));
+  }
 
  private:
   static constexpr Nanoseconds kFrameSpacing{10'000};
@@ -149,12 +175,6 @@ class DriveLine {
     Frame frame;
     std::size_t datagrams = 0;
   };
-
-  static std::shared_ptr<const od::DeviceDescription> default_device() {
-    auto loaded = esi::load_default_device();
-    if (!loaded) throw std::runtime_error(loaded.error().to_string());
-    return std::make_shared<const od::DeviceDescription>(std::move(*loaded));
-  }
 
   static Data fmmu_block(std::uint32_t logical, std::uint16_t length, std::uint16_t physical, std::uint8_t type) {
     Data d = le32(logical);

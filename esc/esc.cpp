@@ -370,10 +370,36 @@ void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
 // reaching this point unapplied (Segment::record_pass), so the latest one suffices.
 void Esc::apply_pass() noexcept {
   const LinePass& p = *hook_.line;
+  if (p.routes != nullptr) [[unlikely]] {
+    apply_route_passes(p);
+    return;
+  }
   hook_.synced = p.frame;
   if (hook_.index >= p.reached) return;
   now_ = p.at(hook_.index);
   dc_.note_time(p.latest(hook_.index));
+}
+
+// A tree or ring: the latest frame of each master port that passed this
+// ESC by since it last looked, in the order they were sent. Each one's
+// times stand for the earlier frames of its port (the segment takes every
+// ESC's times in before a port's frame takes another way or starts
+// earlier: Segment::record_route_pass); the processing unit's time is the
+// access time of the last frame that had one here, the DC unit keeps the
+// latest time seen.
+void Esc::apply_route_passes(const LinePass& p) noexcept {
+  const std::uint64_t synced = hook_.synced;
+  hook_.synced = p.frame;
+  const RoutePass* a = &p.routes[0];
+  const RoutePass* b = &p.routes[1];
+  if (b->frame < a->frame) std::swap(a, b);
+  for (const RoutePass* r : {a, b}) {
+    if (r->frame <= synced || r->unit_at == nullptr) continue;
+    const Nanoseconds unit = r->unit_at[hook_.index];
+    if (unit != RoutePass::kNoTime) now_ = r->start + unit;
+    const Nanoseconds seen = r->seen_at[hook_.index];
+    if (seen != RoutePass::kNoTime) dc_.note_time(r->start + seen);
+  }
 }
 
 std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {

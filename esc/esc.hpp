@@ -205,6 +205,7 @@ class Esc final : public Pdi {
     if (hook_.line != nullptr && hook_.synced != hook_.line->frame) apply_pass();
   }
   void apply_pass() noexcept;
+  void apply_route_passes(const LinePass& p) noexcept;
   void touch() noexcept {
     sync_pass();
     if (hook_.dirty_word != nullptr) *hook_.dirty_word |= hook_.dirty_bit;

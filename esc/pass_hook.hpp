@@ -17,6 +17,18 @@
 
 namespace ecat::esc {
 
+// One master port's latest frame through a tree or ring (esc::Segment's
+// route path, esc/segment_route.cpp): per ESC, when its processing unit
+// had the frame and the latest time the frame passed it (at any port),
+// relative to `start`; kNoTime where it did not.
+struct RoutePass {
+  static constexpr Nanoseconds kNoTime = Nanoseconds::max();
+  std::uint64_t frame = 0;  // the LinePass::frame it was given; 0: none yet
+  Nanoseconds start{0};     // when the master sent it
+  const Nanoseconds* unit_at = nullptr;
+  const Nanoseconds* seen_at = nullptr;
+};
+
 // The latest frame carried along a line (esc::Segment's line path).
 struct LinePass {
   std::uint64_t frame = 0;  // its number, from 1; 0: none yet
@@ -28,6 +40,9 @@ struct LinePass {
   Nanoseconds back{0};
   std::uint32_t reached = 0;  // ESCs whose processing unit it entered (0..reached-1)
   bool returned = false;      // it came back through them (their port-1 arrival times)
+  // Trees and rings: `frame` is the latest frame of either master port, and
+  // each port's latest is here ([0], [1]); null on a line.
+  const RoutePass* routes = nullptr;
 
   // When it reached ESC `index`'s port 0, and the latest time that ESC saw
   // it: when it returned, its arrival at port 1 on the way back - the last

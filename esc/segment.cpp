@@ -32,6 +32,8 @@ std::size_t Segment::append(Esc& esc) {
   touched_.push_back(0);  // two words per slave: touched, processed
   visited_.push_back(0);
   fmmu_epochs_.push_back(esc.fmmu_epoch_ - 1);  // not read yet
+  port_masks_.push_back(0);
+  ++topology_epoch_;
   const std::size_t i = escs_.size() - 1;
   if (index_.resize(escs_.size())) {
     for (std::size_t k = 0; k < i; ++k) hook(k);
@@ -62,6 +64,7 @@ Segment::~Segment() {
 void Segment::cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay) {
   links_[a][pa] = Link{static_cast<std::uint32_t>(b), static_cast<std::uint8_t>(pb), true, delay};
   links_[b][pb] = Link{static_cast<std::uint32_t>(a), static_cast<std::uint8_t>(pa), true, delay};
+  ++topology_epoch_;
   escs_[a]->set_link(pa, true);
   escs_[b]->set_link(pb, true);
 }
@@ -91,6 +94,7 @@ void Segment::connect_master(unsigned master_port, std::size_t slave, unsigned p
   const Nanoseconds d = delay.value_or(Nanoseconds{0});
   master_[master_port] = Link{static_cast<std::uint32_t>(slave), static_cast<std::uint8_t>(port), true, d};
   links_[slave][port] = Link{kMasterSlave, static_cast<std::uint8_t>(master_port), true, d};
+  ++topology_epoch_;
   escs_[slave]->set_link(port, true);
 }
 
@@ -100,6 +104,7 @@ bool Segment::set_link(std::size_t slave, unsigned port, bool up) noexcept {
   if (l.slave == kNoSlave) return false;
   if (l.up == up) return true;
   l.up = up;
+  ++topology_epoch_;  // the routes of trees and rings (carry_route) go another way
   escs_[slave]->set_link(port, up);
   if (l.slave == kMasterSlave) {
     master_[l.port].up = up;
@@ -163,6 +168,7 @@ Delivery Segment::reject(FrameError error, Nanoseconds now, unsigned master_port
     // marks the frame; every later port counts a forwarded error (0x0308+n)
     // and every later unit 0x030C (Section I §14.1 Table 51, §14.2). The
     // port walk enters ESCs without the line's bookkeeping (as below).
+    ++topology_epoch_;
     for (Esc* e : escs_) e->sync_pass();
     (void)carry_faulty(DatagramView{}, 0, now, master_port, false);
     index_.must_visit_all();
@@ -176,6 +182,15 @@ Delivery Segment::reject(FrameError error, Nanoseconds now, unsigned master_port
 // The port walks enter ESCs without the line's bookkeeping: each takes in
 // the line's last frame first, and all are entered in full afterwards.
 Delivery Segment::carry_walk(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
+  // Trees and rings skip (esc/segment_route.cpp); decided here, not in
+  // send, whose lines' path stays as it was (issue 30: every instruction
+  // there is paid by every frame).
+  if (faults_.empty() && skipping_ && !line_) return carry_route(first, count, now, master_port);
+  return carry_every(first, count, now, master_port);
+}
+
+Delivery Segment::carry_every(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
+  ++topology_epoch_;  // ports may open or close on the way: the routes of carry_route are built again
   for (Esc* e : escs_) e->sync_pass();
   const Delivery d = !faults_.empty() ? carry_faulty(first, count, now, master_port, true)
                                       : carry_ports(first, count, now, master_port);
@@ -351,13 +366,14 @@ Delivery Segment::carry_dense(DatagramView first, std::size_t count, Nanoseconds
 // The ESCs accessed from outside a frame since the last one (PDI, poll,
 // link, reset: Esc::touch) are read again; the ones still passive may be
 // passed by (their firmware ran, they are not addressed).
+template <bool kRoute>
 void Segment::refresh_dirty() noexcept {
   const std::span<std::uint64_t> dirty = index_.dirty_words();
   for (std::size_t w = 0; w < dirty.size(); ++w) {
     std::uint64_t bits = dirty[w];
     dirty[w] = 0;
     while (bits != 0) {
-      note_entered(w * SkipIndex::kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
+      note_entered<kRoute>(w * SkipIndex::kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
       bits &= bits - 1;
     }
   }
@@ -445,11 +461,19 @@ std::size_t Segment::logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept
   return count;
 }
 
+template <bool kRoute>
 void Segment::note_entered(std::size_t i) noexcept {
   const Esc& e = *escs_[i];
   SkipIndex::Passive p;
-  p.passive = e.config_.fast_paths && e.port_open_[kUpstreamPort] && e.line_route_ == Esc::LineRoute::Down &&
-              e.irq_field() == 0 && !e.dc_.receive_latch_armed() && !e.reset_requested_;
+  if constexpr (kRoute) {
+    // Port 0 open: the processing unit leaves the frame's circulating bits alone.
+    p.passive = e.config_.fast_paths && e.port_open_[kUpstreamPort] && e.irq_field() == 0 &&
+                !e.dc_.receive_latch_armed() && !e.reset_requested_;
+    if (port_mask(e) != port_masks_[i]) ++topology_epoch_;
+  } else {
+    p.passive = e.config_.fast_paths && e.port_open_[kUpstreamPort] && e.line_route_ == Esc::LineRoute::Down &&
+                e.irq_field() == 0 && !e.dc_.receive_latch_armed() && !e.reset_requested_;
+  }
   if (p.passive) {
     const std::uint8_t* m = e.mem_.get();
     p.next_timer = e.next_timer_;
@@ -496,35 +520,47 @@ Delivery Segment::carry_ports(DatagramView first, std::size_t count, Nanoseconds
   const Link& entry = master_[master_port];
   if (entry.slave == kNoSlave || !entry.up) return d;
   ++frame_number_;
-  std::size_t n = entry.slave;
-  unsigned p = entry.port;
-  Nanoseconds t = now + entry.delay;
+  return walk_ports(d, first, count, entry.slave, entry.port, now + entry.delay, 0, nullptr);
+}
+
+Delivery Segment::walk_ports(Delivery d, DatagramView first, std::size_t count, std::size_t n, unsigned p,
+                             Nanoseconds t, std::size_t step, const Nanoseconds* resume) noexcept {
   const std::size_t limit = 2 * kMaxPorts * escs_.size() + 2;
-  for (std::size_t step = 0; step < limit; ++step) {
+  for (; step < limit; ++step) {
     Esc& e = *escs_[n];
     std::uint64_t& touched = touched_[2 * n];
     std::uint64_t& processed = touched_[2 * n + 1];
-    if (touched != frame_number_) {
-      touched = frame_number_;
-      e.dc_.begin_frame();
-    }
-    if (!e.port_open_[p]) {
-      e.frame_at_closed_port(p);  // a closed port takes nothing in
-      return d;
-    }
-    if (p != kUpstreamPort) {
-      if (processed == frame_number_) {
-        e.dc_.on_frame_arrival(static_cast<int>(p), t);
-      } else {
-        e.dc_.on_arrival_before_processing(static_cast<int>(p), t);
-      }
-    }
     unsigned q = p;
     bool via_unit = false;
+    bool unit_done = false;  // resumed: the frame comes out of the processing unit
     // Time inside the ESC: forwarding from a port 1..3, processing through the unit.
-    Nanoseconds inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding[p];
+    Nanoseconds inside{0};
+    if (resume != nullptr) [[unlikely]] {
+      q = kUpstreamPort;
+      via_unit = true;
+      unit_done = true;
+      inside = *resume;
+      resume = nullptr;
+    } else {
+      if (touched != frame_number_) {
+        touched = frame_number_;
+        e.dc_.begin_frame();
+      }
+      if (!e.port_open_[p]) {
+        e.frame_at_closed_port(p);  // a closed port takes nothing in
+        return d;
+      }
+      if (p != kUpstreamPort) {
+        if (processed == frame_number_) {
+          e.dc_.on_frame_arrival(static_cast<int>(p), t);
+        } else {
+          e.dc_.on_arrival_before_processing(static_cast<int>(p), t);
+        }
+      }
+      inside = p == kUpstreamPort ? Nanoseconds{0} : inner_[n].forwarding[p];
+    }
     for (;;) {
-      if (q == kUpstreamPort) {
+      if (q == kUpstreamPort && !unit_done) {
         if (via_unit) break;  // every port closed: out of port 0
         via_unit = true;
         processed = frame_number_;
@@ -536,6 +572,7 @@ Delivery Segment::carry_ports(DatagramView first, std::size_t count, Nanoseconds
         }
         inside += inner_[n].processing;
       }
+      unit_done = false;
       q = kNextPort[q];
       if (e.port_open_[q]) break;
     }
@@ -563,5 +600,10 @@ std::optional<Nanoseconds> Segment::poll(Nanoseconds now) noexcept {
   }
   return next;
 }
+
+void Segment::note_entered_route(std::size_t i) noexcept { note_entered<true>(i); }
+
+template void Segment::refresh_dirty<false>() noexcept;
+template void Segment::refresh_dirty<true>() noexcept;
 
 }  // namespace ecat::esc

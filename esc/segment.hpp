@@ -183,12 +183,42 @@ class Segment {
   [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
   [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,
                                         unsigned master_port) noexcept;
+  // The port walk proper (carry_walk takes trees and rings with skipping
+  // on to carry_route instead).
+  Delivery carry_every(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
   // Lines shorter than this take carry_dense: planning a frame (SkipIndex)
   // costs about as much as entering three or four passive ESCs, and the
   // index kept up to date after every entered ESC more (issue 30: the
   // one-slave FPRD cost 205 instructions at 49fab26, 610 with the index).
   static constexpr std::size_t kSkipFrom = 4;
   Delivery carry_ports(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
+  // carry_ports from the frame's arrival at port `p` of slave `n` at time
+  // `t`, the walk's step `step`; with `resume`, its processing unit has
+  // already had the frame, `*resume` the time inside so far
+  // (carry_route hands a frame over to it there).
+  Delivery walk_ports(Delivery d, DatagramView first, std::size_t count, std::size_t n, unsigned p, Nanoseconds t,
+                      std::size_t step, const Nanoseconds* resume) noexcept;
+  // Trees and rings with skipping on (issue 30 item 2, esc/segment_route.cpp):
+  // the frame takes the route the port walk would, worked out once for the
+  // ports' states (build_route), and enters only the ESCs it addresses or
+  // maps and the ones not passive; the others take in its times later
+  // (RoutePass). Hands over to the port walk when an entered ESC's ports
+  // change under the frame.
+  [[gnu::noinline]] Delivery carry_route(DatagramView first, std::size_t count, Nanoseconds now,
+                                         unsigned master_port) noexcept;
+  struct Route;
+  template <bool all>
+  Delivery carry_route_as(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
+  void build_route(unsigned master_port);
+  void plan_route(const Route& r, DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // The frame leaves the route after the event `at` of its route: the
+  // events before it are done in full, as the port walk does them.
+  void materialize(const Route& r, std::size_t at, Nanoseconds now) noexcept;
+  void note_entered_route(std::size_t i) noexcept;
+  void record_route_pass(unsigned master_port, Nanoseconds start) noexcept;
+  static std::uint32_t port_mask(const Esc& e) noexcept;
+  // Dirty ESCs whose ports opened or closed since the route was built.
+  void check_dirty_ports() noexcept;
   // The port walk of carry_ports for frames that are or may become broken
   // (a cable with a fault, or a frame the processing unit rejects:
   // `parsed` false), with the error counting of Section I §14
@@ -211,8 +241,13 @@ class Segment {
   // Marks the ESCs a frame that does not enter all must enter (SkipIndex).
   void plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // What the index keeps of ESC i, read after a frame entered it.
+  // kRoute: a tree or ring, where a passive ESC may send the frame on out
+  // of any port (the route knows where) and a change of its ports makes
+  // the routes stale.
+  template <bool kRoute = false>
   [[gnu::always_inline]] inline void note_entered(std::size_t i) noexcept;
   static std::size_t logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept;
+  template <bool kRoute = false>
   void refresh_dirty() noexcept;
   // The frame just carried becomes the line's latest (LinePass).
   void record_pass(Nanoseconds start, std::uint32_t reached, bool returned) noexcept;
@@ -258,6 +293,42 @@ class Segment {
   // in pass_ yet (Esc::sync_pass); carry_dense syncs them all once first.
   bool passes_pending_ = false;
   std::vector<std::uint32_t> fmmu_epochs_;  // Esc::fmmu_epoch_ when its spans were last read
+  // Trees and rings (carry_route): the port walk of each master port's
+  // frames, for the ports' states when it was built.
+  struct RouteEvent {
+    enum class Kind : std::uint8_t { Arrive, Unit };
+    std::uint32_t slave = 0;
+    std::uint8_t port = 0;     // where the frame came in
+    Kind kind = Kind::Arrive;
+    bool after_unit = false;   // Arrive: the slave's processing unit already had the frame
+    std::uint32_t step = 0;    // the walk's step (arrivals at a slave before this one)
+    Nanoseconds t{0};          // Arrive: the arrival; Unit: processing (from the send)
+    Nanoseconds arrived{0};    // Unit: the arrival at `port`
+  };
+  struct Route {
+    bool built = false;
+    bool usable = false;             // false: a unit twice, or circling: the port walk takes it
+    std::uint64_t epoch = 0;         // topology_epoch_ when built
+    Delivery::Outcome outcome = Delivery::Outcome::Lost;
+    unsigned out_port = 0;           // Returned: the master port
+    Nanoseconds out_at{0};           // Returned: when (from the send)
+    std::uint32_t closed_slave = kNoSlave;  // Lost at a closed port: whose
+    std::uint8_t closed_port = 0;
+    std::vector<RouteEvent> events;
+    std::vector<std::uint32_t> units;       // the slave of each processing unit, in order
+    std::vector<std::uint32_t> unit_event;  // its event
+    std::vector<std::uint32_t> ordinal;     // per slave: its unit's place in `units`, or kNoSlave
+    std::vector<Nanoseconds> unit_at;       // per slave: RoutePass::unit_at
+    std::vector<Nanoseconds> seen_at;       // per slave: RoutePass::seen_at
+    std::vector<std::uint32_t> begin;       // per slave + 1: where its events start in by_slave
+    std::vector<std::uint32_t> by_slave;    // event numbers by slave, in order
+    Nanoseconds last_unit{0};
+  };
+  std::array<Route, kMasterPorts> routes_{};
+  std::array<RoutePass, kMasterPorts> route_passes_{};
+  std::vector<std::uint32_t> port_masks_;  // per slave: its open ports when the routes were built
+  std::uint64_t topology_epoch_ = 1;       // +1 when a port opened or closed or a cable went up or down
+  std::vector<std::uint64_t> unit_visit_;  // one frame: bit k = the k-th unit is entered
   bool skipping_ = true;
   bool line_ = true;
   std::uint64_t processed_ = 0;

@@ -113,4 +113,19 @@ void SkipIndex::mark_due(Nanoseconds start, Nanoseconds hop) noexcept {
   min_timer_ = earliest;
 }
 
+void SkipIndex::mark_due_at(Nanoseconds start, const Nanoseconds* unit_at, Nanoseconds none,
+                            Nanoseconds last) noexcept {
+  if (size_ == 0 || min_timer_ > start + last) return;
+  Nanoseconds earliest = Nanoseconds::max();
+  for (std::size_t i = 0; i < size_; ++i) {
+    if ((must_[i / kWordBits] & bit(i)) != 0) continue;  // entered anyway; its timer is read again then
+    if (unit_at[i] != none && next_timer_[i] <= start + unit_at[i]) {
+      must_[i / kWordBits] |= bit(i);
+    } else {
+      earliest = std::min(earliest, next_timer_[i]);
+    }
+  }
+  min_timer_ = earliest;
+}
+
 }  // namespace ecat::esc

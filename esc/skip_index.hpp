@@ -88,6 +88,9 @@ class SkipIndex {
   void mark_logical(std::uint64_t first, std::size_t size) noexcept;
   // ESCs whose own timer falls due when the frame reaches them (start + i x hop).
   void mark_due(Nanoseconds start, Nanoseconds hop) noexcept;
+  // The same on a tree or ring: ESC i's processing unit has the frame at
+  // start + unit_at[i] (`none`: it does not; `last`: the latest of them).
+  void mark_due_at(Nanoseconds start, const Nanoseconds* unit_at, Nanoseconds none, Nanoseconds last) noexcept;
   // The first ESC >= i the frame must enter, or size().
   std::size_t next(std::size_t i) const noexcept {
     std::size_t w = i / kWordBits;

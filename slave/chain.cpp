@@ -44,6 +44,13 @@ bool Chain::process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexce
 Expected<void, std::string> Chain::attach(od::DeviceDescription device, const SlaveOptions& options,
                                           std::size_t parent, unsigned parent_port, unsigned port,
                                           std::optional<Nanoseconds> delay) {
+  return attach(std::make_shared<const od::DeviceDescription>(std::move(device)), options, parent, parent_port, port,
+                delay);
+}
+
+Expected<void, std::string> Chain::attach(std::shared_ptr<const od::DeviceDescription> device,
+                                          const SlaveOptions& options, std::size_t parent, unsigned parent_port,
+                                          unsigned port, std::optional<Nanoseconds> delay) {
   if (parent >= slaves_.size()) return fail(fmt::format("no slave {} to attach to", parent + 1));
   if (parent_port >= esc::kMaxPorts || port >= esc::kMaxPorts) return fail(std::string("ports are 0..3"));
   if (segment_.peer(parent, parent_port)) {

@@ -41,6 +41,10 @@ class Chain {
   Expected<void, std::string> attach(od::DeviceDescription device, const SlaveOptions& options, std::size_t parent,
                                      unsigned parent_port, unsigned port = esc::kUpstreamPort,
                                      std::optional<Nanoseconds> delay = std::nullopt);
+  // The same with a description shared by several slaves.
+  Expected<void, std::string> attach(std::shared_ptr<const od::DeviceDescription> device, const SlaveOptions& options,
+                                     std::size_t parent, unsigned parent_port, unsigned port = esc::kUpstreamPort,
+                                     std::optional<Nanoseconds> delay = std::nullopt);
   // Cables the master's redundant port (1) to port `port` of slave `slave`:
   // the far end of a ring (set-up only).
   Expected<void, std::string> connect_redundant(std::size_t slave, unsigned port);

@@ -77,6 +77,11 @@ class TestFrame {
     frame_ = builder_.finish();
     return s.process_frame(frame_, now);
   }
+  // The same on master port `master_port` (a ring's redundant port: 1).
+  Delivery send_on(Segment& s, Nanoseconds now, unsigned master_port) {
+    frame_ = builder_.finish();
+    return s.send(frame_, now, master_port);
+  }
   DatagramView dg(std::size_t i) const { return DatagramView(buf_.data() + at_[i]); }
   std::uint16_t wkc(std::size_t i) const { return dg(i).wkc(); }
   Data data(std::size_t i) const {

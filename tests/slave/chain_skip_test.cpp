@@ -57,5 +57,42 @@ TEST(ChainSkip, MasterBringUpAndCyclesGiveTheSameFramesAsTheFullPass) {
   }
 }
 
+// The same on a tree (issue 30 item 2, esc/segment_route.cpp): drive 0 a
+// junction of four ports with a branch of two drives on port 3, then drive
+// 3 on its port 1 with one more on port 2 (entered last) and the rest in a
+// line: a frame's order through the units is not the slaves' order.
+TEST(ChainSkip, TreeBringUpAndCyclesGiveTheSameFramesAsThePortWalk) {
+  auto device = esi::load_default_device();
+  ASSERT_TRUE(device) << device.error().to_string();
+  device->esc.physics = "YYYY";
+  Recorded fast(true);
+  Recorded ref(false);
+  for (Recorded* r : {&fast, &ref}) {
+    slave::SlaveOptions o;
+    ASSERT_TRUE(r->p.chain.add(*device, o));
+    ASSERT_TRUE(r->p.chain.attach(*device, o, 0, 3));
+    ASSERT_TRUE(r->p.chain.attach(*device, o, 1, esc::kDownstreamPort));
+    ASSERT_TRUE(r->p.chain.attach(*device, o, 0, esc::kDownstreamPort));
+    ASSERT_TRUE(r->p.chain.attach(*device, o, 3, 2));
+    ASSERT_TRUE(r->p.chain.attach(*device, o, 3, esc::kDownstreamPort));
+    ASSERT_FALSE(r->p.chain.segment().is_line());
+    ASSERT_EQ(r->p.bring_up(), "");
+    for (int c = 0; c < 200; ++c) ASSERT_TRUE(r->p.cycle_once(std::chrono::milliseconds(1))) << "cycle " << c;
+  }
+  ASSERT_EQ(fast.frames.size(), ref.frames.size());
+  EXPECT_GT(fast.frames.size(), 200u + 400u);
+  for (std::size_t k = 0; k < fast.frames.size(); ++k) {
+    ASSERT_EQ(fast.frames[k], ref.frames[k]) << "frame " << k;
+  }
+  for (std::size_t i = 0; i < kDrives; ++i) {
+    const esc::Esc& x = fast.p.chain[i].esc();
+    const esc::Esc& y = ref.p.chain[i].esc();
+    EXPECT_EQ(std::memcmp(x.memory(), y.memory(), x.memory_size()), 0) << "slave " << i;
+    EXPECT_EQ(x.last_time(), y.last_time()) << "slave " << i;
+    EXPECT_EQ(x.next_timer(), y.next_timer()) << "slave " << i;
+    EXPECT_EQ(fast.p.chain[i].status().state, ref.p.chain[i].status().state) << "slave " << i;
+  }
+}
+
 }  // namespace
 }  // namespace ecat::test
