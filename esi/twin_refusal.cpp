@@ -39,9 +39,14 @@ const od::Pdo* pdo_of(const od::DeviceDescription& d, std::uint16_t index) {
 }
 
 // The vendor line and element name of the device-file element `n`.
-std::pair<int, std::string> vendor_place(const pugi::xml_node& n, const od::DeviceDescription& d) {
+std::pair<int, std::string> vendor_place(const pugi::xml_node& n, const od::DeviceDescription& d,
+                                         const std::vector<int>& sm_lines) {
   for (auto at = n; at; at = at.parent()) {
     const std::string_view name = at.name();
+    if (name == "Sm" && std::string_view(at.parent().name()) == "SyncManagers") {
+      const auto sm = parse_unsigned(at.attribute("index").value(), kMaxIndex);
+      if (sm && *sm < sm_lines.size()) return {sm_lines[*sm], "Sm"};
+    }
     if (name == "RxPdo" || name == "TxPdo") {
       const auto index = index_of(at);
       const od::Pdo* p = index ? pdo_of(d, *index) : nullptr;
@@ -66,14 +71,14 @@ std::pair<int, std::string> vendor_place(const pugi::xml_node& n, const od::Devi
 }  // namespace
 
 LoadError vendor_refusal(const LoadError& refusal, const std::string& device_xml, const od::DeviceDescription& d,
-                         const std::string& vendor_file, int device_line) {
+                         const std::string& vendor_file, int device_line, const std::vector<int>& sm_lines) {
   int line = device_line;
   std::string element = "Device";
   pugi::xml_document doc;
   if (refusal.line > 0 && doc.load_buffer(device_xml.data(), device_xml.size())) {
     const LineIndex lines(device_xml);
     if (auto n = element_on_line(doc, lines, refusal.line)) {
-      auto [l, e] = vendor_place(n, d);
+      auto [l, e] = vendor_place(n, d, sm_lines);
       if (l > 0) {
         line = l;
         element = e;

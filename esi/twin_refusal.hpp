@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "esi/device_error.hpp"
 #include "od/device.hpp"
@@ -13,8 +14,9 @@
 namespace ecat::esi {
 
 // `refusal` is the loader's error on `device_xml` (written from `d`);
-// `vendor_file` and `device_line` (the Device element) name the ESI.
+// `vendor_file`, `device_line` (the Device element) and `sm_lines` (its Sm
+// elements, in order) name the ESI.
 LoadError vendor_refusal(const LoadError& refusal, const std::string& device_xml, const od::DeviceDescription& d,
-                         const std::string& vendor_file, int device_line);
+                         const std::string& vendor_file, int device_line, const std::vector<int>& sm_lines);
 
 }  // namespace ecat::esi
