@@ -151,6 +151,13 @@ class DeviceReader {
     id.serial = u32_of(type.attribute("SerialNo").value()).value_or(0);
     id.type_name = type.child_value();
     id.name = esi_name(dev);
+    if (id.name.empty() && !id.type_name.empty()) {
+      // ETG.2000 requires Device/Name; the ESI written from the twin names it
+      // by its Type (esi_writer.cpp), so the twin does from the start (found
+      // by fuzz_twin_judge: else 1008h appeared only after a second import).
+      id.name = id.type_name;
+      ctx_.warn(dev, fmt::format("the device has no Name; it is named by its Type '{}'", id.type_name));
+    }
     id.group_type = dev.child_value("GroupType");
     d_.esc.no_lrw = esi_bool(type.attribute("UseLrdLwr"));
     // Device@Physics (ETG.2000 PhysicsType [Y,K,H, ]{0,4}): the ports; kept
