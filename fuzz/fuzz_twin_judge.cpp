@@ -6,6 +6,7 @@
 // characters put into texts. Whatever read_esi_string accepts must reach the
 // fixed point of both writers, well-formed (else __builtin_trap with the
 // judge's reason on stderr); whatever it refuses it refuses with a message.
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
@@ -70,7 +71,11 @@ bool mutate_tree(pugi::xml_document& doc, std::mt19937& rng) {
       } else if (pick(2) == 0) {
         t = kValues[pick(std::size(kValues))];
       } else {
-        const long v = std::strtol(t.starts_with("#x") ? t.c_str() + 2 : t.c_str(), nullptr, t.starts_with("#x") ? 16 : 10);
+        // Clamped so that doubling cannot overflow (the mutator's own UB).
+        constexpr long long kLimit = 1LL << 40;
+        const long long v = std::clamp(
+            std::strtoll(t.starts_with("#x") ? t.c_str() + 2 : t.c_str(), nullptr, t.starts_with("#x") ? 16 : 10),
+            -kLimit, kLimit);
         t = std::to_string(pick(2) ? v * 2 : v / 2);
       }
       n.text().set(t.c_str());

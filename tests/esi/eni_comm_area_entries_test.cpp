@@ -58,3 +58,30 @@ TEST(EniCommAreaEntries, MappedObjectsOfTheCommunicationAreaAreCreatedAsProcessD
 
 }  // namespace
 }  // namespace ecat::esi
+
+namespace ecat::esi {
+namespace {
+
+// The configurator export of tests/data/eni (five slaves: an IMU and four
+// Elmo drives) run without any ESI: every slave is synthesised from the ENI.
+// The drives' TxPdo 1A22h maps 1002h:00 (line 1290): that no longer stops it
+// ("no such object"); the next limit does, the drives' SM2/SM3 as the ENI
+// places them (3 buffers of SM2 run into SM3), said at the ENI's line.
+TEST(EniCommAreaEntries, ElmoExportWithoutEsiGetsPastTheStatusRegister) {
+  auto net = read_eni(std::string(ECAT_SOURCE_DIR) + "/tests/data/eni/kpierczy-elmo-wheels.xml");
+  ASSERT_TRUE(net) << net.error().to_string();
+  std::vector<EsiWarning> warnings;
+  auto devs = eni_devices(*net, {}, &warnings);
+  ASSERT_FALSE(devs);
+  EXPECT_EQ(devs.error().line, 813);
+  EXPECT_NE(devs.error().message.find("slave 2 (WheelRearLeft): SyncManager 3 (0x1180..0x134d) overlaps SyncManager 2"),
+            std::string::npos)
+      << devs.error().to_string();
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const EsiWarning& w) {
+    return w.message == "PDO #x1A22 maps 1002h:00, an object of the communication area the ENI does not describe; "
+                        "object created as process data (32 bits)";
+  }));
+}
+
+}  // namespace
+}  // namespace ecat::esi
