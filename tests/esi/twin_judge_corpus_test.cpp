@@ -89,7 +89,16 @@ void judge_file(const fs::path& file, Tally& t, std::vector<std::string>& device
       EXPECT_GT(d.error().line, 0) << d.error().to_string();
       continue;
     }
-    for (const auto& w : warnings) EXPECT_GT(w.line, 0) << w.to_string(file.string());
+    for (const auto& w : warnings) {
+      EXPECT_GT(w.line, 0) << w.to_string(file.string());
+      // The repairs of issue 32 item 2, listed where the vendor corpus meets them.
+      for (const char* kind : {"has BitLen 0", "is shorter than the PDOs assigned", "is decimal by ETG.2000",
+                               "STRING default", "a character XML 1.0 forbids", "the device has no Name"}) {
+        if (w.message.find(kind) != std::string::npos) {
+          std::printf("issue-32 repair: %s\n", w.to_string(file.string()).c_str());
+        }
+      }
+    }
     auto judged = judge_twin(*d);
     if (!judged) {
       ADD_FAILURE() << judged.error();
