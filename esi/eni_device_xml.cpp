@@ -18,6 +18,7 @@
 #include "common/le.hpp"
 #include "esi/device_values.hpp"
 #include "esi/eni_devices.hpp"
+#include "esi/xml_chars.hpp"
 #include "od/data_type.hpp"
 
 namespace ecat::esi {
@@ -66,8 +67,9 @@ constexpr unsigned kMappingIndexShift = 16;
 constexpr unsigned kMappingSubShift = 8;
 constexpr std::uint32_t kMappingBitsMask = 0xFF;
 
-std::string escape(std::string_view text) {
+std::string escape(std::string_view raw) {
   std::string out;
+  const std::string text = xml_safe_text(raw);  // no character XML 1.0 forbids (issue 32)
   for (char c : text) {
     switch (c) {
       case '&': out += "&amp;"; break;
@@ -268,7 +270,7 @@ class Builder {
           words.push_back(load_le<std::uint32_t>(c.data.data()));
           plan.max_entries = std::max<unsigned>(plan.max_entries, c.subindex);
         }
-        for (auto w : words) mapped_by_cmd_.push_back({w, plan.pdo.rx, c.line});
+        for (auto w : words) mapped_by_cmd_.push_back({w, plan.pdo.rx, c.line, c.index});
       }
     }
   }
@@ -285,6 +287,27 @@ class Builder {
     it->second.written = it->second.written || e.written;
   }
 
+  // The ESI import's policy for a PDO entry of an object the file does not
+  // describe (docs/twins.md "Import policy", issue 32): an object outside the
+  // communication area is made as process data (an ENI describes no
+  // dictionary, so silently); one inside it (Elmo drives map 1002h, the
+  // manufacturer status register) too, with a warning, unless the loader
+  // derives that object from the SII (1018h, 1C00h, 1C1xh, 16xxh/1Axxh,
+  // 1C32h/1C33h).
+  bool comm_area_process_data(std::uint16_t index, std::uint8_t sub, std::uint16_t pdo, unsigned bits, int line) {
+    if (index < kCommunicationFirst || index > kCommunicationLast) return true;
+    constexpr std::uint16_t kIdentity = 0x1018, kSmCommType = 0x1C00, kSyncOutputs = 0x1C32, kSyncInputs = 0x1C33;
+    const bool derived = index == kIdentity || index == kSmCommType || (index >= kSmAssignFirst && index <= kSmAssignLast) ||
+                         is_rx_pdo(index) || is_tx_pdo(index) || index == kSyncOutputs || index == kSyncInputs;
+    if (derived) return false;
+    if (!objects_.contains(index) || !objects_[index].contains(sub)) {
+      warn(line, "Entry", fmt::format("PDO #x{:04X} maps {:04X}h:{:02X}, an object of the communication area the ENI "
+                                      "does not describe; object created as process data ({} bits)",
+                                      pdo, index, sub, bits));
+    }
+    return true;
+  }
+
   void plan_objects() {
     for (const auto& [index, plan] : pdos_) {
       for (const auto& en : plan.pdo.entries) {
@@ -294,7 +317,7 @@ class Builder {
         e.rx = plan.pdo.rx;
         e.tx = !plan.pdo.rx;
         e.line = en.line;
-        if (en.index >= kCommunicationFirst && en.index <= kCommunicationLast) continue;  // profile objects
+        if (!comm_area_process_data(en.index, en.subindex, plan.pdo.index, en.bit_length, en.line)) continue;
         note_object(en.index, en.subindex, std::move(e));
       }
     }
@@ -302,7 +325,8 @@ class Builder {
       const auto index = static_cast<std::uint16_t>(m.word >> kMappingIndexShift);
       const auto sub = static_cast<std::uint8_t>(m.word >> kMappingSubShift);
       const auto bits = static_cast<unsigned>(m.word & kMappingBitsMask);
-      if (index == 0 || (index >= kCommunicationFirst && index <= kCommunicationLast)) continue;
+      if (index == 0) continue;
+      if (!comm_area_process_data(index, sub, m.pdo, bits, m.line)) continue;
       SynthEntry e = entry_type("", bits);
       e.name = fmt::format("Object {:04X}h:{:02X}h", index, sub);
       e.rx = m.rx;
@@ -486,6 +510,7 @@ class Builder {
     std::uint32_t word;
     bool rx;
     int line;
+    std::uint16_t pdo;
   };
 
   const EniSlave& s_;

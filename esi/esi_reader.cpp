@@ -7,9 +7,12 @@
 
 #include <fmt/format.h>
 
+#include "esi/device_loader.hpp"
 #include "esi/device_values.hpp"
 #include "esi/esi_reader_context.hpp"
+#include "esi/esi_writer_device_xml.hpp"
 #include "esi/esi_writer_names.hpp"
+#include "esi/twin_refusal.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -95,6 +98,15 @@ Expected<od::DeviceDescription, LoadError> read_esi_string(std::string_view xml,
   od::DeviceDescription d;
   d.source_file = std::string(name);
   if (auto ok = read_esi_device(info, nodes[chosen[0]], ctx, d); !ok) return ecat::fail(ok.error());
+  // One judge (issue 32 item 1): what the import accepts, the device-file
+  // loader reads back; what it would refuse is refused here, at the vendor line.
+  const std::string device_xml = write_device_xml(d);
+  if (auto loaded = load_device_string(device_xml, name); !loaded) {
+    std::vector<int> sm_lines;
+    for (auto sm : nodes[chosen[0]].children("Sm")) sm_lines.push_back(ctx.line(sm));
+    return ecat::fail(vendor_refusal(loaded.error(), device_xml, d, std::string(name), ctx.line(nodes[chosen[0]]),
+                                     sm_lines));
+  }
   return d;
 }
 

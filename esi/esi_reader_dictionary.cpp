@@ -3,6 +3,7 @@
 // SubItem without SubIdx refers to an ArrayInfo type, the "Elements" shape)
 // or a RECORD; Object Info gives default/min/max (hexBinary little-endian,
 // HexDecValue or DefaultString) and Flags the access bits.
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include "esi/device_values.hpp"
 #include "esi/esi_reader_context.hpp"
 #include "esi/esi_writer_names.hpp"
+#include "esi/xml_chars.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -289,6 +291,31 @@ class DictionaryReader {
     return std::nullopt;
   }
 
+  // A STRING default given as DefaultData bytes (issue 32, docs/twins.md
+  // "Import policy"): the string ends at its first 00 byte (NUL padding, as a
+  // device pads a VISIBLE_STRING to its length); bytes after it are dropped
+  // with a warning. A string that still holds a control character XML 1.0
+  // forbids (`0100`: 01h) is no VISIBLE_STRING (CiA 301: visible characters):
+  // the entry keeps no default, with a warning, and no writer emits it.
+  void string_from_bytes(od::Entry& e, const pugi::xml_node& info) const {
+    const auto data = info.child("DefaultData") ? info.child("DefaultData") : info.child("DefaultValue");
+    const std::string given = data.child_value();
+    auto& v = e.default_value;
+    const auto nul = std::find(v.begin(), v.end(), std::uint8_t{0});
+    if (std::any_of(nul, v.end(), [](std::uint8_t b) { return b != 0; })) {
+      ctx_.warn(data, fmt::format("STRING default {} ends at its first 00 byte; the bytes after it are dropped",
+                                  given));
+    }
+    v.erase(nul, v.end());
+    const std::string text(v.begin(), v.end());
+    if (auto at = find_forbidden_xml_char(text)) {
+      ctx_.warn(data, fmt::format("STRING default {} holds the byte {:02X}h, a control character no VISIBLE_STRING "
+                                  "and no XML file holds; the entry keeps no default",
+                                  given, static_cast<std::uint8_t>(text[*at])));
+      v.clear();
+    }
+  }
+
   void set_values(od::Entry& e, const pugi::xml_node& info) const {
     if (auto s = info.child("DefaultString")) {
       const std::string_view text = s.child_value();
@@ -306,6 +333,7 @@ class DictionaryReader {
       }
     } else if (auto v = value_of(e, info, "DefaultData", "DefaultValue")) {
       e.default_value = std::move(*v);
+      if (e.type == od::DataType::VisibleString) string_from_bytes(e, info);
     }
     if (auto v = value_of(e, info, "MinData", "MinValue")) e.min_value = std::move(*v);
     if (auto v = value_of(e, info, "MaxData", "MaxValue")) e.max_value = std::move(*v);

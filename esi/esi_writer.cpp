@@ -7,6 +7,7 @@
 #include "esi/esi_writer_dictionary.hpp"
 #include "esi/esi_writer_names.hpp"
 #include "esi/sii_writer.hpp"
+#include "esi/xml_chars.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -290,6 +291,8 @@ std::string write_esi(const od::DeviceDescription& d) {
   append_device(descriptions.append_child("Devices"), d);
   if (d.modular) append_modules(descriptions, *d.modular);
 
+  // The last guard of issue 32 item 1 (c): no character XML 1.0 forbids.
+  make_xml_safe(doc);
   std::ostringstream out;
   doc.save(out, "  ", pugi::format_indent, pugi::encoding_utf8);
   return out.str();

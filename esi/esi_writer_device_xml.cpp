@@ -11,6 +11,7 @@
 #include <pugixml.hpp>
 
 #include "esi/esi_writer_names.hpp"
+#include "esi/xml_chars.hpp"
 
 namespace ecat::esi {
 namespace {
@@ -388,6 +389,8 @@ std::string write_device_xml(const od::DeviceDescription& d) {
   }
   if (d.drive) append_drive(root, *d.drive);
   if (m) append_modules(root, *m);
+  // The last guard of issue 32 item 1 (c): no character XML 1.0 forbids.
+  make_xml_safe(doc);
   std::ostringstream out;
   doc.save(out, "  ", pugi::format_indent, pugi::encoding_utf8);
   return out.str();

@@ -16,6 +16,7 @@
 #include "esi/esi_reader_context.hpp"
 #include "esi/sii_layout.hpp"
 #include "esi/sii_writer.hpp"
+#include "esi/xml_chars.hpp"
 #include "od/firmware.hpp"
 #include "od/type_of_bits.hpp"
 
@@ -79,6 +80,7 @@ class Repairer {
     repair_mappings();
     warn_pdi_type_with_mailbox();
     repair_eeprom_size();
+    repair_forbidden_characters();
   }
 
  private:
@@ -194,6 +196,71 @@ class Repairer {
   // - MaxSize whose three buffers (3-buffer mode, ESC Section I §8.2) reach
   //   into the next SM (Elmo: SM2 at 1100h MaxSize 80h, SM3 at 1180h): the
   //   ESC can only hold what fits before the next SM, so that is the maximum.
+  std::uint32_t assigned_bytes(std::size_t sm) const {
+    std::uint32_t bits = 0;
+    for (const auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
+      for (const auto& p : *list) {
+        if (p.sm && *p.sm == sm) bits += p.bit_length();
+      }
+    }
+    return (bits + kBitsPerByte - 1) / kBitsPerByte;
+  }
+
+  // Text no XML 1.0 file can hold (a name given as `A&#1;B`, which pugixml
+  // reads): each forbidden character becomes '?', one byte for one, with a
+  // warning; the writers would otherwise write what no parser reads back.
+  void repair_text(std::string& text, const char* what, const char* element, int line) const {
+    auto at = find_forbidden_xml_char(text);
+    if (!at) return;
+    const std::string safe = xml_safe_text(text);
+    ctx_.warn_at(element, line, fmt::format("{} holds the byte {:02X}h at {}, a character XML 1.0 forbids; "
+                                            "the twin has '{}'", what, static_cast<std::uint8_t>(text[*at]), *at,
+                                            safe));
+    text = safe;
+  }
+
+  void repair_forbidden_characters() {
+    auto& id = d_.identity;
+    for (auto* t : {&id.vendor_name, &id.name, &id.type_name, &id.group_type, &id.group_name, &id.hardware_version,
+                    &id.software_version}) {
+      repair_text(*t, "an identity text", "Device", device_line_);
+    }
+    std::vector<std::uint16_t> indices;
+    for (const auto& o : d_.dictionary.objects()) indices.push_back(o.index);
+    for (std::uint16_t index : indices) {
+      od::Object& o = *d_.dictionary.find(index);
+      const std::string given_name = o.name;
+      repair_text(o.name, "the object's name", "Object", line_of(o));
+      repair_text(o.description, "the object's description", "Object", line_of(o));
+      for (auto& e : o.entries) {
+        const int line = e.source_line ? e.source_line : line_of(o);
+        if (e.name == given_name) {
+          e.name = o.name;  // a VAR's entry repeats its object's name: one warning
+        } else {
+          repair_text(e.name, "the entry's name", "SubItem", line);
+        }
+        repair_text(e.unit, "the entry's unit", "SubItem", line);
+        repair_text(e.description, "the entry's description", "SubItem", line);
+        if (e.type == od::DataType::VisibleString) {
+          std::string v(e.default_value.begin(), e.default_value.end());
+          repair_text(v, "the STRING default", "DefaultString", line);
+          e.default_value.assign(v.begin(), v.end());
+        }
+      }
+    }
+    for (auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
+      for (auto& p : *list) {
+        const char* element = list == &d_.rx_pdos ? "RxPdo" : "TxPdo";
+        repair_text(p.name, "the PDO's name", element, p.source_line ? p.source_line : device_line_);
+        for (auto& e : p.entries) repair_text(e.name, "the entry's name", element, p.source_line ? p.source_line : device_line_);
+      }
+    }
+    for (auto& m : d_.dc_op_modes) {
+      repair_text(m.name, "the DC mode's name", "OpMode", device_line_);
+      repair_text(m.description, "the DC mode's description", "OpMode", device_line_);
+    }
+  }
+
   void repair_process_sm_sizes() {
     constexpr std::uint8_t kModeMask = 0x03, kModeBuffered = 0x00;
     constexpr std::uint32_t kCopies = 3;
@@ -211,6 +278,23 @@ class Repairer {
                                                p.index, bytes));
           sm.default_size = 0;
           break;
+        }
+      }
+      // The PDOs assigned to the SM together (issue 32: multi-axis variants
+      // whose default PDOs need 12 bytes of an Sm with 6): a master sizes the
+      // SM from the assigned PDOs (SII words SM length are a hint), so does
+      // the real device's ESC; the twin's SM is as long as they need.
+      const std::uint32_t assigned = assigned_bytes(i);
+      const std::uint16_t limit = sm.max_size ? sm.max_size : sm.default_size;
+      if (limit > 0 && assigned > limit && assigned <= 0xFFFF) {
+        ctx_.warn_at("Sm", line, fmt::format("SM{} {} {} is shorter than the PDOs assigned to it ({} bytes); "
+                                             "masters size the SM from the PDOs, so does the twin: {} {}",
+                                             i, sm.max_size ? "MaxSize" : "DefaultSize", limit, assigned,
+                                             sm.max_size ? "MaxSize" : "DefaultSize", assigned));
+        if (sm.max_size) {
+          sm.max_size = static_cast<std::uint16_t>(assigned);
+        } else {
+          sm.default_size = static_cast<std::uint16_t>(assigned);
         }
       }
       // A 1-byte SM holds no buffers (ESC Section II 0x0802: length 1 is a

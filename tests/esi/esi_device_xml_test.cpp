@@ -53,6 +53,9 @@ TEST(EsiDeviceXml, TestServoReachesAFixedPoint) {
   EXPECT_TRUE(once == through_device_xml(once, "devxml_servo2"));
 }
 
+// One vendor-shaped file here; every device of every ESI in tests/data, with
+// the ESI writer and schema validation, is tests/esi/twin_judge_corpus_test.cpp
+// (issue 32, esi/twin_judge.hpp).
 TEST(EsiDeviceXml, VendorEsiReachesAFixedPoint) {
   auto d = read_esi(std::string(ECAT_SOURCE_DIR) + "/tests/data/esi/vendor-drives.xml", 0x1001,
                     0x20000);

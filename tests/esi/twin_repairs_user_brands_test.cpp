@@ -180,7 +180,7 @@ TEST(TwinUserBrands, AnIghDumpWithUntypedSmsAndUnnamedPdos) {
   EXPECT_EQ(back->dictionary.find(0x1600)->name, "PDO 1600h");
   EXPECT_EQ(back->dictionary.find(0x1A00)->name, "PDO 1A00h");
   // An Sm with text keeps it, and one with neither text nor ControlByte stays unused.
-  Read plain = read(esi("", R"(<Sm StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm><Sm/>)"));
+  Read plain = read(esi("", R"(<Sm DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm><Sm/>)"));
   ASSERT_EQ(plain.d.sync_managers.size(), 2u);
   EXPECT_EQ(plain.d.sync_managers[1].type, od::SmType::Unused);
   EXPECT_FALSE(warns_about(plain.warnings, "SM use")) << all(plain.warnings);
