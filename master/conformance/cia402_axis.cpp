@@ -52,6 +52,7 @@ constexpr std::size_t kEmergencyPayload = 10;  // CoE header + 8 bytes
 constexpr Nanoseconds kCyclePeriod = std::chrono::milliseconds(1);
 constexpr Nanoseconds kEmergencyPoll = std::chrono::milliseconds(5);
 constexpr unsigned kBitsPerByte = 8;
+constexpr unsigned kStartCycles = 100;
 constexpr std::uint32_t kMappingIndexShift = 16;
 constexpr std::uint32_t kMappingBitsMask = 0xFF;
 
@@ -98,7 +99,15 @@ std::optional<CaseResult> Cia402Axis::open() {
   open_ = true;
   command(cia402::kDisableVoltage);
   // Fault left from an earlier case or power-up: reset it (transition 15).
-  if (command_until(cia402::kDisableVoltage, cia402::State::SwitchOnDisabled, 20) == cia402::State::Fault) {
+  const cia402::State first = command_until(cia402::kDisableVoltage, cia402::State::SwitchOnDisabled, kStartCycles);
+  if (first == cia402::State::NotReady) {
+    // Transition 1 is the drive's own (self-test, power stage): a drive that
+    // stays in Not ready to switch on says it cannot start.
+    const std::uint16_t sw = statusword();
+    return CaseResult::skip("the drive stays in Not ready to switch on (statusword " + hex(sw, 4) +
+                            "): it reports it cannot start (a device twin without a drive simulation shows this too)");
+  }
+  if (first == cia402::State::Fault) {
     (void)command_until(cia402::kFaultReset, cia402::State::SwitchOnDisabled, 50);
     command(cia402::kDisableVoltage);
     run(2);
