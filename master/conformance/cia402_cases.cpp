@@ -285,6 +285,19 @@ std::vector<Case> cia402_cases() {
                      const std::string seen = "EMCY " + code_seen + " reg " + hex(e->error_register(), 2);
                      return ok ? CaseResult::pass(want, seen) : CaseResult::failed(want, seen);
                    }});
+  cases.push_back({"cia402.fault_error_register_generic_bit", "CiA 301 §7.5.2.2 1001h: while the drive is in Fault the error register is non-zero with bit 0 (generic error) set",
+                   [](Context& ctx) {
+                     Cia402Axis axis(ctx);
+                     if (auto c = axis.open()) return *c;
+                     if (auto c = provoke_fault(axis)) return *c;
+                     CoeClient coe = ctx.coe();
+                     auto reg = coe.upload_value(cia402::kErrorRegister, 0);
+                     if (!reg) return CaseResult::failed("1001h readable", describe_sdo(reg.error()));
+                     constexpr std::uint32_t kGenericError = 0x01;
+                     const std::string seen = "1001h " + hex(*reg, 2);
+                     return (*reg & kGenericError) != 0 ? CaseResult::pass("1001h bit 0 set", seen)
+                                                        : CaseResult::failed("1001h bit 0 set", seen);
+                   }});
   cases.push_back({"cia402.fault_reset_emergency", "CiA 301 §7.2.7.1 (EMCY 0000h \"error reset\") / ETG.1000.6 §5.6.4 (shared/spec/coe-mailbox.md §9): a fault reset sends EMCY 0000h, 1001h = 0",
                    [](Context& ctx) {
                      Cia402Axis axis(ctx);

@@ -104,6 +104,13 @@ std::vector<Breakage> breakages() {
   // 1001h no longer what the emergency carried.
   b.push_back({"cia402.fault_emergency", nullptr,
                [](ecat::coe::ObjectStore& s) { (void)s.set<std::uint8_t>(c402::kErrorRegister, 0, 0); }, {}});
+  // 1001h shows the class bit but not the generic error bit.
+  b.push_back({"cia402.fault_error_register_generic_bit", nullptr,
+               [](ecat::coe::ObjectStore& s) {
+                 const auto reg = s.get<std::uint8_t>(c402::kErrorRegister, 0);
+                 (void)s.set<std::uint8_t>(c402::kErrorRegister, 0, static_cast<std::uint8_t>(reg & ~0x01u));
+               },
+               {}});
   // 1001h keeps the generic error bit after the reset.
   b.push_back({"cia402.fault_reset_emergency", nullptr,
                [](ecat::coe::ObjectStore& s) {
