@@ -48,7 +48,6 @@ std::string name(State s) {
 namespace {
 constexpr std::uint8_t kCoeServiceShift = 12;
 constexpr std::uint8_t kCoeServiceEmergency = 1;
-constexpr std::size_t kEmergencyPayload = 10;  // CoE header + 8 bytes
 constexpr Nanoseconds kCyclePeriod = std::chrono::milliseconds(1);
 constexpr Nanoseconds kEmergencyPoll = std::chrono::milliseconds(5);
 constexpr unsigned kBitsPerByte = 8;
