@@ -43,6 +43,19 @@ bool MailboxServer::add_service(MailboxService& service) noexcept {
   return true;
 }
 
+MailboxService* MailboxServer::replace_service(MailboxService& service) noexcept {
+  for (std::size_t i = 0; i < service_count_; ++i) {
+    if (services_[i]->type() != service.type()) continue;
+    MailboxService* old = services_[i];
+    services_[i] = &service;
+    for (std::size_t k = 0; k < streamer_count_; ++k) {
+      if (streamers_[k] == old) streamers_[k] = &service;
+    }
+    return old;
+  }
+  return nullptr;
+}
+
 MailboxService* MailboxServer::find(std::uint8_t type) const noexcept {
   for (std::size_t i = 0; i < service_count_; ++i) {
     if (static_cast<std::uint8_t>(services_[i]->type()) == type) return services_[i];

@@ -61,6 +61,9 @@ class MailboxServer {
 
   // Start-up only. Returns false when the table is full.
   bool add_service(MailboxService& service) noexcept;
+  // Puts `service` in place of the one registered for its type (a test wraps
+  // a service in a misbehaving one); the one replaced, null when none was.
+  MailboxService* replace_service(MailboxService& service) noexcept;
 
   void poll(Nanoseconds now) noexcept;
 

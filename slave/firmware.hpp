@@ -88,6 +88,8 @@ class Firmware {
   // or none) with the caller's own, e.g. a digital I/O terminal
   // (examples/dio16-slave). Set-up only: before the master leaves Init.
   void set_application(std::unique_ptr<Application> app) noexcept { app_ = std::move(app); }
+  // Hands the application over (a test wraps it in a misbehaving one).
+  std::unique_ptr<Application> take_application() noexcept { return std::move(app_); }
   const std::vector<std::string>& warnings() const noexcept { return coe_.warnings(); }
 
   // The firmware's part of a VCD trace (ESM states, SM events, cycles);

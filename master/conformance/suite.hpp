@@ -113,6 +113,9 @@ std::vector<Case> config_cases();
 std::vector<Case> mailbox_cases();
 std::vector<Case> sdo_cases();
 std::vector<Case> consistency_cases();
+std::vector<Case> cia402_cases();
+std::vector<Case> emergency_cases();
+std::vector<Case> foe_cases();
 std::vector<Case> all_cases();
 
 bool matches_filter(const std::string& name, const std::string& filter);

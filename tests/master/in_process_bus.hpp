@@ -27,11 +27,11 @@ class InProcessBus {
                    }) {}
 
   ::testing::AssertionResult add(const std::string& file, int count = 1,
-                                 slave::PdiKind pdi = slave::PdiKind::Direct) {
+                                 slave::PdiKind pdi = slave::PdiKind::Direct, const slave::SlaveOptions& base = {}) {
     for (int i = 0; i < count; ++i) {
       auto dev = esi::load_device_file(file);
       if (!dev) return ::testing::AssertionFailure() << dev.error().to_string();
-      slave::SlaveOptions o;
+      slave::SlaveOptions o = base;
       o.name = "slave-" + std::to_string(i + 1);
       o.pdi = pdi;
       if (auto r = chain_.add(std::move(*dev), o); !r) return ::testing::AssertionFailure() << r.error();
