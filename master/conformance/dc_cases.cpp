@@ -57,6 +57,7 @@ constexpr std::int64_t kOffsetBoundNs = 1'000'000;
 constexpr std::uint32_t kDelayBoundNs = 1'000'000;
 constexpr std::uint32_t kSettledNs = 1'000;
 constexpr unsigned kDriftIterations = 1000;
+constexpr unsigned kRecheckIterations = 10;
 constexpr unsigned kCyclesWithoutFrames = 10;
 
 std::optional<CaseResult> need_dc(Context& ctx) {
@@ -256,12 +257,21 @@ CaseResult time_loop_settles(Context& ctx) {
   if (auto r = ctx.master().dc_static_drift_compensation(kDriftIterations); !r) {
     return CaseResult::failed("drift compensation", std::string(describe(r.error())));
   }
+  // The learned rate holds without comparisons for a while (the cycle of a
+  // master that pauses); a few comparisons then find the clock still in step.
+  ctx.wait(kTimeWait);
+  if (auto r = ctx.master().dc_static_drift_compensation(kRecheckIterations); !r) {
+    return CaseResult::failed("drift compensation", std::string(describe(r.error())));
+  }
   auto diff = ctx.master().fprd_u32(ctx.info().station_address, reg::kDcSystemTimeDifference);
   if (!diff0 || !speed0 || !diff) return CaseResult::failed("0x092C/0x0932 readable", "read failed");
-  return CaseResult::compare(fmt::format("0x092C/0x0932 = 0 after a 0x0930 write; |0x092C| < {} ns after {} FRMW", kSettledNs, kDriftIterations),
-                             fmt::format("0x092C/0x0932 = {}/{} after a 0x0930 write; |0x092C| {} {} ns after {} FRMW",
-                                         *diff0 & kDiffMagnitude, *speed0, (*diff & kDiffMagnitude) < kSettledNs ? "<" : "=",
-                                         (*diff & kDiffMagnitude) < kSettledNs ? kSettledNs : (*diff & kDiffMagnitude), kDriftIterations));
+  const std::string want = fmt::format("0x092C/0x0932 = 0/0 after a 0x0930 write; |0x092C| < {} ns after {} FRMW", kSettledNs,
+                                       kDriftIterations + kRecheckIterations);
+  const std::uint32_t settled = *diff & kDiffMagnitude;
+  const std::string seen = fmt::format("0x092C/0x0932 = {}/{} after a 0x0930 write; |0x092C| = {} ns after {} FRMW",
+                                       *diff0 & kDiffMagnitude, *speed0, settled, kDriftIterations + kRecheckIterations);
+  const bool ok = (*diff0 & kDiffMagnitude) == 0 && *speed0 == 0 && settled < kSettledNs;
+  return ok ? CaseResult::pass(want, seen) : CaseResult::failed(want, seen);
 }
 
 CaseResult sync_modes_supported(Context& ctx) {
@@ -403,7 +413,7 @@ std::vector<Case> dc_cases() {
   cases.push_back({"dc.system_time_advances", "ESC Section II 0x0910 (Section I §9.1): the system time advances with real time (10 ms within 1 % + 100 µs) (esc-registers.md §10)", system_time_advances});
   cases.push_back({"dc.system_time_matches_master", "ESC Section II 0x0910/0x0920: after the master set the offset from 0x0918, 0x0910 is within 1 ms of the master's time (esc-registers.md §10, masters.md DC)", system_time_matches_master});
   cases.push_back({"dc.delay_and_offset", "ESC Section II 0x0920/0x0928: offset and delay read back as written, delay below 1 ms (esc-registers.md §10)", delay_and_offset});
-  cases.push_back({"dc.time_loop_settles", "ESC Section II 0x092C/0x0930/0x0932: a 0x0930 write resets 0x092C and 0x0932; after 1000 FRMW of 0x0910 |0x092C| < 1 µs (esc-registers.md §10)", time_loop_settles});
+  cases.push_back({"dc.time_loop_settles", "ESC Section II 0x092C/0x0930/0x0932: a 0x0930 write resets 0x092C and 0x0932; after 1000 FRMW of 0x0910, 10 ms without and 10 more, |0x092C| < 1 µs (esc-registers.md §10)", time_loop_settles});
   cases.push_back({"dc.sync_modes_supported", "ETG.1000.6 §5.6.7.4.3 1C32h:04 bits 3:2 (DC) agree with ESC 0x0008 bit 2 and the SII DC OpModes that start SYNC (coe-mailbox.md §11.3, sii-eeprom.md §3.7)", sync_modes_supported});
   cases.push_back({"dc.sync0_below_minimum_refused", "ETG.1000.6 Table 11 0x0036 (0x0035): SYNC0 cycle below 1C32h:05 refused at PreOp->SafeOp, PreOp + ErrInd (esm-al-codes.md §3-§4, coe-mailbox.md §11.3)", sync0_below_minimum});
   cases.push_back({"dc.sync0_minimum_accepted", "ETG.1000.6 §6.4.1 PreOp->SafeOp with 1C32h:01 = 2 and SYNC0 at max(1C32h:05, 1 ms): accepted (coe-mailbox.md §11.3)", sync0_at_minimum});

@@ -36,6 +36,9 @@ CaseResult request_with_id(Context& ctx, AlState from, AlState to) {
   if (auto r = ctx.go_to(from); !r) return CaseResult::failed(std::string("reach ") + std::string(describe(from)), r.error());
   auto alias = ctx.master().fprd_u16(ctx.info().station_address, reg::kConfiguredStationAlias);
   if (!alias) return CaseResult::failed("0x0012 readable", std::string(describe(alias.error())));
+  if (from == AlState::Init && to == AlState::PreOp && ctx.info().sii.has_mailbox()) {
+    if (auto r = ctx.master().configure_mailbox(ctx.slave()); !r) return CaseResult::failed("mailbox SMs", std::string(describe(r.error())));
+  }
   auto st = ctx.master().write_al_control(ctx.slave(), static_cast<std::uint16_t>(static_cast<std::uint8_t>(to) | kAlIdentBit));
   if (!st) return CaseResult::failed("AL status", std::string(describe(st.error())));
   AlStatus want;

@@ -25,6 +25,8 @@ std::optional<Expected<const std::vector<std::uint8_t>*, std::string>> Context::
           fail("APRD of the registers after power-up: " + (wkc ? "WKC " + std::to_string(*wkc) : std::string(describe(wkc.error())))));
     }
   }
+  // Protection a power-up left on would stop the addressing (the scan clears it too).
+  (void)master_.clear_write_protection();
   if (auto r = master_.readdress(slave()); !r) {
     return Expected<const std::vector<std::uint8_t>*, std::string>(
         fail("station address after power-up: " + std::string(describe(r.error()))));

@@ -16,7 +16,6 @@ namespace {
 
 constexpr std::size_t kSizeUnitBytes = 128;           // word 0x3E: EEPROM size in Kbit - 1 (sii-eeprom.md §1)
 constexpr std::uint16_t kSiiVersion = 1;              // word 0x3F
-constexpr std::size_t kStringsCountBytes = 1;         // STRINGS: count byte, then length-prefixed strings
 constexpr std::uint8_t kCoeDetailsReserved = 0xC0;    // GENERAL byte 5 bits 7:6
 constexpr std::uint8_t kGeneralFlagsReserved = 0xE0;  // GENERAL byte 0x0B bits 7:5
 constexpr std::uint8_t kDetailsEnable = 0x01;         // GENERAL CoE/FoE/EoE details bit 0
@@ -74,47 +73,6 @@ std::string problems_or(const std::string& problems, const std::string& ok) { re
 // Byte range an SM occupies: 3 areas in 3-buffer mode (ESC Section I p.62).
 std::uint32_t sm_footprint(const SiiSyncManager& sm) {
   return (sm.control & kSmModeMask) == kSmModeBuffered ? std::uint32_t{sm.length} * kBuffers : sm.length;
-}
-
-CaseResult category_lengths(Context& ctx) {
-  const auto& img = ctx.info().sii_image;
-  std::optional<std::size_t> end;
-  std::string problems;
-  for (const auto& c : categories(img, end)) {
-    const std::size_t bytes = 2u * c.words;
-    const std::size_t data = 2 * (c.word + 2);
-    switch (static_cast<sii::Category>(c.type & sii::kCategoryTypeMask)) {
-      case sii::Category::General:
-        if (bytes != sii::kGeneralBytes) problems += fmt::format("GENERAL {} words; ", c.words);
-        break;
-      case sii::Category::SyncM:
-        if (bytes % sii::kSyncMEntryBytes != 0) problems += fmt::format("SYNCM {} words (not 4 per SM); ", c.words);
-        break;
-      case sii::Category::Dc:
-        if (bytes % sii::kDcEntryBytes != 0) problems += fmt::format("DC {} words (not 12 per mode); ", c.words);
-        break;
-      case sii::Category::TxPdo:
-      case sii::Category::RxPdo: {
-        // PDOs back to back: header (n entries) + n x 8 bytes must fill the category exactly.
-        std::size_t at = 0;
-        while (at + sii::kPdoHeaderBytes <= bytes && data + at + sii::kPdoHeaderBytes <= img.size()) {
-          at += sii::kPdoHeaderBytes + std::size_t{img[data + at + 2]} * sii::kPdoEntryBytes;
-        }
-        if (at != bytes) problems += fmt::format("{} {} words, PDOs take {} bytes; ", c.type == static_cast<std::uint16_t>(sii::Category::TxPdo) ? "TXPDO" : "RXPDO", c.words, at);
-        break;
-      }
-      case sii::Category::Strings: {
-        if (data >= img.size()) break;
-        std::size_t at = kStringsCountBytes;
-        for (unsigned i = 0; i < img[data] && data + at < img.size(); ++i) at += 1u + img[data + at];
-        if (at > bytes) problems += fmt::format("STRINGS {} words, strings take {} bytes; ", c.words, at);
-        break;
-      }
-      default:
-        break;
-    }
-  }
-  return CaseResult::compare("consistent", problems_or(problems, "consistent"));
 }
 
 CaseResult string_indices(Context& ctx) {
@@ -364,7 +322,6 @@ CaseResult pdo_entries_in_od(Context& ctx, bool compare_types) {
 std::vector<Case> sii_rule_cases() {
   return {
       {"sii.end_within_size", "ETG.2010 / ETG.1000.6 §5.4: category list ends with 0xFFFF inside the EEPROM size of word 0x3E; version word 0x3F = 1 (sii-eeprom.md §1, §3, §5 #5-#7)", size_and_termination},
-      {"sii.category_lengths", "ETG.2010 category lengths: GENERAL 16 words, SYNCM 4 words per SM, DC 12 per mode, TXPDO/RXPDO exactly their PDOs, STRINGS holds its strings (sii-eeprom.md §3)", category_lengths},
       {"sii.string_indices", "ETG.2010 STRINGS: every name index (GENERAL, PDOs, entries, DC modes) <= number of strings (sii-eeprom.md §3.1)", string_indices},
       {"sii.checksum_word", "ESC Section I p.93 / ETG.1000.6 §5.4: word 7 high byte 0, not the debug value 0x88A4 (sii-eeprom.md §1-§2)", checksum_word},
       {"sii.syncm_types", "ETG.2010 SYNCM: type 0-4; with a mailbox SM0 = 1 (mailbox out), SM1 = 2 (mailbox in) (sii-eeprom.md §3.4)", syncm_types},
