@@ -270,7 +270,11 @@ CaseResult dc_category_matches_esc(Context& ctx) {
   const auto& s = ctx.info().sii;
   if (s.dc_modes.empty()) return CaseResult::skip("no DC category (the device has no DC OpMode)");
   std::string problems;
-  if (!ctx.info().esc.has_dc()) problems += "DC category but 0x0008 bit 2 (DC) = 0; ";
+  for (std::size_t i = 0; i < s.dc_modes.size(); ++i) {
+    if (s.dc_modes[i].assign_activate != 0 && !ctx.info().esc.has_dc()) {
+      problems += fmt::format("DC mode {} AssignActivate {}, 0x0008 bit 2 (DC) = 0; ", i, hex(s.dc_modes[i].assign_activate, 4));
+    }
+  }
   for (std::size_t i = 0; i < s.dc_modes.size(); ++i) {
     const std::uint16_t aa = s.dc_modes[i].assign_activate;
     if ((aa & ~kAssignActivateDefined) != 0) {
@@ -332,7 +336,7 @@ std::vector<Case> sii_rule_cases() {
       {"sii.mailbox_sizes", "ETG.1000.4 §5.6 / ETG.1000.6 §5.6.2: SM0/SM1 hold an expedited SDO (16 bytes) with CoE, do not overlap, word 0x1C names a protocol, bootstrap words 0x14-0x17 all 0 or complete (sii-eeprom.md §1)", mailbox_sizes},
       {"sii.protocols_match_general", "ETG.2010 GENERAL CoE/FoE/EoE details bit 0 equal word 0x1C protocol bits (sii-eeprom.md §3.2, §5 #4)", protocols_match_general},
       {"sii.general_reserved_bits", "ETG.2010 GENERAL: CoE details bits 7:6 and flags bits 7:5 reserved 0 (sii-eeprom.md §3.2)", general_reserved},
-      {"sii.dc_category_matches_esc", "ETG.2010 DC category: the ESC has DC (0x0008 bit 2); AssignActivate sets only defined 0x0980 bits and SYNC0 only with the unit active (0x0981 bits 0/1; ESC Section II 0x0980-0x0981; sii-eeprom.md §3.7, esc-registers.md §10)", dc_category_matches_esc},
+      {"sii.dc_category_matches_esc", "ETG.2010 DC category: an OpMode with an AssignActivate needs an ESC with DC (0x0008 bit 2); AssignActivate sets only defined 0x0980 bits and SYNC0 only with the unit active (0x0981 bits 0/1; ESC Section II 0x0980-0x0981; sii-eeprom.md §3.7, esc-registers.md §10)", dc_category_matches_esc},
       {"sii.pdo_entries_exist", "ETG.2010 TXPDO/RXPDO entries name objects of the dictionary (SDO information entry description, ETG.1000.6 §5.6.3; sii-eeprom.md §3.6)",
        [](Context& ctx) { return pdo_entries_in_od(ctx, false); }},
       {"sii.pdo_entry_types_match_od", "ETG.2010 PDO entry data type and bit length equal the dictionary's entry description (ETG.1000.6 §5.6.3; sii-eeprom.md §3.6)",
