@@ -38,7 +38,9 @@ constexpr std::uint16_t kMailboxHeaderBytes = 6;
 constexpr std::uint16_t kAssignActivateDefined = 0xFF31;
 constexpr std::uint16_t kAssignActivateUnit = 0x0100;   // 0x0981 bit 0
 constexpr std::uint16_t kAssignActivateSync0 = 0x0200;  // 0x0981 bit 1
-constexpr std::uint32_t kRamStart = 0x1000;  // process RAM (ESC Section II p.13, esc-registers.md §3)
+constexpr std::uint32_t kRamStart = 0x1000;
+constexpr std::uint16_t kWord0DeviceEmulation = 0x0100;  // SII word 0 bit 8 -> 0x0141 bit 0 (esc-registers.md §4.9)
+constexpr std::uint32_t kDigitalOutputs = 0x0F00, kDigitalOutputsEnd = 0x0F04;  // process RAM (ESC Section II p.13, esc-registers.md §3)
 constexpr std::uint16_t kChecksumDisabled = 0x88A4;  // debug value, sii-eeprom.md §1 word 7
 
 std::uint16_t word_at(const std::vector<std::uint8_t>& img, std::size_t w) {
@@ -137,6 +139,12 @@ CaseResult pdo_sync_managers(Context& ctx) {
 
 CaseResult sm_sizes_fit_pdos(Context& ctx) {
   const auto& s = ctx.info().sii;
+  // With PDO assignment or configuration the configurator sizes the SMs from
+  // the PDOs it writes (vendors give the SYNCM length as the maximum); only
+  // fixed process data must fit the SII lengths as they are.
+  if (s.has_coe() && s.general && (s.general->coe_details & (sii::kCoePdoAssign | sii::kCoePdoConfig)) != 0) {
+    return CaseResult::skip("PDO assignment/configuration (SII CoE details): the SM lengths follow the configured PDOs");
+  }
   std::string want, seen;
   for (std::size_t i = 0; i < s.sync_managers.size(); ++i) {
     const auto& sm = s.sync_managers[i];
@@ -182,10 +190,22 @@ CaseResult sm_areas(Context& ctx) {
     std::uint32_t start, end;
   };
   std::vector<Area> areas;
+  const bool configurable = s.has_coe() && s.general && (s.general->coe_details & (sii::kCoePdoAssign | sii::kCoePdoConfig)) != 0;
   for (std::size_t i = 0; i < s.sync_managers.size(); ++i) {
     const auto& sm = s.sync_managers[i];
     if (sm.length == 0 || sm.type == sii::kSmTypeUnused) continue;
-    areas.push_back({fmt::format("SM{}", i), sm.start, sm.start + sm_footprint(sm)});
+    // An SM on the digital I/O register 0x0F00-0x0F03 (EL2004-style, ESC
+    // Section I p.60) is the ESC's register, not a buffer in RAM.
+    if (sm.start >= kDigitalOutputs && sm.start < kDigitalOutputsEnd) continue;
+    // With PDO assignment/configuration a process-data SM's SII length is a
+    // maximum the configurator sizes down (sii.sm_sizes_fit_pdos).
+    const bool process = sm.type == sii::kSmTypeOutputs || sm.type == sii::kSmTypeInputs;
+    if (process && configurable) continue;
+    // An ESC in device emulation (SII word 0 bit 8 = 0x0141 bit 0, no µC:
+    // Beckhoff EQ2339 packs 1-byte input SMs side by side) has no third-party
+    // reader of the other buffers: count the length once.
+    const std::uint32_t bytes = (s.pdi_control & kWord0DeviceEmulation) != 0 ? sm.length : sm_footprint(sm);
+    areas.push_back({fmt::format("SM{}", i), sm.start, sm.start + bytes});
   }
   std::string problems;
   for (std::size_t i = 0; i < areas.size(); ++i) {
@@ -212,7 +232,6 @@ CaseResult mailbox_sizes(Context& ctx) {
   if (s.rx_mailbox_offset < s.tx_mailbox_offset + s.tx_mailbox_size && s.tx_mailbox_offset < s.rx_mailbox_offset + s.rx_mailbox_size) {
     problems += "SM0 and SM1 overlap; ";
   }
-  if (s.mailbox_protocols == 0) problems += "mailbox without protocol (word 0x1C = 0); ";
   // Bootstrap mailbox (words 0x14-0x17): unused (all 0) or complete.
   const bool boot_any = s.boot_rx_size != 0 || s.boot_tx_size != 0 || s.boot_rx_offset != 0 || s.boot_tx_offset != 0;
   if (boot_any && (s.boot_rx_size < kMailboxHeaderBytes + 1 || s.boot_tx_size < kMailboxHeaderBytes + 1 ||
@@ -309,7 +328,10 @@ CaseResult pdo_entries_in_od(Context& ctx, bool compare_types) {
           if (!compare_types) problems += fmt::format("{}:{} {}; ", hex(e.index, 4), e.subindex, describe_sdo(d.error()));
           continue;
         }
-        if (compare_types && ((d->data_type & 0xFF) != e.data_type || d->bit_length != e.bit_length)) {
+        // A mapping may take fewer bits than the object holds (Beckhoff maps
+        // 16 bits of some 32-bit entries); more bits than it has, or another
+        // type, is wrong.
+        if (compare_types && ((d->data_type & 0xFF) != e.data_type || e.bit_length > d->bit_length)) {
           problems += fmt::format("{}:{} SII type {} {} bits, OD type {} {} bits; ", hex(e.index, 4), e.subindex,
                                   hex(e.data_type, 2), e.bit_length, hex(d->data_type, 4), d->bit_length);
         }
@@ -330,16 +352,16 @@ std::vector<Case> sii_rule_cases() {
       {"sii.checksum_word", "ESC Section I p.93 / ETG.1000.6 §5.4: word 7 high byte 0, not the debug value 0x88A4 (sii-eeprom.md §1-§2)", checksum_word},
       {"sii.syncm_types", "ETG.2010 SYNCM: type 0-4; with a mailbox SM0 = 1 (mailbox out), SM1 = 2 (mailbox in) (sii-eeprom.md §3.4)", syncm_types},
       {"sii.pdo_sync_managers", "ETG.2010 TXPDO/RXPDO: RxPDO 0x1600-0x17FF on an outputs SM (type 3), TxPDO 0x1A00-0x1BFF on an inputs SM (type 4) (sii-eeprom.md §3.4, §3.6)", pdo_sync_managers},
-      {"sii.sm_sizes_fit_pdos", "ETG.2000 Sm DefaultSize / ETG.2010 SYNCM length = the default PDOs' bytes on that SM (sii-eeprom.md §3.4, §3.6)", sm_sizes_fit_pdos},
+      {"sii.sm_sizes_fit_pdos", "ETG.2000 Sm DefaultSize / ETG.2010 SYNCM length = the default PDOs' bytes on that SM, for fixed process data (no PDO assign/config) (sii-eeprom.md §3.4, §3.6)", sm_sizes_fit_pdos},
       {"sii.fmmu_usage", "ETG.2010 FMMU category: usage 0-3, an outputs/inputs FMMU when RxPDOs/TxPDOs exist, no more than 0x0004 FMMUs (sii-eeprom.md §3.3)", fmmu_usage},
-      {"sii.sm_areas_in_ram", "ESC Section I p.62 / ETG.2010 SYNCM: SM areas (x3 in 3-buffer mode) disjoint and inside the process RAM of 0x0006 (esc-registers.md §7.1)", sm_areas},
-      {"sii.mailbox_sizes", "ETG.1000.4 §5.6 / ETG.1000.6 §5.6.2: SM0/SM1 hold an expedited SDO (16 bytes) with CoE, do not overlap, word 0x1C names a protocol, bootstrap words 0x14-0x17 all 0 or complete (sii-eeprom.md §1)", mailbox_sizes},
+      {"sii.sm_areas_in_ram", "ESC Section I p.60/p.62 / ETG.2010 SYNCM: SM areas (x3 in 3-buffer mode; process-data SMs only for fixed PDOs) disjoint and inside the process RAM of 0x0006; SMs on the digital I/O register 0x0F00 exempt (esc-registers.md §7.1)", sm_areas},
+      {"sii.mailbox_sizes", "ETG.1000.4 §5.6 / ETG.1000.6 §5.6.2: SM0/SM1 hold an expedited SDO (16 bytes) with CoE, do not overlap, bootstrap words 0x14-0x17 all 0 or complete (sii-eeprom.md §1)", mailbox_sizes},
       {"sii.protocols_match_general", "ETG.2010 GENERAL CoE/FoE/EoE details bit 0 equal word 0x1C protocol bits (sii-eeprom.md §3.2, §5 #4)", protocols_match_general},
       {"sii.general_reserved_bits", "ETG.2010 GENERAL: CoE details bits 7:6 and flags bits 7:5 reserved 0 (sii-eeprom.md §3.2)", general_reserved},
       {"sii.dc_category_matches_esc", "ETG.2010 DC category: an OpMode with an AssignActivate needs an ESC with DC (0x0008 bit 2); AssignActivate sets only defined 0x0980 bits and SYNC0 only with the unit active (0x0981 bits 0/1; ESC Section II 0x0980-0x0981; sii-eeprom.md §3.7, esc-registers.md §10)", dc_category_matches_esc},
       {"sii.pdo_entries_exist", "ETG.2010 TXPDO/RXPDO entries name objects of the dictionary (SDO information entry description, ETG.1000.6 §5.6.3; sii-eeprom.md §3.6)",
        [](Context& ctx) { return pdo_entries_in_od(ctx, false); }},
-      {"sii.pdo_entry_types_match_od", "ETG.2010 PDO entry data type and bit length equal the dictionary's entry description (ETG.1000.6 §5.6.3; sii-eeprom.md §3.6)",
+      {"sii.pdo_entry_types_match_od", "ETG.2010 PDO entry data type equals, and its bit length does not exceed, the dictionary's entry description (ETG.1000.6 §5.6.3; sii-eeprom.md §3.6)",
        [](Context& ctx) { return pdo_entries_in_od(ctx, true); }},
   };
 }

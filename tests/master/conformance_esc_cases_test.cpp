@@ -178,6 +178,8 @@ TEST_F(EscCases, PowerUpCasesFailOnWrongResetValues) {
 constexpr std::uint16_t kGeneral = 30;
 constexpr std::size_t kGeneralFlags = 0x0B;
 constexpr std::uint8_t kIdentAlStatus = 0x08;
+constexpr std::size_t kGeneralCoeDetails = 0x05;
+constexpr std::uint8_t kPdoAssignConfig = 0x0C;
 
 TEST_F(EscCases, IdentificationPassesWithAliasAndFlag) {
   const std::size_t g = category(kGeneral);
@@ -283,10 +285,6 @@ TEST_F(EscCases, TimeLoopSettlesOnASecondSlaveAndFailsBeyondItsRange) {
   expect_fail("dc.time_loop_settles", "0x092C/0x0932 = 0/0 after a 0x0930 write; |0x092C| = ", "|0x092C| < 1000 ns", 1);
 }
 
-TEST_F(EscCases, SyncModesSupportedFailsWithoutDcIn1C32) {
-  ASSERT_TRUE(slave().firmware().coe().objects().set(0x1C32, 0x04, std::uint16_t{0x0003}));
-  expect_fail("dc.sync_modes_supported", "1C32h:04 = 0x0003 without DC", "consistent");
-}
 
 TEST_F(EscCases, Sync0BelowMinimumFailsWhen1C32MinimumIsNotTheDevicesOwn) {
   // 1C32h:05 says 4 ms, but the device takes SYNC0 down to its own 125 µs.
@@ -309,11 +307,6 @@ TEST_F(EscCases, DcRefusalsFailOnFirmwareWithoutSyncChecks) {
   expect_fail("dc.single_shot_refused", "SafeOp", "PreOp+E 0x0035");
 }
 
-TEST_F(EscCases, UnsupportedSyncModeFailsWhenAccepted) {
-  // 1C32h:04 leaves SM-synchronous out, but the device runs it.
-  ASSERT_TRUE(slave().firmware().coe().objects().set(0x1C32, 0x04, std::uint16_t{0x0005}));
-  expect_fail("dc.unsupported_sync_mode_refused", "SafeOp", "1C32h:01 = 1 refused");
-}
 
 TEST_F(EscCases, ActivationSequenceFailsWhenTheUnitDrops) {
   on_wait = [this](Nanoseconds d) {
@@ -339,6 +332,15 @@ TEST_F(EscCases, SiiEndBeyondSizeFails) {
   expect_fail("sii.end_within_size", "END at byte", "END within 128 bytes");
 }
 
+// Fixed process data (no PDO assign/config in the GENERAL CoE details) whose
+// SYNCM length is not what the default PDOs take.
+TEST_F(EscCases, SiiSmSizeFailsForFixedProcessData) {
+  const std::size_t g = category(kGeneral), sm = category(kSyncM);
+  patch_sii(g + kGeneralCoeDetails, static_cast<std::uint8_t>(image()[g + kGeneralCoeDetails] & ~kPdoAssignConfig));
+  patch_sii(sm + 2 * 8 + 2, 15);
+  expect_fail("sii.sm_sizes_fit_pdos", "SM2 15 bytes", "SM2 14 bytes");
+}
+
 TEST_F(EscCases, SiiRulesFailOnPatchedImages) {
   struct Patch {
     const char* name;
@@ -352,9 +354,8 @@ TEST_F(EscCases, SiiRulesFailOnPatchedImages) {
       {"sii.checksum_word", 0, 15, 0x01, "word 7 = 0x01"},
       {"sii.syncm_types", kSyncM, 7, 2, "SM0 type 2 (not 1)"},
       {"sii.pdo_sync_managers", kRxPdo, 3, 3, "on SM3 of type 4 (want 3)"},
-      {"sii.sm_sizes_fit_pdos", kSyncM, 2 * 8 + 2, 15, "SM2 15 bytes"},
       {"sii.fmmu_usage", kFmmu, 0, 0x07, "FMMU0 usage 0x07"},
-      {"sii.sm_areas_in_ram", kSyncM, 3 * 8 + 1, 0x11, "overlaps"},
+      {"sii.sm_areas_in_ram", kSyncM, 1 * 8 + 0, 0x40, "SM0 overlaps SM1"},
       {"sii.mailbox_sizes", 0, 2 * 0x19, 8, "SM0 8 bytes < 16"},
       {"sii.protocols_match_general", kGeneral, 0x06, 0x01, "FoE yes"},
       {"sii.general_reserved_bits", kGeneral, kGeneralFlags, 0x80, "flags bits 7:5 = 4"},
