@@ -41,8 +41,14 @@ void SyncController::install() noexcept {
     if (store_.get<std::uint16_t>(index, syncsub::kSyncModesSupported) == 0) {
       (void)store_.set(index, syncsub::kSyncModesSupported, supported);
     }
-    if (store_.get<std::uint32_t>(index, syncsub::kMinimumCycleTime) == 0) {
+    const auto given_min = store_.get<std::uint32_t>(index, syncsub::kMinimumCycleTime);
+    if (given_min == 0) {
       (void)store_.set(index, syncsub::kMinimumCycleTime, limits_.min_cycle_time_ns);
+    } else if (index == kSmOutputParameter && given_min > limits_.min_cycle_time_ns) {
+      // The dictionary's own minimum (a vendor ESI's 1C32h:05 DefaultData)
+      // is what a master reads: the PreOp->SafeOp check holds to it too
+      // (0x0036 below it), so the slave does not accept what it says it cannot.
+      limits_.min_cycle_time_ns = given_min;
     }
   }
   load_modes();

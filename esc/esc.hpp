@@ -125,6 +125,13 @@ class Esc final : public Pdi {
   // bit 0 = 0. Returns the byte it replaced; nullopt (nothing changed) when
   // the image has no byte `at`.
   std::optional<std::uint8_t> patch_eeprom_and_reload(std::size_t at, std::uint8_t value);
+  // Fault injection (tests: an ESC whose silicon shows other register
+  // values, e.g. a reset value the datasheet does not give): register bytes
+  // 0x0000-0x0FFF written as they are, no side effects, no access rules.
+  // Only registers the ESC keeps in its memory change what a read returns;
+  // SMs, FMMUs and the DC block (0x0900-0x09FF) keep their own state.
+  static constexpr std::size_t kRegisterEnd = 0x1000;
+  void poke_registers(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept;
   // The SII interface stuck busy from its next command on (SiiInterface::set_stuck).
   void set_sii_stuck(bool stuck, Nanoseconds now) noexcept;
   bool link(unsigned port) const noexcept { return port < kMaxPorts && link_[port]; }

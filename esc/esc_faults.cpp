@@ -22,3 +22,13 @@ void Esc::set_sii_stuck(bool stuck, Nanoseconds now) noexcept {
 }
 
 }  // namespace ecat::esc
+
+namespace ecat::esc {
+
+void Esc::poke_registers(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept {
+  touch();
+  const std::size_t end = std::min<std::size_t>(std::size_t{address} + bytes.size(), kRegisterEnd);
+  for (std::size_t a = address; a < end; ++a) mem_[a] = bytes[a - address];
+}
+
+}  // namespace ecat::esc

@@ -130,9 +130,11 @@ bool Esc::reg_write(std::uint16_t address, std::span<const std::uint8_t> in_byte
   if (in_bytes.empty()) return false;
   if (address >= reg::kDcBase && address + in_bytes.size() <= reg::kDcEnd) {
     // Wholly inside the DC block (the ARMW/FRMW of every DC cycle): what
-    // reg_write_checked does with it (write protection does not apply to
-    // it there either), without the byte loop.
+    // reg_write_checked does with it, without the byte loop. Write
+    // protection covers the DC registers too (Section I §13: 0x0000-0x0F7F
+    // but 0x0020/0x0030); a discarded write is not counted.
     if (!config_.dc) return false;
+    if (side == Side::Ecat && write_protection_active()) return false;
     dc_.write(static_cast<std::uint16_t>(address - reg::kDcBase), in_bytes, now_, side);
     return true;
   }
@@ -154,7 +156,7 @@ bool Esc::reg_write_checked(std::uint16_t address, std::span<const std::uint8_t>
     const auto a = static_cast<std::uint16_t>(address + i);
     if (in(a, reg::kDcBase, reg::kDcEnd)) {
       const std::size_t n = std::min<std::size_t>(in_bytes.size() - i, reg::kDcEnd - a);
-      if (config_.dc) {
+      if (config_.dc && !(side == Side::Ecat && write_protection_active())) {
         dc_.write(static_cast<std::uint16_t>(a - reg::kDcBase), in_bytes.subspan(i, n), now_, side);
         counted = true;
       }

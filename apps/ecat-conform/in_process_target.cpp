@@ -3,6 +3,7 @@
 #include "apps/ecat-conform/target.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
+#include "slave/fault_catalogue.hpp"
 #include "transport/in_memory_transport.hpp"
 
 namespace ecat::conform {
@@ -34,6 +35,17 @@ class InProcessTarget final : public Target {
   const Clock& clock() const override { return clock_; }
   std::optional<master::conformance::ExpectedIdentity> identity() const override { return identity_; }
   std::string description() const override { return description_; }
+
+  // The fault catalogue's power_cycle (docs/faults.md): off, then on with
+  // the ESC's power-up register values and the firmware started afresh.
+  bool power_cycle() override {
+    slave::FaultCatalogue faults(chain_);
+    auto id = faults.engage({"power_cycle", 0, {}, {}});
+    if (!id) return false;
+    if (!faults.clear(*id)) return false;
+    (void)chain_.poll(clock_.now());
+    return true;
+  }
 
   void wait(Nanoseconds d) override {
     const Nanoseconds end = clock_.now() + d;

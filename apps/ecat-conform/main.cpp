@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
     options.slave = slave;
     options.identity = t.identity();
     options.wait = [&t](Nanoseconds d) { t.wait(d); };
+    options.power_cycle = [&t]() { return t.power_cycle(); };
     fmt::print("ecat-conform: {}\n", t.description());
     std::vector<master::conformance::Case> extra;
     if (const od::DeviceDescription* d = t.device()) {

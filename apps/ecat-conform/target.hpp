@@ -25,6 +25,9 @@ class Target {
   // Let `d` pass without frames (in-process: advance the simulated time and
   // run the slaves; on a wire: sleep).
   virtual void wait(Nanoseconds d) = 0;
+  // Switch the slave off and on again (the reg.powerup_* cases); false when
+  // the target cannot (a wire: the suite skips those cases and says why).
+  virtual bool power_cycle() { return false; }
   // Identity from the device file, when the target was made from one.
   virtual std::optional<master::conformance::ExpectedIdentity> identity() const { return std::nullopt; }
   // The device file the target was made from (the ESI source), if any.

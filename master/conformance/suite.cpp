@@ -171,7 +171,8 @@ bool matches_filter(const std::string& name, const std::string& filter) {
 
 std::vector<Case> all_cases() {
   std::vector<Case> all;
-  for (auto group : {esm_cases(), config_cases(), mailbox_cases(), sdo_cases(), consistency_cases(), cia402_cases(),
+  for (auto group : {esm_cases(), config_cases(), mailbox_cases(), sdo_cases(), consistency_cases(), register_cases(),
+                     identification_cases(), watchdog_cases(), dc_cases(), sii_rule_cases(), cia402_cases(),
                      emergency_cases(), foe_cases()}) {
     all.insert(all.end(), group.begin(), group.end());
   }

@@ -61,7 +61,15 @@ struct SuiteOptions {
   std::size_t max_objects = 0;
   // Run the cases in DC Sync0 mode (see DcSync0); empty = free run.
   std::optional<DcSync0> dc;
+  // Switches the slave off and on again (in-process: slave::FaultCatalogue
+  // power_cycle). Returns false or an empty function when the runner cannot,
+  // and the power-up register cases skip saying so.
+  std::function<bool()> power_cycle;
 };
+
+// Registers 0x0000-0x0FFF as the ESC shows them right after power-up, read by
+// position (APRD) before the master addresses the slave again.
+inline constexpr std::size_t kRegisterSpace = 0x1000;
 
 class Context {
  public:
@@ -89,11 +97,17 @@ class Context {
   // SYNC0 has started and outputs came with it (a DC slave refuses Op with
   // 0x002D while no SYNC0 arrives); nothing otherwise.
   void run_until_sync0();
+  // Power-cycles the slave (options().power_cycle) once per run, reads its
+  // register space by position, and gives the slave its station address
+  // again (Master::readdress). Later calls return the same snapshot.
+  // nullopt: the runner cannot power-cycle; an error: it went wrong.
+  std::optional<Expected<const std::vector<std::uint8_t>*, std::string>> power_up_registers();
 
  private:
   Master& master_;
   const SuiteOptions& options_;
   bool dc_configured_ = false;
+  std::vector<std::uint8_t> power_up_;
 };
 
 struct Case {
@@ -113,6 +127,14 @@ std::vector<Case> config_cases();
 std::vector<Case> mailbox_cases();
 std::vector<Case> sdo_cases();
 std::vector<Case> consistency_cases();
+// ESC/SII-level areas (issue 31 item 3): register defaults, identification,
+// process-data watchdog, DC and synchronisation, SII rules beyond the schema.
+std::vector<Case> register_cases();
+std::vector<Case> identification_cases();
+std::vector<Case> watchdog_cases();
+std::vector<Case> dc_cases();
+std::vector<Case> sii_rule_cases();
+// Application-level areas: CiA402, emergencies and 10F3h, FoE.
 std::vector<Case> cia402_cases();
 std::vector<Case> emergency_cases();
 std::vector<Case> foe_cases();

@@ -139,6 +139,24 @@ TEST_F(RegTest, RegisterWriteProtection) {
   EXPECT_EQ(wr(0x1000, Data{1}).wkc, 1);
 }
 
+// The DC registers lie inside 0x0000-0x0F7F, so register write protection
+// covers them too (Section I §13; esc-registers.md §2): a write of the
+// system time offset 0x0920 is discarded and not counted, whole (the DC
+// block's own path) or as part of a wider write (the byte path).
+TEST_F(RegTest, RegisterWriteProtectionCoversDcRegisters) {
+  wr(reg::kRegisterWriteProtection, Data{0x01});
+  EXPECT_EQ(wr(0x0920, Data{0x11, 0x22, 0x33, 0x44}).wkc, 0);
+  EXPECT_EQ(esc().register_u16(0x0920), 0);
+  EXPECT_EQ(wr(0x08FE, Data{0x01, 0x02, 0x11, 0x22}).wkc, 0);
+  EXPECT_EQ(esc().register_u16(0x0900), 0);
+  TestFrame f;
+  f.add(Command::Fpwr, fp(kStation, reg::kRegisterWriteEnable), Data{0x01});
+  f.add(Command::Fpwr, fp(kStation, 0x0920), Data{0x11, 0x22, 0x33, 0x44});
+  ASSERT_TRUE(f.send(seg()));
+  EXPECT_EQ(f.wkc(1), 1);
+  EXPECT_EQ(esc().register_u16(0x0920), 0x2211);
+}
+
 TEST_F(RegTest, EscWriteProtectionCoversRam) {
   wr(reg::kEscWriteProtection, Data{0x01});
   EXPECT_EQ(wr(0x1000, Data{1}).wkc, 0);
