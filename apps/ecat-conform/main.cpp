@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
                  "with --device: the firmware reaches the ESC over SPI to an emulated lan9252 or et1100-spi")
       ->needs(device_option);
   app.add_option("--junit", junit, "write JUnit XML to this file");
-  app.add_option("--filter", filter, "run only tests whose name contains PATTERN (or matches a * ? glob)");
+  app.add_option("--filter", filter, "run only tests whose name contains PATTERN (or matches a * ? glob); several patterns separated by commas");
   app.add_option("--slave", slave, "position of the slave to test (default 0)");
   app.add_option("--pcap", pcap, "record every frame to this pcap file");
   app.add_flag("--free-run", free_run,

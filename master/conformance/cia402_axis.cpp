@@ -160,6 +160,13 @@ Expected<void, SdoError> Cia402Axis::set(std::uint16_t index, std::int64_t value
   }
   CoeClient coe = ctx_.coe();
   auto r = coe.download_value(index, 0, static_cast<std::uint32_t>(value), bytes);
+  keep_emergencies(coe);
+  return r;
+}
+
+// An emergency that came in while the client waited for an SDO reply is
+// kept by the client: it is the axis's as much as one polled for.
+void Cia402Axis::keep_emergencies(const CoeClient& coe) {
   for (const auto& e : coe.emergencies()) {
     RawEmergency raw;
     raw.payload = {0x00, 0x10, static_cast<std::uint8_t>(e.error_code), static_cast<std::uint8_t>(e.error_code >> 8),
@@ -167,7 +174,6 @@ Expected<void, SdoError> Cia402Axis::set(std::uint16_t index, std::int64_t value
     raw.payload.insert(raw.payload.end(), e.data.begin(), e.data.end());
     emergencies_.push_back(std::move(raw));
   }
-  return r;
 }
 
 Expected<std::int64_t, SdoError> Cia402Axis::get(std::uint16_t index, std::size_t bytes) {
@@ -182,6 +188,7 @@ Expected<std::int64_t, SdoError> Cia402Axis::get(std::uint16_t index, std::size_
   collect_emergencies();
   CoeClient coe = ctx_.coe();
   auto r = coe.upload(index, 0);
+  keep_emergencies(coe);
   if (!r) return fail(r.error());
   std::uint64_t v = 0;
   for (std::size_t i = 0; i < std::min<std::size_t>(r->size(), 8); ++i) {
@@ -194,8 +201,13 @@ Expected<void, SdoError> Cia402Axis::change(std::uint16_t index, std::uint8_t su
                                             std::size_t bytes) {
   CoeClient coe = ctx_.coe();
   auto old = coe.upload_value(index, sub);
-  if (!old) return fail(old.error());
-  if (auto r = coe.download_value(index, sub, value, bytes); !r) return r;
+  if (!old) {
+    keep_emergencies(coe);
+    return fail(old.error());
+  }
+  auto r = coe.download_value(index, sub, value, bytes);
+  keep_emergencies(coe);  // the client's list holds both exchanges' emergencies
+  if (!r) return r;
   restore_.push_back({index, sub, *old, bytes});
   return {};
 }

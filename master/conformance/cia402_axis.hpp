@@ -123,6 +123,7 @@ class Cia402Axis {
 
   const std::vector<RawEmergency>& emergencies() const noexcept { return emergencies_; }
   void collect_emergencies();
+  void keep_emergencies(const CoeClient& coe);
 
   static constexpr unsigned kMaxCycles = 500;
 

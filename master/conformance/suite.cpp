@@ -148,6 +148,9 @@ Expected<void, std::string> Context::go_to(AlState target) {
 
 bool matches_filter(const std::string& name, const std::string& filter) {
   if (filter.empty()) return true;
+  if (const std::size_t comma = filter.find(','); comma != std::string::npos) {  // any of several patterns
+    return matches_filter(name, filter.substr(0, comma)) || matches_filter(name, filter.substr(comma + 1));
+  }
   if (filter.find_first_of("*?") == std::string::npos) return name.find(filter) != std::string::npos;
   // Glob with '*' and '?'.
   std::size_t n = 0, f = 0, star = std::string::npos, mark = 0;
