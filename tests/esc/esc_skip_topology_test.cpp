@@ -240,8 +240,12 @@ TEST_P(SkipTopology, CutAndRestoreWithLatches) {
   set_up(t);
   Nanoseconds now{2'000'000};
   // Three cables between slaves, and the master's first one.
-  for (const auto& [cut, port] : {std::pair<std::size_t, unsigned>{5, kDownstreamPort}, {40, kDownstreamPort},
-                                 {63, kDownstreamPort}, {0, kUpstreamPort}}) {
+  for (const auto& cable : {std::pair<std::size_t, unsigned>{5, kDownstreamPort}, {40, kDownstreamPort},
+                            {63, kDownstreamPort}, {0, kUpstreamPort}}) {
+    // Not a structured binding: the frame lambda below captures it (clang
+    // before 16 cannot capture a binding).
+    const std::size_t cut = cable.first;
+    const unsigned port = cable.second;
     for (Net* n : {&t.fast, &t.ref}) EXPECT_TRUE(n->segment.set_link(cut, port, false));
     for (int k = 0; k < 6; ++k) {
       for (unsigned mp = 0; mp < kMasterPorts; ++mp) {
