@@ -3,6 +3,7 @@
 #include "esc/segment.hpp"
 
 #include "esc/datagram_engine.hpp"
+#include "esc/segment_marking.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -404,34 +405,8 @@ bool Segment::enters_all(DatagramView first, std::size_t count) noexcept {
 }
 
 void Segment::plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
-  index_.begin_frame();
-  auto_increments_ = 0;
-  DatagramView dg = first;
-  for (std::size_t left = count;;) {
-    const Command cmd = dg.command();
-    const engine_detail::CommandTraits& traits = engine_detail::kCommandTraits[static_cast<std::uint8_t>(cmd)];
-    switch (traits.mode) {
-      case Addressing::None:
-      case Addressing::Broadcast:  // not planned: enters_all
-        break;
-      case Addressing::AutoIncrement: {
-        const std::uint16_t adp = dg.adp();
-        auto_increment_[auto_increments_++] = AutoIncrement{dg, adp};
-        // Addressed where the ADP has been incremented to 0 (Section I Table 5).
-        // Past 65536 ESCs the 16-bit ADP wraps and reaches 0 again.
-        for (std::size_t at = static_cast<std::uint16_t>(-adp); at < escs_.size(); at += 0x10000) index_.mark(at);
-        break;
-      }
-      case Addressing::Configured:
-        index_.mark_address(dg.adp());
-        break;
-      case Addressing::Logical:
-        index_.mark_logical(dg.logical_address(), dg.length());
-        break;
-    }
-    if (--left == 0) break;
-    dg = dg.next();
-  }
+  // On the line the n-th position is ESC n.
+  mark_addressed(first, count, escs_.size(), [](std::size_t at) { return at; });
   index_.mark_due(now, out_step_);
 }
 

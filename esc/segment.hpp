@@ -240,6 +240,11 @@ class Segment {
   static bool enters_all(DatagramView first, std::size_t count) noexcept;
   // Marks the ESCs a frame that does not enter all must enter (SkipIndex).
   void plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // The planning walk of plan and plan_route (esc/segment_marking.hpp): the
+  // ESCs a frame's datagrams address are marked in the SkipIndex; the
+  // ADP-th of `positions` on the frame's way is ESC esc_at(ADP).
+  template <class EscAt>
+  [[gnu::always_inline]] inline void mark_addressed(DatagramView first, std::size_t count, std::size_t positions, EscAt esc_at) noexcept;
   // What the index keeps of ESC i, read after a frame entered it.
   // kRoute: a tree or ring, where a passive ESC may send the frame on out
   // of any port (the route knows where) and a change of its ports makes

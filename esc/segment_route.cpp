@@ -24,6 +24,7 @@
 #include "esc/segment.hpp"
 
 #include "esc/datagram_engine.hpp"
+#include "esc/segment_marking.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -169,33 +170,7 @@ void Segment::build_route(unsigned master_port) {
 // The ESCs a frame that does not enter all must enter, as plan() does on
 // the line; an APxx addresses the ESC whose unit is the ADP-th on the route.
 void Segment::plan_route(const Route& r, DatagramView first, std::size_t count, Nanoseconds now) noexcept {
-  index_.begin_frame();
-  auto_increments_ = 0;
-  DatagramView dg = first;
-  for (std::size_t left = count;;) {
-    const engine_detail::CommandTraits& traits = engine_detail::kCommandTraits[static_cast<std::uint8_t>(dg.command())];
-    switch (traits.mode) {
-      case Addressing::None:
-      case Addressing::Broadcast:  // not planned: enters_all
-        break;
-      case Addressing::AutoIncrement: {
-        const std::uint16_t adp = dg.adp();
-        auto_increment_[auto_increments_++] = AutoIncrement{dg, adp};
-        for (std::size_t at = static_cast<std::uint16_t>(-adp); at < r.units.size(); at += 0x10000) {
-          index_.mark(r.units[at]);
-        }
-        break;
-      }
-      case Addressing::Configured:
-        index_.mark_address(dg.adp());
-        break;
-      case Addressing::Logical:
-        index_.mark_logical(dg.logical_address(), dg.length());
-        break;
-    }
-    if (--left == 0) break;
-    dg = dg.next();
-  }
+  mark_addressed(first, count, r.units.size(), [&r](std::size_t at) { return r.units[at]; });
   index_.mark_due_at(now, r.unit_at.data(), kNoTime, r.last_unit);
 }
 
