@@ -2,9 +2,12 @@
 // that sends one frame of datagrams through a Segment and reads the result.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "common/frame_builder.hpp"
@@ -152,6 +155,18 @@ inline void config_fmmu(Segment& s, std::uint16_t station, unsigned n, std::uint
   d.push_back(1);  // enable
   d.resize(16, 0);
   transact(s, Command::Fpwr, fp(station, reg::fmmu(n)), d);
+}
+
+// The first byte at which two ESCs' memories differ, or nothing. memcmp
+// first: a byte loop in a test built at -O0 under ASan took most of the
+// random-sequence tests' time (85 s of each, 1.3 s without sanitizers).
+inline std::optional<std::size_t> first_memory_difference(const Esc& x, const Esc& y) {
+  const std::size_t n = std::min(x.memory_size(), y.memory_size());
+  if (x.memory_size() == y.memory_size() && std::memcmp(x.memory(), y.memory(), n) == 0) return std::nullopt;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (x.memory()[a] != y.memory()[a]) return a;
+  }
+  return n;
 }
 
 }  // namespace ecat::esc::test

@@ -65,12 +65,11 @@ struct Twin {
       Esc& x = fast[i];
       Esc& y = ref[i];
       ASSERT_EQ(x.memory_size(), y.memory_size());
-      for (std::size_t a = 0; a < x.memory_size(); ++a) {
-        if (x.memory()[a] != y.memory()[a]) {
-          ADD_FAILURE() << what << ": slave " << i << " byte 0x" << std::hex << a << ": " << int{x.memory()[a]}
-                        << " != " << int{y.memory()[a]};
-          return;
-        }
+      if (const auto a = first_memory_difference(x, y)) {
+        ADD_FAILURE() << what << ": slave " << i << " byte 0x" << std::hex << *a << ": "
+                      << (*a < x.memory_size() ? int{x.memory()[*a]} : -1) << " != "
+                      << (*a < y.memory_size() ? int{y.memory()[*a]} : -1);
+        return;
       }
       EXPECT_EQ(x.last_time(), y.last_time()) << what << " slave " << i;
       EXPECT_EQ(x.next_timer(), y.next_timer()) << what << " slave " << i;
