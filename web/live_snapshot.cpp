@@ -10,6 +10,7 @@
 #include "control/network_view.hpp"
 #include "control/request_handler.hpp"
 #include "esc/registers.hpp"
+#include "od/axis_layout.hpp"
 #include "od/firmware.hpp"
 #include "slave/chain.hpp"
 
@@ -18,12 +19,15 @@ namespace {
 
 using nlohmann::json;
 
-// CiA 402 objects of axis 0 the page shows (CiA 402-2).
+// CiA 402 objects the page shows for each axis (CiA 402-2), as axis-1
+// indices: axis n keeps them where the device's od::AxisLayout says.
 struct DriveObject {
   std::string_view key;
   std::uint16_t index;
 };
 constexpr std::uint16_t kStatusword = 0x6041;
+// A drive whose device file declares no axes has one.
+const od::AxisLayout kOneAxis{};
 constexpr std::array<DriveObject, 8> kDriveObjects{{
     {"statusword", kStatusword},
     {"mode", 0x6061},                // modes of operation display
@@ -184,9 +188,10 @@ void LiveSnapshot::append_slaves() {
   text_ += ']';
 }
 
-// "drives":[...]: the drive objects straight from the object stores, as the
-// "read" command would give their values (8 objects of 100 drives through
-// "read" took about 8 ms of the loop's time per snapshot).
+// "drives":[...]: one entry per axis of each drive ("slave", "axis" from 1),
+// its objects straight from the object store, as the "read" command would
+// give their values (8 objects of 100 drives through "read" took about 8 ms
+// of the loop's time per snapshot).
 void LiveSnapshot::append_drives(const std::vector<bool>& is_drive) {
   slave::Chain& chain = handler_.chain();
   append_key(text_, "drives");
@@ -194,24 +199,31 @@ void LiveSnapshot::append_drives(const std::vector<bool>& is_drive) {
   bool first = true;
   for (std::size_t i = 0; i < is_drive.size(); ++i) {
     if (!is_drive[i]) continue;
-    if (!first) text_ += ',';
-    first = false;
-    text_ += '{';
-    append_key(text_, "slave");
-    append_number(text_, i);
     // (the firmware is looked up each time: a power cycle replaces it)
     const coe::ObjectStore& store = chain[i].firmware().coe().objects();
-    for (const DriveObject& o : kDriveObjects) {
+    const auto& profile = chain[i].device().drive;
+    const od::AxisLayout& layout = profile ? profile->axes : kOneAxis;
+    for (unsigned axis = 1; axis <= layout.axes; ++axis) {
+      if (!first) text_ += ',';
+      first = false;
+      text_ += '{';
+      append_key(text_, "slave");
+      append_number(text_, i);
       text_ += ',';
-      append_key(text_, o.key);
-      const coe::ObjectStore::Slot* s = store.slot(o.index, 0);
-      if (s == nullptr) {
-        text_ += "null";
-      } else {
-        append_number(text_, store.get<std::int64_t>(*s));
+      append_key(text_, "axis");
+      append_number(text_, axis);
+      for (const DriveObject& o : kDriveObjects) {
+        text_ += ',';
+        append_key(text_, o.key);
+        const coe::ObjectStore::Slot* s = store.slot(layout.object_index(axis, o.index), 0);
+        if (s == nullptr) {
+          text_ += "null";
+        } else {
+          append_number(text_, store.get<std::int64_t>(*s));
+        }
       }
+      text_ += '}';
     }
-    text_ += '}';
   }
   text_ += ']';
 }

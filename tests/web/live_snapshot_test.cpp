@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "control/request_handler.hpp"
+#include "esi/device_loader.hpp"
 #include "slave/fault_catalogue.hpp"
 #include "tests/slave/inprocess_fixture.hpp"
 #include "web/live_snapshot.hpp"
@@ -70,6 +71,41 @@ TEST(WebLiveSnapshot, BeforeAnyMasterTheDrivesAreListedWithTheirValues) {
   EXPECT_EQ(snap["network"], rig.network());
   EXPECT_EQ(snap["drives"][0]["slave"], 0);
   EXPECT_TRUE(snap["drives"][0]["mode"].is_number());
+}
+
+// A two-axis drive (CiA 402-1 §6): one entry per axis, axis 2's values from
+// its own objects at +800h (6841h, 6861h, ...), as "read" gives them.
+TEST(WebLiveSnapshot, EachAxisOfAMultiAxisDriveHasItsEntry) {
+  ManualClock clock;
+  slave::Chain chain{clock};
+  auto d = esi::load_device_file(std::string(ECAT_SOURCE_DIR) + "/xml/devices/welcon-servo-dual.xml");
+  ASSERT_TRUE(d) << d.error().to_string();
+  ASSERT_TRUE(d->drive);
+  ASSERT_EQ(d->drive->axes.axes, 2u);
+  ASSERT_TRUE(chain.add(std::move(*d), {}));
+  control::EventQueue events;
+  control::RequestHandler handler{chain, clock, events, nullptr};
+  // Axis 2 gets a mode and a position of its own, so that the entries differ.
+  for (const auto& [index, value] : {std::pair{0x6860, 9}, std::pair{0x6864, 12345}}) {
+    ASSERT_TRUE(handler.handle({{"cmd", "write"}, {"slave", 0}, {"index", index}, {"subindex", 0}, {"value", value}})
+                    .contains("result"));
+  }
+  web::LiveSnapshot snapshot{handler};
+  const json drives = json::parse(snapshot.take())["drives"];
+  ASSERT_EQ(drives.size(), 2u) << drives.dump();
+  for (unsigned axis = 1; axis <= 2; ++axis) {
+    const json& e = drives[axis - 1];
+    EXPECT_EQ(e["slave"], 0);
+    EXPECT_EQ(e["axis"], axis);
+    const int offset = static_cast<int>(axis - 1) * 0x800;
+    for (const auto& [key, index] : {std::pair{"statusword", 0x6041}, std::pair{"mode", 0x6061},
+                                     std::pair{"position_actual", 0x6064}}) {
+      const json read = handler.handle({{"cmd", "read"}, {"slave", 0}, {"index", index + offset}, {"subindex", 0}});
+      EXPECT_EQ(e[key], read["result"]["value"]) << "axis " << axis << " " << key << ": " << read.dump();
+    }
+  }
+  EXPECT_EQ(drives[1]["position_actual"], 12345);
+  EXPECT_NE(drives[0]["position_actual"], drives[1]["position_actual"]);
 }
 
 }  // namespace

@@ -124,6 +124,12 @@ def main():
         assert net["slaves"][CUT_SLAVE]["ports"][CUT_PORT]["lost_links"] >= 1, net["slaves"][CUT_SLAVE]
         assert net["slaves"][PEER_SLAVE]["ports"][PEER_PORT]["lost_links"] >= 1, net["slaves"][PEER_SLAVE]
         click(driver, f'#slaves .card[data-slave="{PEER_SLAVE}"]', "the card of the slave behind the cut")
+        # Its drive section: one axis, its CiA 402 state in words and three plots.
+        wait_until("the drive section of the slave shown", lambda: driver.execute_script(
+            "const a = document.querySelectorAll('#detail [data-axis]');"
+            "if (a.length !== 1 || a[0].dataset.axis !== '1') return false;"
+            "const s = a[0].querySelector('[data-cia402]');"
+            "return !!s && s.dataset.cia402 !== 'unknown' && a[0].querySelectorAll('canvas').length === 3;"), 20)
         time.sleep(1.0)  # only for the picture: a few plot samples
         driver.save_screenshot(a.screenshot)
         print(f"screenshot: {a.screenshot}")

@@ -43,6 +43,9 @@ const actions = {
   },
 };
 
+// The plots' history is kept per axis of each drive ("slave/axis").
+function axisKey(d) { return `${d.slave}/${d.axis}`; }
+
 function push(map, key, item, limit = KEEP) {
   if (!map.has(key)) map.set(key, []);
   const list = map.get(key);
@@ -153,14 +156,16 @@ function render() {
   const s = net.slaves[view.selected];
   if (!s) return;
   $('detail-title').textContent = `Slave #${s.position} ${s.name}`;
-  renderDetail($('detail'), { slave: s, pdo: view.pdo.slave === s.position ? view.pdo.entries : [], drive: snap.drives.find((d) => d.slave === s.position),
-                              history: view.history.get(s.position) || [], emergencies: view.emergencies.get(s.position) || [],
+  const drives = snap.drives.filter((d) => d.slave === s.position)
+                            .map((d) => ({ drive: d, history: view.history.get(axisKey(d)) || [] }));
+  renderDetail($('detail'), { slave: s, pdo: view.pdo.slave === s.position ? view.pdo.entries : [], drives,
+                              emergencies: view.emergencies.get(s.position) || [],
                               sdoWrites: view.sdoWrites.get(s.position) || [], actions });
 }
 
 async function onSnapshot(snap) {
   view.snapshot = snap;
-  for (const d of snap.drives) push(view.history, d.slave, d, HISTORY);
+  for (const d of snap.drives) push(view.history, axisKey(d), d, HISTORY);
   if (!view.formBuilt) {
     view.formBuilt = true;
     const kinds = await request('fault_kinds').catch(() => null);

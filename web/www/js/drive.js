@@ -22,14 +22,15 @@ export function modeName(m) { return typeof m === 'number' ? `${MODES[m] || 'mod
 const PLOTS = [['Position', 'position_demand', 'position_actual'], ['Velocity', 'velocity_demand', 'velocity_actual'],
                ['Torque', 'torque_demand', 'torque_actual']];
 
-export function driveSection(drive, history) {
+// One section per axis; `numbered` titles it with the axis when the drive has several.
+export function driveSection(drive, history, numbered) {
   const state = cia402State(drive.statusword);
   const canvases = PLOTS.map(([title, d, a]) => {
     const c = el('canvas', { 'aria-label': `${title}: demand and actual over the last seconds` });
     return { c, title, d, a };
   });
-  const box = el('div', {},
-    el('h3', {}, 'Drive (CiA 402)'),
+  const box = el('div', { 'data-axis': String(drive.axis) },
+    el('h3', {}, numbered ? `Axis ${drive.axis} (CiA 402)` : 'Drive (CiA 402)'),
     el('table', { class: 'kv' },
       el('tr', {}, el('td', {}, 'State'), el('td', { 'data-cia402': state, class: state === 'Fault' ? 'code bad' : '' }, state)),
       el('tr', {}, el('td', {}, 'Mode'), el('td', {}, modeName(drive.mode))),

@@ -48,7 +48,7 @@ function recent(title, items, format) {
 
 // Rebuilt at each snapshot, except the input fields the user is typing in.
 export function renderDetail(box, ctx) {
-  const { slave: s, pdo, drive, history, emergencies, sdoWrites, actions } = ctx;
+  const { slave: s, pdo, drives, emergencies, sdoWrites, actions } = ctx;
   const typing = box.querySelector('input:focus');
   if (typing) {  // update the values only
     for (const e of pdo) {
@@ -61,7 +61,7 @@ export function renderDetail(box, ctx) {
     el('div', {}, slaveLabel(s)),
     el('div', { class: 'plots' }, el('div', {}, el('h3', {}, 'Identity and registers'), identity(s)),
        el('div', {}, el('h3', {}, 'Ports and error counters'), counters(s))),
-    drive ? driveSection(drive, history) : null,
+    drives.map(({ drive, history }) => driveSection(drive, history, drives.length > 1)),
     el('h3', {}, 'Process data'), pdo.length ? pdoTable(s.position, pdo, actions) : el('p', { class: 'muted' }, 'no process data'),
     el('div', { class: 'plots' },
        el('div', {}, recent('Emergencies', emergencies, (e) => `${hex(e.error_code)} register ${hex(e.error_register, 2)}`)),
