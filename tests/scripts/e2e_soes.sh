@@ -117,7 +117,7 @@ build_sample() {
   haldir=$(dirname "${hal[0]}")
   mkdir -p "$out"
   printf '#ifndef VERSION_H\n#define VERSION_H\n#endif\n' > "$out/version.h"  # SOES's CMake makes it
-  local flags=(-O2 ${extra_cflags:-} -I"$out" -I"$soes/soes" -I"$soes/soes/include/sys/gcc" -I"$app" -I"$work/bench"
+  local flags=(-O2 ${extra_cflags:+"$extra_cflags"} -I"$out" -I"$soes/soes" -I"$soes/soes/include/sys/gcc" -I"$app" -I"$work/bench"
                -I"$src/pdi_client" -I"$haldir")
   local objs=()
   for f in "$soes"/soes/{esc,esc_coe,esc_foe,esc_eoe,esc_eep,ecat_slv}.c "${hal[@]}"; do
