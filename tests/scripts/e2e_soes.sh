@@ -10,7 +10,10 @@
 #    files are compiled as they are;
 #  - linux_lan9252demo again, built with SOES's own Linux LAN9252 HAL
 #    (unmodified) and run under LD_PRELOAD=libecat_lan9252_shim.so on
-#    `--pdi-chip lan9252` (skipped when the shim is not built).
+#    `--pdi-chip lan9252` (skipped when the shim is not built);
+#  - raspberry_lan9252demo again, built with SOES's own Raspberry Pi
+#    LAN9252 HAL (unmodified), its SPI through the bench's bcm2835.h to
+#    `--pdi-chip lan9252`.
 # For each: ecat-master over UDP to Op, 2000 cycles with the expected WKC
 # on every cycle (no WKC error, no state error, no frame lost; the
 # Raspberry sample's 1-byte SM2 is not activated on an ESC, so its state
@@ -47,23 +50,59 @@ status=0
 fail() { echo "FAIL: $*"; status=1; }
 echo "SOES: $soes ($(git -C "$soes" rev-parse --short HEAD 2> /dev/null || echo 'not a git checkout'))"
 
-# The bench's GPIO for the Raspberry Pi sample: outputs kept, inputs low.
+# The bench's bcm2835.h for the Raspberry Pi sample: GPIO outputs kept,
+# inputs low; SPI0 (what SOES's soes/hal/raspberrypi-lan9252 HAL clocks its
+# LAN9252 transactions on) is the emulated LAN9252 of `ecat-slave
+# --pdi-chip lan9252` at $ECAT_PDI_SOCKET, one bcm2835_spi_transfern = one
+# transaction (chip select held), through libecat_pdi.
 mkdir -p "$work/bench"
 cat > "$work/bench/bcm2835.h" << 'STUB'
 #ifndef BENCH_BCM2835_H
 #define BENCH_BCM2835_H
 #include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include "ecat_pdi.h"
 enum { LOW = 0, HIGH = 1, BCM2835_GPIO_FSEL_INPT = 0, BCM2835_GPIO_FSEL_OUTP = 1, BCM2835_GPIO_PUD_DOWN = 1 };
 enum { RPI_BPLUS_GPIO_J8_15 = 22, RPI_BPLUS_GPIO_J8_16 = 23, RPI_BPLUS_GPIO_J8_18 = 24,
        RPI_BPLUS_GPIO_J8_29 = 5, RPI_BPLUS_GPIO_J8_31 = 6, RPI_BPLUS_GPIO_J8_32 = 12,
        RPI_BPLUS_GPIO_J8_33 = 13, RPI_BPLUS_GPIO_J8_35 = 19, RPI_BPLUS_GPIO_J8_36 = 16,
        RPI_BPLUS_GPIO_J8_37 = 26, RPI_BPLUS_GPIO_J8_38 = 20, RPI_BPLUS_GPIO_J8_40 = 21 };
+enum { BCM2835_SPI_BIT_ORDER_MSBFIRST = 1, BCM2835_SPI_MODE0 = 0, BCM2835_SPI_CLOCK_DIVIDER_16 = 16,
+       BCM2835_SPI_CLOCK_DIVIDER_32 = 32, BCM2835_SPI_CS0 = 0, BCM2835_SPI_CS1 = 1 };
 static uint8_t bench_gpio[64];
+static ecat_pdi *bench_spi;
 static inline int bcm2835_init(void) { return 1; }
+static inline int bcm2835_close(void) { return 1; }
 static inline void bcm2835_gpio_fsel(uint8_t pin, uint8_t mode) { (void)pin; (void)mode; }
 static inline void bcm2835_gpio_set_pud(uint8_t pin, uint8_t pud) { (void)pin; (void)pud; }
 static inline void bcm2835_gpio_write(uint8_t pin, uint8_t on) { bench_gpio[pin & 63] = on; }
 static inline uint8_t bcm2835_gpio_lev(uint8_t pin) { (void)pin; return LOW; }
+/* SPI0 is the emulated LAN9252 of ecat-slave --pdi-host $ECAT_PDI_SOCKET --pdi-chip lan9252. */
+static inline int bcm2835_spi_begin(void) {
+  char err[256];
+  const char *path = getenv("ECAT_PDI_SOCKET");
+  bench_spi = path ? ecat_pdi_connect(path, err, sizeof err) : NULL;
+  if (!bench_spi || ecat_pdi_chip(bench_spi) != ECAT_PDI_CHIP_LAN9252) {
+    fprintf(stderr, "bench bcm2835: no emulated LAN9252 at ECAT_PDI_SOCKET=%s: %s\n", path ? path : "(unset)",
+            bench_spi ? "not --pdi-chip lan9252" : err);
+    exit(1);
+  }
+  return 1;
+}
+static inline void bcm2835_spi_end(void) { ecat_pdi_close(bench_spi); bench_spi = NULL; }
+static inline void bcm2835_spi_setBitOrder(uint8_t o) { (void)o; }
+static inline void bcm2835_spi_setDataMode(uint8_t m) { (void)m; }
+static inline void bcm2835_spi_setClockDivider(uint16_t d) { (void)d; }
+static inline void bcm2835_spi_chipSelect(uint8_t cs) { (void)cs; }
+static inline void bcm2835_spi_setChipSelectPolarity(uint8_t cs, uint8_t active) { (void)cs; (void)active; }
+/* One transaction, chip select held for all len bytes; MISO replaces buf. */
+static inline void bcm2835_spi_transfern(char *buf, uint32_t len) {
+  if (ecat_pdi_spi_transfer(bench_spi, buf, buf, (uint16_t)len) != 0) {
+    fprintf(stderr, "bench bcm2835: %s\n", ecat_pdi_error(bench_spi));
+    exit(1);
+  }
+}
 #endif
 STUB
 
@@ -78,7 +117,7 @@ build_sample() {
   haldir=$(dirname "${hal[0]}")
   mkdir -p "$out"
   printf '#ifndef VERSION_H\n#define VERSION_H\n#endif\n' > "$out/version.h"  # SOES's CMake makes it
-  local flags=(-O2 -I"$out" -I"$soes/soes" -I"$soes/soes/include/sys/gcc" -I"$app" -I"$work/bench"
+  local flags=(-O2 ${extra_cflags:+"$extra_cflags"} -I"$out" -I"$soes/soes" -I"$soes/soes/include/sys/gcc" -I"$app" -I"$work/bench"
                -I"$src/pdi_client" -I"$haldir")
   local objs=()
   for f in "$soes"/soes/{esc,esc_coe,esc_foe,esc_eoe,esc_eep,ecat_slv}.c "${hal[@]}"; do
@@ -182,6 +221,20 @@ elif ! build_sample linux_lan9252demo shim "$soes/soes/hal/linux-lan9252/esc_hw.
 else
   echo "--- linux_lan9252demo, SOES's own linux-lan9252 HAL under LD_PRELOAD=$shim, --pdi-chip lan9252"
   run_sample linux_lan9252demo evb9252_dig 0 shim lan9252 "$shim"
+fi
+# raspberry_lan9252demo built with SOES's own Raspberry Pi LAN9252 HAL
+# (soes/hal/raspberrypi-lan9252/esc_hw.c, unmodified: its SPI transactions
+# through the bench's bcm2835_spi_transfern) on --pdi-chip lan9252. The Pi's
+# ABI has an unsigned char; the HAL assembles register values from char
+# (`data[5] << 16`), so it is built -funsigned-char as on the Pi.
+rpi_hal="$soes/soes/hal/raspberrypi-lan9252/esc_hw.c"
+if [ ! -f "$rpi_hal" ]; then
+  echo "skip (rpi HAL): $soes has no soes/hal/raspberrypi-lan9252/esc_hw.c"
+elif ! extra_cflags=-funsigned-char build_sample raspberry_lan9252demo rpihal "$rpi_hal" "$src/pdi_client/ecat_pdi.c"; then
+  fail "raspberry_lan9252demo with SOES's Raspberry Pi HAL: build failed: $(tail -5 "$work/rpihal/build.log")"
+else
+  echo "--- raspberry_lan9252demo, SOES's own raspberrypi-lan9252 HAL over the bench's SPI, --pdi-chip lan9252"
+  run_sample raspberry_lan9252demo evb9252_dig 1 rpihal lan9252
 fi
 [ $status -eq 0 ] && echo "e2e_soes: ok"
 exit $status
