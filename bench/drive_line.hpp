@@ -60,12 +60,15 @@ class DriveLine {
       : chain_(clock_), n_(n) {
     for (const auto& p : dev->rx_pdos) if (p.sm == 2) out_ += p.bit_length() / 8;
     for (const auto& p : dev->tx_pdos) if (p.sm == 3) in_ += p.bit_length() / 8;
-    const auto& sms = dev->sync_managers;
     if (branch > 0) {
       auto four = std::make_shared<od::DeviceDescription>(*dev);
       four->esc.physics = "YYYY";
-      dev = std::move(four);
+      dev = std::move(four);  // may free the description passed in
     }
+    // Taken after the swap above: a reference into the caller's description
+    // would dangle once `dev` no longer owns it (the tree's SM0/SM1 were
+    // written from freed memory, and PreOp refused with 0x0016).
+    const auto& sms = dev->sync_managers;
     for (std::size_t i = 0; i < n; ++i) {
       slave::SlaveOptions o;
       o.name = "drive-" + std::to_string(i + 1);
