@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "common/source_pos.hpp"
+
 #include "od/access.hpp"
 #include "od/data_type.hpp"
 
@@ -33,7 +35,7 @@ struct Entry {
   std::string description;
   // The source line of the element that declared this entry (0 if built in code),
   // so later checks can still point at the device file.
-  int source_line = 0;
+  SourcePos source_line;
 
   bool has_min() const noexcept { return !min_value.empty(); }
   bool has_max() const noexcept { return !max_value.empty(); }
@@ -54,7 +56,7 @@ struct Object {
   // gaps are allowed in a RECORD.
   std::vector<Entry> entries;
   std::string description;
-  int source_line = 0;
+  SourcePos source_line;
 
   const Entry* find(std::uint8_t subindex) const noexcept;
   Entry* find(std::uint8_t subindex) noexcept;
