@@ -84,7 +84,7 @@ class Repairer {
   }
 
  private:
-  SourcePos line_of(const od::Object& o) const { return o.source_line ? o.source_line : device_line_; }
+  SourcePos line_of(const od::Object& o) const { return o.source_line ? SourcePos{o.source_line} : device_line_; }
   void warn(const od::Object& o, std::string message) const { ctx_.warn_at("Object", line_of(o), std::move(message)); }
 
   // Sets entry `sub` of `o` to `value` (written as `bytes` bytes), growing a
@@ -233,7 +233,7 @@ class Repairer {
       repair_text(o.name, "the object's name", "Object", line_of(o));
       repair_text(o.description, "the object's description", "Object", line_of(o));
       for (auto& e : o.entries) {
-        const SourcePos line = e.source_line ? e.source_line : line_of(o);
+        const SourcePos line = e.source_line ? SourcePos{e.source_line} : line_of(o);
         if (e.name == given_name) {
           e.name = o.name;  // a VAR's entry repeats its object's name: one warning
         } else {
@@ -251,8 +251,8 @@ class Repairer {
     for (auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
       for (auto& p : *list) {
         const char* element = list == &d_.rx_pdos ? "RxPdo" : "TxPdo";
-        repair_text(p.name, "the PDO's name", element, p.source_line ? p.source_line : device_line_);
-        for (auto& e : p.entries) repair_text(e.name, "the entry's name", element, p.source_line ? p.source_line : device_line_);
+        repair_text(p.name, "the PDO's name", element, p.source_line ? SourcePos{p.source_line} : device_line_);
+        for (auto& e : p.entries) repair_text(e.name, "the entry's name", element, p.source_line ? SourcePos{p.source_line} : device_line_);
       }
     }
     for (auto& m : d_.dc_op_modes) {

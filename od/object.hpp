@@ -7,8 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "common/source_pos.hpp"
-
 #include "od/access.hpp"
 #include "od/data_type.hpp"
 
@@ -35,7 +33,7 @@ struct Entry {
   std::string description;
   // The source line of the element that declared this entry (0 if built in code),
   // so later checks can still point at the device file.
-  SourcePos source_line;
+  int source_line = 0;
 
   bool has_min() const noexcept { return !min_value.empty(); }
   bool has_max() const noexcept { return !max_value.empty(); }
@@ -56,7 +54,7 @@ struct Object {
   // gaps are allowed in a RECORD.
   std::vector<Entry> entries;
   std::string description;
-  SourcePos source_line;
+  int source_line = 0;
 
   const Entry* find(std::uint8_t subindex) const noexcept;
   Entry* find(std::uint8_t subindex) noexcept;
