@@ -67,9 +67,9 @@ TEST(OneLinePositions, EsiWarningsOfAOneLineFileCarryTheirColumn) {
   // The repairs made later on the dictionary model (the object the entry
   // maps is created) keep the line only: od's source_line is a line
   // (docs/twins.md "Positions in vendor files").
-  ASSERT_EQ(column_of(kOneLineEsi, "<Entry>"), 944);
+  ASSERT_EQ(column_of(kOneLineEsi, "<Entry>"), 715);
   const std::vector<std::string> expected{
-      "one.xml:1:944: warning: Entry: Index '#x0x6000' has two hex prefixes; read as #x6000",
+      "one.xml:1:715: warning: Entry: Index '#x0x6000' has two hex prefixes; read as #x6000",
       "one.xml:1: warning: TxPdo: 6000h has no dictionary object; object created as process data: "
       "subindex 01 (8 bits)",
   };
@@ -80,12 +80,13 @@ TEST(OneLinePositions, EsiWarningsOfAOneLineFileCarryTheirColumn) {
 }
 
 TEST(OneLinePositions, EsiParseErrorOfAOneLineFileCarriesItsColumn) {
-  // A parse error in the middle of the line: its column, not just line 1.
+  // A parse error in the middle of the line: its column (pugixml points two
+  // bytes into the mismatched end tag at 903), not just line 1.
   std::string broken = kOneLineEsi;
   broken.replace(broken.find("</Mailbox>"), 10, "</Mailbx>");
   auto p = read_esi_string(broken, "one.xml", EsiSelection{}, nullptr);
   ASSERT_FALSE(p);
-  EXPECT_EQ(p.error().to_string(), "one.xml:1:PARSE: XML parse error: Start-end tags mismatch");
+  EXPECT_EQ(p.error().to_string(), "one.xml:1:905: XML parse error: Start-end tags mismatch");
 }
 
 // An ENI as acontis' EniEngine writes it: one line.
@@ -111,8 +112,8 @@ TEST(OneLinePositions, EniWarningsAndErrorsOfAOneLineFileCarryTheirColumn) {
   const std::string bad = one_line_eni("<ProcessData><Sm2><Type>Both</Type></Sm2></ProcessData>");
   auto r = read_eni_string(bad, "net.xml");
   ASSERT_FALSE(r);
-  ASSERT_EQ(column_of(bad, "<Type>Both"), 293);
-  EXPECT_EQ(r.error().to_string(), "net.xml:1:293: Sm2: Type 'Both' is neither Outputs nor Inputs");
+  ASSERT_EQ(column_of(bad, "<Type>Both"), 220);
+  EXPECT_EQ(r.error().to_string(), "net.xml:1:220: Sm2: Type 'Both' is neither Outputs nor Inputs");
 }
 
 // The synthesised device of a one-line ENI: the warning at the Entry that maps
