@@ -20,12 +20,12 @@ namespace {
 
 // 192.168.10.2/24, gateway 192.168.10.1: what the ENI's InitCmd sets.
 slave::EoeInitExpectation eni_expectation() {
-  slave::EoeInitExpectation x;
-  x.want.flags = coe::eoe::kHasIp | coe::eoe::kHasSubnet | coe::eoe::kHasGateway;
+  ecat::slave::EoeInitExpectation x;
+  x.want.flags = ecat::coe::eoe::kHasIp | ecat::coe::eoe::kHasSubnet | ecat::coe::eoe::kHasGateway;
   x.want.ip = 0xC0A80A02;
   x.want.subnet = 0xFFFFFF00;
   x.want.gateway = 0xC0A80A01;
-  x.due = slave::EoeInitExpectation{}.due;  // SafeOp: an InitCmd of PS
+  x.due = ecat::slave::EoeInitExpectation{}.due;  // SafeOp: an InitCmd of PS
   x.where = "net.xml:1:812 (PS)";
   return x;
 }
@@ -39,7 +39,7 @@ struct EoeBus {
     auto dev = esi::load_device_file(device_path("generic-servo.xml"));
     if (!dev) return ::testing::AssertionFailure() << dev.error().to_string();
     dev->mailbox.eoe = true;
-    slave::SlaveOptions o;
+    ecat::slave::SlaveOptions o;
     o.eoe_init = {eni_expectation()};
     o.report = [this](const std::string& line) { reports.push_back(line); };
     if (auto r = bus.chain().add(std::move(*dev), o); !r) return ::testing::AssertionFailure() << r.error();
@@ -94,28 +94,28 @@ TEST(EniEoeInit, MasterThatSkipsTheInitCmdIsNamedAndTheSlaveKeepsItsOwnAddress) 
             "ENI's 192.168.10.2), subnet mask not set (the ENI's 255.255.255.0), gateway not set (the ENI's "
             "192.168.10.1)");
   // Not pre-applied: the slave has no IP, as the real device would not.
-  const coe::eoe::IpParameters& have = b.bus.chain()[0].firmware().coe().eoe().ip_parameters();
-  EXPECT_EQ(have.flags & coe::eoe::kHasIp, 0u);
+  const ecat::coe::eoe::IpParameters& have = b.bus.chain()[0].firmware().coe().eoe().ip_parameters();
+  EXPECT_EQ(have.flags & ecat::coe::eoe::kHasIp, 0u);
   EXPECT_EQ(have.ip, 0u);
 }
 
 TEST(EniEoeInit, ADifferentAddressIsNamedFieldByField) {
-  slave::EoeInitExpectation x = eni_expectation();
-  coe::eoe::IpParameters have = coe::eoe::default_parameters();
-  have.flags |= coe::eoe::kHasIp | coe::eoe::kHasSubnet | coe::eoe::kHasGateway;
+  ecat::slave::EoeInitExpectation x = eni_expectation();
+  ecat::coe::eoe::IpParameters have = ecat::coe::eoe::default_parameters();
+  have.flags |= ecat::coe::eoe::kHasIp | ecat::coe::eoe::kHasSubnet | ecat::coe::eoe::kHasGateway;
   have.ip = 0xC0A80A03;
   have.subnet = 0xFFFFFF00;
   have.gateway = 0xC0A80A01;
-  const auto r = slave::check_eoe_init(x, have);
+  const auto r = ecat::slave::check_eoe_init(x, have);
   EXPECT_FALSE(r.applied);
   EXPECT_EQ(r.text, "ENI EoE InitCmd net.xml:1:812 (PS): NOT applied by the master before SAFEOP: IP address "
                     "192.168.10.3 (the ENI's 192.168.10.2)");
-  x.want.flags = coe::eoe::kHasMac | coe::eoe::kHasDnsName;
+  x.want.flags = ecat::coe::eoe::kHasMac | ecat::coe::eoe::kHasDnsName;
   x.want.mac = {0x00, 0x01, 0x05, 0x2A, 0x3B, 0x4C};
   x.want.dns_name = {'d', 'r', 'i', 'v', 'e', '1'};
-  x.due = esc::AlState::Op;
+  x.due = ecat::esc::AlState::Op;
   x.where = "net.xml:1:900 (SO)";
-  EXPECT_EQ(slave::check_eoe_init(x, have).text,
+  EXPECT_EQ(ecat::slave::check_eoe_init(x, have).text,
             "ENI EoE InitCmd net.xml:1:900 (SO): NOT applied by the master before OP: MAC 02:00:00:00:00:01 (the ENI's "
             "00:01:05:2A:3B:4C), DNS name not set (the ENI's 'drive1')");
 }
