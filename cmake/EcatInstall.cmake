@@ -93,7 +93,7 @@ endif()
 # --- layers (docs/api.md: public API, and the internal headers they include) -------------
 ecat_install_library(ecat_common common HEADERS
   common/clock.hpp common/command.hpp common/expected.hpp common/frame.hpp
-  common/frame_builder.hpp common/frame_parser.hpp common/le.hpp)
+  common/frame_builder.hpp common/frame_parser.hpp common/le.hpp common/source_pos.hpp)
 ecat_install_library(od od HEADERS
   od/access.hpp od/axis_layout.hpp od/data_type.hpp od/device.hpp od/dictionary.hpp od/object.hpp
   od/modular_device.hpp)
@@ -155,6 +155,7 @@ ecat_install_library(pdi_spi pdi_spi HEADERS
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/fault_catalogue.hpp slave/virtual_slave.hpp slave/slave_options.hpp
   slave/slave_stats.hpp slave/firmware.hpp slave/wake_times.hpp slave/frame_age.hpp slave/detached_pdi.hpp
+  slave/eoe_init_check.hpp
   slave/cycle_timing.hpp)
 ecat_install_library(control control HEADERS
   control/request_handler.hpp control/control_server.hpp control/event_queue.hpp control/event_watcher.hpp

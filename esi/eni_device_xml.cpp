@@ -91,14 +91,14 @@ struct SynthEntry {
   unsigned length = 0;  // bytes, for OCTET_STRING
   std::string name;
   bool rx = false, tx = false, written = false;
-  int line = 0;
+  SourcePos line;
 };
 
 struct SmPlan {
   std::string type;  // MailboxOut MailboxIn Outputs Inputs
   std::optional<unsigned> start, size, control;
   unsigned max_size = 0;
-  int line = 0;
+  SourcePos line;
 };
 
 struct PdoPlan {
@@ -139,7 +139,7 @@ class Builder {
   }
 
  private:
-  void warn(int line, std::string element, std::string message) {
+  void warn(SourcePos line, std::string element, std::string message) {
     if (warnings_) warnings_->push_back({std::move(element), line, std::move(message)});
   }
 
@@ -180,13 +180,13 @@ class Builder {
     }
   }
 
-  [[noreturn]] void throw_at(int line, std::string message) const {
+  [[noreturn]] void throw_at(SourcePos line, std::string message) const {
     throw EniSynthFailure{line, std::move(message)};
   }
 
  public:
   struct EniSynthFailure {
-    int line;
+    SourcePos line;
     std::string message;
   };
 
@@ -199,7 +199,7 @@ class Builder {
     pdos_[p.index] = PdoPlan{p, static_cast<unsigned>(p.entries.size()), false};
   }
 
-  void need_pdo(std::uint16_t index, int line, std::optional<unsigned> sm) {
+  void need_pdo(std::uint16_t index, SourcePos line, std::optional<unsigned> sm) {
     if (pdos_.contains(index)) return;
     if (!is_rx_pdo(index) && !is_tx_pdo(index)) {
       throw_at(line, fmt::format("#x{:04X} is not a PDO index (RxPDO 1600h-17FFh, TxPDO 1A00h-1BFFh)", index));
@@ -294,7 +294,7 @@ class Builder {
   // manufacturer status register) too, with a warning, unless the loader
   // derives that object from the SII (1018h, 1C00h, 1C1xh, 16xxh/1Axxh,
   // 1C32h/1C33h).
-  bool comm_area_process_data(std::uint16_t index, std::uint8_t sub, std::uint16_t pdo, unsigned bits, int line) {
+  bool comm_area_process_data(std::uint16_t index, std::uint8_t sub, std::uint16_t pdo, unsigned bits, SourcePos line) {
     if (index < kCommunicationFirst || index > kCommunicationLast) return true;
     constexpr std::uint16_t kIdentity = 0x1018, kSmCommType = 0x1C00, kSyncOutputs = 0x1C32, kSyncInputs = 0x1C33;
     const bool derived = index == kIdentity || index == kSmCommType || (index >= kSmAssignFirst && index <= kSmAssignLast) ||
@@ -393,7 +393,7 @@ class Builder {
     }
   }
 
-  void line(std::string text, int eni_line) {
+  void line(std::string text, SourcePos eni_line) {
     out_.xml += text;
     out_.xml += '\n';
     out_.eni_lines.push_back(eni_line);
@@ -456,7 +456,7 @@ class Builder {
     line("  <Objects>", s_.line);
     for (const auto& [index, subs] : objects_) {
       const bool var = subs.size() == 1 && subs.begin()->first == 0;
-      const int first_line = subs.begin()->second.line;
+      const SourcePos first_line = subs.begin()->second.line;
       if (var) {
         const SynthEntry& e = subs.begin()->second;
         line(fmt::format("    <Object index=\"#x{:04X}\" name=\"{}\" {} {}/>", index, escape(e.name), type_attrs(e),
@@ -504,12 +504,12 @@ class Builder {
     std::uint16_t start = 0;
     std::uint16_t length = 0;
     std::uint8_t control = 0;
-    int line = 0;
+    SourcePos line;
   };
   struct MappedWord {
     std::uint32_t word;
     bool rx;
-    int line;
+    SourcePos line;
     std::uint16_t pdo;
   };
 

@@ -86,7 +86,7 @@ void apply_eni_dc(const EniSlave& s, od::DeviceDescription& d, std::vector<EsiWa
 void apply_eni_layout(const EniSlave& s, od::DeviceDescription& d, std::vector<EsiWarning>* warnings) {
   d.identity.serial = s.serial;
   apply_eni_dc(s, d, warnings);
-  auto warn = [&](int line, std::string element, std::string message) {
+  auto warn = [&](SourcePos line, std::string element, std::string message) {
     if (warnings) warnings->push_back({std::move(element), line, std::move(message)});
   };
   if (s.mailbox) {
@@ -231,7 +231,7 @@ Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, c
       auto d = load_device_string(x.xml, name);
       if (!d) {
         const LoadError& e = d.error();
-        const int line = e.file == name && e.line > 0 && static_cast<std::size_t>(e.line) <= x.eni_lines.size()
+        const SourcePos line = e.file == name && e.line > 0 && static_cast<std::size_t>(e.line) <= x.eni_lines.size()
                              ? x.eni_lines[static_cast<std::size_t>(e.line - 1)]
                              : s.line;
         return fail(LoadError{net.file, line, fmt::format("slave {} ({}): {}", i + 1, s.name, e.message)});

@@ -35,7 +35,7 @@ Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& networ
 // `error` (with eni_lines = {line}) if the ENI cannot be made into a device.
 struct EniDeviceXml {
   std::string xml;
-  std::vector<int> eni_lines;
+  std::vector<SourcePos> eni_lines;
   std::string error;
 };
 EniDeviceXml eni_device_xml(const EniSlave& slave, std::vector<EsiWarning>* warnings = nullptr);

@@ -1,9 +1,12 @@
 #include "esi/eni_reader.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <limits>
+#include <span>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 #include <pugixml.hpp>
@@ -236,7 +239,11 @@ class EniReader {
       if (boolean(cmd.child("Disabled"), false)) continue;
       out.coe_init_cmds.push_back(coe_cmd(cmd));
     }
-    for (const char* other : {"SoE", "EoE", "FoE", "AoE", "VoE"}) {
+    for (auto cmd : mbx.child("EoE").child("InitCmds").children("InitCmd")) {
+      if (boolean(cmd.child("Disabled"), false)) continue;
+      out.eoe_init_cmds.push_back(eoe_cmd(cmd));
+    }
+    for (const char* other : {"SoE", "FoE", "AoE", "VoE"}) {
       if (auto n = mbx.child(other).child("InitCmds")) {
         ctx_.warn(n, fmt::format("{} InitCmds are not sent to the virtual slave's model; ignored", other));
       }
@@ -259,6 +266,105 @@ class EniReader {
     c.download = c.ccs == kCcsTwo;  // ETG.2100's table; settled per file in settle_ccs()
     c.comment = trimmed(cmd.child("Comment"));
     return c;
+  }
+
+  EniEoeInitCmd eoe_cmd(const pugi::xml_node& cmd) const {
+    EniEoeInitCmd c;
+    c.line = ctx_.line(cmd);
+    c.transitions = transitions(cmd);
+    c.comment = trimmed(cmd.child("Comment"));
+    auto data = cmd.child("Data");
+    if (!data) fail(cmd, "EoE InitCmd without Data");
+    c.data = hex(data);
+    const std::span<const std::uint8_t> d(c.data);
+    const unsigned type = d.size() >= kEoeHeaderSize ? (d[0] & kEoeFrameTypeMask) : kEoeSetIpRequest;
+    if (type == kEoeSetIpRequest && d.size() >= kEoeHeaderSize + kFlagsBytes && fits_body(d.subspan(kEoeHeaderSize))) {
+      c.ip = set_ip_body(d.subspan(kEoeHeaderSize));
+    } else if (fits_body(d)) {
+      c.ip = set_ip_body(d);
+    } else if (type != kEoeSetIpRequest) {
+      ctx_.warn(cmd, fmt::format("EoE InitCmd of frame type {} (not a Set IP Parameter request, type {}): "
+                                 "answered by the slave when the master sends it, not checked",
+                                 type, kEoeSetIpRequest));
+      return c;
+    } else {
+      fail(data, fmt::format("EoE InitCmd Data of {} bytes is no Set IP Parameter request (UINT32 flags, then the "
+                             "flagged fields, with or without the 4-byte EoE header of frame type 2)",
+                             c.data.size()));
+    }
+    if (c.ip.flags & ~kKnownIpFlags) {
+      ctx_.warn(data, fmt::format("EoE Set IP Parameter flags #x{:08X} have bits ETG.1000.6 does not define; "
+                                  "they are ignored", c.ip.flags));
+    }
+    c.set_ip = true;
+    for (const auto& t : c.transitions) {
+      if (t != "IP" && t != "PS" && t != "SO") {
+        ctx_.warn(cmd, fmt::format("EoE InitCmd on transition {}: the virtual slave checks those of IP, PS and SO "
+                                   "only (the master sends them before SafeOp or Op); not checked there", t));
+      }
+    }
+    return c;
+  }
+
+  // ETG.1000.6 EoE header: word 0 bits 0-3 frame type; Set IP Parameter
+  // request = 2. Data is the request with its header when it starts with
+  // type 2 and the rest is as long as the body its flags announce; else the
+  // body alone when it is as long as its own flags announce; else, starting
+  // with another request type, that request (passed on, not checked).
+  static constexpr std::size_t kEoeHeaderSize = 4;
+  static constexpr unsigned kEoeSetIpRequest = 2;
+  static constexpr std::uint8_t kEoeFrameTypeMask = 0x0F;
+  static constexpr std::size_t kMacBytes = 6, kAddressBytes = 4, kDnsNameBytes = 32, kFlagsBytes = 4;
+  static constexpr std::uint32_t kKnownIpFlags = EniEoeIpParameters::kMac | EniEoeIpParameters::kIp |
+                                                 EniEoeIpParameters::kSubnet | EniEoeIpParameters::kGateway |
+                                                 EniEoeIpParameters::kDnsServer | EniEoeIpParameters::kDnsName;
+
+  static std::uint32_t le32(std::span<const std::uint8_t> d) {
+    return static_cast<std::uint32_t>(d[0]) | (static_cast<std::uint32_t>(d[1]) << 8) |
+           (static_cast<std::uint32_t>(d[2]) << 16) | (static_cast<std::uint32_t>(d[3]) << 24);
+  }
+  // Bytes of a Set IP Parameter body with `flags` (a DNS name, the last
+  // field, may be shorter than its 32 bytes: min..max).
+  static std::pair<std::size_t, std::size_t> body_size(std::uint32_t flags) {
+    std::size_t n = kFlagsBytes;
+    if (flags & EniEoeIpParameters::kMac) n += kMacBytes;
+    for (std::uint32_t f : {EniEoeIpParameters::kIp, EniEoeIpParameters::kSubnet, EniEoeIpParameters::kGateway,
+                            EniEoeIpParameters::kDnsServer}) {
+      if (flags & f) n += kAddressBytes;
+    }
+    if (flags & EniEoeIpParameters::kDnsName) return {n + 1, n + kDnsNameBytes};
+    return {n, n};
+  }
+  static bool fits_body(std::span<const std::uint8_t> d) {
+    if (d.size() < kFlagsBytes) return false;
+    auto [lo, hi] = body_size(le32(d));
+    return d.size() >= lo && d.size() <= hi;
+  }
+
+  // The fields of a Set IP Parameter body that fits_body() accepted.
+  static EniEoeIpParameters set_ip_body(std::span<const std::uint8_t> d) {
+    EniEoeIpParameters p;
+    p.flags = le32(d);
+    std::size_t at = kFlagsBytes;
+    if (p.flags & EniEoeIpParameters::kMac) {
+      std::copy_n(d.begin() + static_cast<std::ptrdiff_t>(at), kMacBytes, p.mac.begin());
+      at += kMacBytes;
+    }
+    for (auto [flag, field] : {std::pair{EniEoeIpParameters::kIp, &p.ip}, std::pair{EniEoeIpParameters::kSubnet, &p.subnet},
+                               std::pair{EniEoeIpParameters::kGateway, &p.gateway},
+                               std::pair{EniEoeIpParameters::kDnsServer, &p.dns_server}}) {
+      if (p.flags & flag) {
+        *field = le32(d.subspan(at));
+        at += kAddressBytes;
+      }
+    }
+    if (p.flags & EniEoeIpParameters::kDnsName) {
+      auto name = d.subspan(at);
+      std::size_t len = 0;
+      while (len < name.size() && name[len] != 0) ++len;
+      p.dns_name.assign(reinterpret_cast<const char*>(name.data()), len);
+    }
+    return p;
   }
 
   EniRegisterInitCmd register_cmd(const pugi::xml_node& cmd) const {

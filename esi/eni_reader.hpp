@@ -4,11 +4,12 @@
 // (Info), mailbox (Mailbox Send/Recv, protocols), process data (ProcessData
 // Sm0..Sm7 with their PDO assignment, RxPdo/TxPdo with entries, Send/Recv bit
 // ranges), the CoE InitCmds the master sends over the mailbox and the
-// register InitCmds, plus the expected working counter of the cyclic
+// register InitCmds, the EoE InitCmds (Set IP Parameter), plus the expected working counter of the cyclic
 // commands (Config/Cyclic/Frame/Cmd/Cnt). Errors are LoadError "file:line".
 // The reader only reads; esi/eni_devices.hpp turns a network into devices.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -38,7 +39,7 @@ struct EniCoeInitCmd {
   bool complete_access = false;
   od::Value data;
   std::string comment;
-  int line = 0;
+  SourcePos line;
 };
 
 // ETG.2100 register InitCmd (Slave/InitCmds/InitCmd): one datagram.
@@ -52,7 +53,35 @@ struct EniRegisterInitCmd {
   std::optional<od::Value> validate_data;
   std::optional<od::Value> validate_mask;
   std::string comment;
-  int line = 0;
+  SourcePos line;
+};
+
+// ETG.2100 EoE InitCmd (Mailbox/EoE/InitCmds/InitCmd: Transition, Comment,
+// Timeout, Data, Disabled): an EoE request the master sends on the listed
+// transitions. Configurators store the Set IP Parameter request there
+// (ETG.1000.6 EoE frame type 2): the slave's MAC, IP address, subnet mask,
+// default gateway, DNS server and DNS name. Data is taken with the 4-byte
+// EoE header (type 2) in front or as the request body alone (UINT32 flags,
+// then the flagged fields), whichever its length fits (docs/eoe.md "ENI EoE
+// InitCmds"). Addresses as EoE carries them: UINT32, first octet most
+// significant (192.168.1.10 = C0A8010Ah).
+struct EniEoeIpParameters {
+  // ETG.1000.6 Set IP Parameter flags (the same bits as coe::eoe::kHasMac ..).
+  static constexpr std::uint32_t kMac = 1u << 0, kIp = 1u << 1, kSubnet = 1u << 2, kGateway = 1u << 3,
+                                 kDnsServer = 1u << 4, kDnsName = 1u << 5;
+  std::uint32_t flags = 0;
+  std::array<std::uint8_t, 6> mac{};
+  std::uint32_t ip = 0, subnet = 0, gateway = 0, dns_server = 0;
+  std::string dns_name;  // up to 32 bytes, NUL padding removed
+};
+
+struct EniEoeInitCmd {
+  std::vector<std::string> transitions;
+  od::Value data;           // as written
+  bool set_ip = false;      // Data is a Set IP Parameter request; `ip` holds it
+  EniEoeIpParameters ip;
+  std::string comment;
+  SourcePos line;
 };
 
 struct EniPdoEntry {
@@ -61,7 +90,7 @@ struct EniPdoEntry {
   std::uint8_t bit_length = 0;
   std::string name;
   std::string data_type;  // ESI base type name ("UINT", "DINT", "BOOL"); may be empty
-  int line = 0;
+  SourcePos line;
 };
 
 struct EniPdo {
@@ -71,7 +100,7 @@ struct EniPdo {
   bool fixed = false;
   std::optional<std::uint8_t> sm;  // PDO@Sm
   std::vector<EniPdoEntry> entries;
-  int line = 0;
+  SourcePos line;
 };
 
 // ProcessData/SmN.
@@ -82,7 +111,7 @@ struct EniSyncManager {
   std::optional<std::uint8_t> control;
   bool enable = true;
   std::vector<std::uint16_t> pdos;  // Pdo children: the assignment
-  int line = 0;
+  SourcePos line;
 };
 
 struct EniMailbox {
@@ -91,7 +120,7 @@ struct EniMailbox {
   std::uint16_t in_start = 0;   // Recv: slave -> master (SM1)
   std::uint16_t in_length = 0;
   bool coe = false, foe = false, eoe = false, soe = false, aoe = false, voe = false;
-  int line = 0;
+  SourcePos line;
 };
 
 // ETG.2100 Slave/DC: the distributed-clock set-up the configurator chose.
@@ -100,7 +129,7 @@ struct EniDc {
   std::uint32_t cycle_time0 = 0;  // ns, Sync0
   std::uint32_t cycle_time1 = 0;  // ns, Sync1 (0: none)
   std::int32_t shift_time = 0;    // ns
-  int line = 0;
+  SourcePos line;
 };
 
 struct EniSlave {
@@ -116,16 +145,17 @@ struct EniSlave {
   std::vector<EniPdo> rx_pdos, tx_pdos;
   std::optional<std::uint32_t> send_bit_length, recv_bit_length;  // ProcessData Send/Recv
   std::vector<EniCoeInitCmd> coe_init_cmds;
+  std::vector<EniEoeInitCmd> eoe_init_cmds;
   std::vector<EniRegisterInitCmd> init_cmds;
   std::optional<EniDc> dc;
-  int line = 0;
-  int info_line = 0;
+  SourcePos line;
+  SourcePos info_line;
 };
 
 struct EniCyclicCmd {
   std::uint8_t cmd = 0;
   std::uint16_t cnt = 0;  // expected working counter
-  int line = 0;
+  SourcePos line;
 };
 
 struct EniNetwork {

@@ -27,7 +27,7 @@ struct EsiDeviceEntry {
   std::string revision_text;      // Type@RevisionNo as written
   std::optional<std::uint32_t> product_code;  // nullopt: absent or not a number
   std::optional<std::uint32_t> revision;
-  int line = 0;  // of the Device element
+  SourcePos line;  // of the Device element
 };
 
 // The stable one-line form of --list: four tab-separated fields

@@ -102,7 +102,7 @@ Expected<od::DeviceDescription, LoadError> read_esi_string(std::string_view xml,
   // loader reads back; what it would refuse is refused here, at the vendor line.
   const std::string device_xml = write_device_xml(d);
   if (auto loaded = load_device_string(device_xml, name); !loaded) {
-    std::vector<int> sm_lines;
+    std::vector<SourcePos> sm_lines;
     for (auto sm : nodes[chosen[0]].children("Sm")) sm_lines.push_back(ctx.line(sm));
     return ecat::fail(vendor_refusal(loaded.error(), device_xml, d, std::string(name), ctx.line(nodes[chosen[0]]),
                                      sm_lines));

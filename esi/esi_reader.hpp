@@ -19,7 +19,7 @@ namespace ecat::esi {
 
 struct EsiWarning {
   std::string element;  // element name ("Slots", "InitCmd", ...)
-  int line = 0;
+  SourcePos line;       // the element's line (and column, common/source_pos.hpp)
   std::string message;
   // "file:line: warning: <element>: message"
   std::string to_string(std::string_view file) const;

@@ -27,11 +27,16 @@ class EsiContext {
   EsiContext(std::string file, std::string_view text, std::vector<EsiWarning>* warnings)
       : file_(std::move(file)), lines_(text), warnings_(warnings) {}
 
-  int line(const pugi::xml_node& n) const { return lines_.line_of(n.offset_debug()); }
+  // The node's position: its line, with the column of its '<' when the line
+  // holds other elements too (pugixml's offset is that of the name, one past '<').
+  SourcePos line(const pugi::xml_node& n) const {
+    const std::ptrdiff_t at = n.offset_debug();
+    return lines_.position_of(at > 0 && n.type() == pugi::node_element ? at - 1 : at);
+  }
   void warn(const pugi::xml_node& n, std::string message) const {
     if (warnings_) warnings_->push_back({n.name(), line(n), std::move(message)});
   }
-  void warn_at(std::string element, int line, std::string message) const {
+  void warn_at(std::string element, SourcePos line, std::string message) const {
     if (warnings_) warnings_->push_back({std::move(element), line, std::move(message)});
   }
   // Warns "element not modelled; ignored".
@@ -120,7 +125,7 @@ inline Expected<pugi::xml_node, LoadError> parse_root(pugi::xml_document& doc, s
   auto parsed = doc.load_buffer(xml.data(), xml.size());
   if (!parsed) {
     LineIndex lines(xml);
-    return ecat::fail(LoadError{std::string(name), lines.line_of(parsed.offset),
+    return ecat::fail(LoadError{std::string(name), lines.position_of(parsed.offset),
                                 fmt::format("XML parse error: {}", parsed.description())});
   }
   auto node = doc.child(root);

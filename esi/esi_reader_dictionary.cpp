@@ -22,6 +22,9 @@ constexpr int kMaxTypeDepth = 8;  // BaseType chains longer than this are reject
 constexpr std::uint16_t kBitsPerByte = 8;
 constexpr std::uint8_t kSignBit = 0x80;      // top bit of the last little-endian byte
 constexpr std::uint8_t kSignFill = 0xFF;     // bytes that sign-extend a negative number
+// ETG.1020 diagnosis history and its "Maximum messages" subindex.
+constexpr std::uint16_t kDiagnosisHistory = 0x10F3;
+constexpr std::uint8_t kDiagMaxMessagesSub = 1;
 
 struct Basic {
   od::DataType type;
@@ -176,6 +179,7 @@ class DictionaryReader {
     };
     bool array = false;
     bool si0_given = true;  // only a subindex 0 read without a default is repaired
+    bool diag_max_given = true;  // 10F3h:01 read without a default is repaired (default_diagnosis_capacity)
     int next_sub = 0;
     for (auto si : dt.children("SubItem")) {
       const std::string stype = si.child_value("Type");
@@ -224,6 +228,7 @@ class DictionaryReader {
       od::Entry e = make_entry(static_cast<std::uint8_t>(*sub), si.child_value("Name"), *b, access, si);
       const pugi::xml_node info = info_named(e.name, o.entries.size()).child("Info");
       if (e.subindex == 0) si0_given = has_default(info);
+      if (e.subindex == kDiagMaxMessagesSub) diag_max_given = has_default(info);
       set_values(e, info);
       o.entries.push_back(std::move(e));
       next_sub = static_cast<int>(*sub) + 1;
@@ -231,6 +236,7 @@ class DictionaryReader {
     o.code = array ? od::ObjectCode::Array : od::ObjectCode::Record;
     o.type = array && o.entries.size() > 1 ? o.entries[1].type : record_type(o.index);
     if (!si0_given) default_highest_subindex(o, obj);
+    if (!diag_max_given && o.index == kDiagnosisHistory) default_diagnosis_capacity(o, obj);
     return true;
   }
 
@@ -245,6 +251,28 @@ class DictionaryReader {
   // subindex 0 counts what is configured (16xxh/1Axxh mapped objects,
   // 1C10h-1C2Fh assigned PDOs): an empty mapping or assignment is 0, and
   // the twin repairs decide those from the SII's PDOs.
+  // ETG.1020 diagnosis history 10F3h: subindex 1 "Maximum messages" is the
+  // number of messages the ring holds, in subindices 6..5+n. A file that
+  // declares the message subindices but gives 10F3h:01 no default (Copley's
+  // XE2: 100 messages, no DefaultData anywhere in the object) would leave the
+  // twin's history without a ring (coe/diagnosis_history.cpp takes its size
+  // from 10F3h:01), while the device keeps the ring its layout describes: the
+  // twin's 10F3h:01 reads the number of message subindices declared.
+  void default_diagnosis_capacity(od::Object& o, const pugi::xml_node& obj) const {
+    constexpr unsigned kFirstMessageSub = 6, kLastSub = 0xFF;
+    od::Entry* max = o.find(kDiagMaxMessagesSub);
+    if (!max || max->bit_length != kBitsPerByte) return;
+    unsigned messages = 0;
+    while (kFirstMessageSub + messages <= kLastSub && o.find(static_cast<std::uint8_t>(kFirstMessageSub + messages))) {
+      ++messages;
+    }
+    if (messages == 0) return;
+    max->default_value = {static_cast<std::uint8_t>(messages)};
+    ctx_.warn(obj, fmt::format("10F3h:01 (maximum messages) has no default; the twin's diagnosis history holds the {} "
+                               "messages of subindices {:02X}..{:02X} it declares (ETG.1020)",
+                               messages, kFirstMessageSub, kFirstMessageSub + messages - 1));
+  }
+
   void default_highest_subindex(od::Object& o, const pugi::xml_node& obj) const {
     constexpr std::uint16_t kRxMapFirst = 0x1600, kRxMapLast = 0x17FF, kTxMapFirst = 0x1A00, kTxMapLast = 0x1BFF;
     constexpr std::uint16_t kAssignFirst = 0x1C10, kAssignLast = 0x1C2F;

@@ -36,7 +36,7 @@ void repair_mapping_entry_types(const EsiContext& ctx, od::DeviceDescription& d)
   for (std::uint16_t index : indices) {
     od::Object& o = *d.dictionary.find(index);
     std::string retyped;
-    int line = o.source_line;
+    SourcePos line = o.source_line;
     for (od::Entry& e : o.entries) {
       if (e.subindex == 0) continue;
       if (e.type == od::DataType::Unsigned32 && e.bit_length == kMappingEntryBits) continue;

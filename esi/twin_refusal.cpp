@@ -39,8 +39,8 @@ const od::Pdo* pdo_of(const od::DeviceDescription& d, std::uint16_t index) {
 }
 
 // The vendor line and element name of the device-file element `n`.
-std::pair<int, std::string> vendor_place(const pugi::xml_node& n, const od::DeviceDescription& d,
-                                         const std::vector<int>& sm_lines) {
+std::pair<SourcePos, std::string> vendor_place(const pugi::xml_node& n, const od::DeviceDescription& d,
+                                         const std::vector<SourcePos>& sm_lines) {
   for (auto at = n; at; at = at.parent()) {
     const std::string_view name = at.name();
     if (name == "Sm" && std::string_view(at.parent().name()) == "SyncManagers") {
@@ -71,8 +71,8 @@ std::pair<int, std::string> vendor_place(const pugi::xml_node& n, const od::Devi
 }  // namespace
 
 LoadError vendor_refusal(const LoadError& refusal, const std::string& device_xml, const od::DeviceDescription& d,
-                         const std::string& vendor_file, int device_line, const std::vector<int>& sm_lines) {
-  int line = device_line;
+                         const std::string& vendor_file, SourcePos device_line, const std::vector<SourcePos>& sm_lines) {
+  SourcePos line = device_line;
   std::string element = "Device";
   pugi::xml_document doc;
   if (refusal.line > 0 && doc.load_buffer(device_xml.data(), device_xml.size())) {

@@ -17,6 +17,6 @@ namespace ecat::esi {
 // `vendor_file`, `device_line` (the Device element) and `sm_lines` (its Sm
 // elements, in order) name the ESI.
 LoadError vendor_refusal(const LoadError& refusal, const std::string& device_xml, const od::DeviceDescription& d,
-                         const std::string& vendor_file, int device_line, const std::vector<int>& sm_lines);
+                         const std::string& vendor_file, SourcePos device_line, const std::vector<SourcePos>& sm_lines);
 
 }  // namespace ecat::esi

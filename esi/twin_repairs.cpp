@@ -84,7 +84,7 @@ class Repairer {
   }
 
  private:
-  int line_of(const od::Object& o) const { return o.source_line ? o.source_line : device_line_; }
+  SourcePos line_of(const od::Object& o) const { return o.source_line ? SourcePos{o.source_line} : device_line_; }
   void warn(const od::Object& o, std::string message) const { ctx_.warn_at("Object", line_of(o), std::move(message)); }
 
   // Sets entry `sub` of `o` to `value` (written as `bytes` bytes), growing a
@@ -209,7 +209,7 @@ class Repairer {
   // Text no XML 1.0 file can hold (a name given as `A&#1;B`, which pugixml
   // reads): each forbidden character becomes '?', one byte for one, with a
   // warning; the writers would otherwise write what no parser reads back.
-  void repair_text(std::string& text, const char* what, const char* element, int line) const {
+  void repair_text(std::string& text, const char* what, const char* element, SourcePos line) const {
     auto at = find_forbidden_xml_char(text);
     if (!at) return;
     const std::string safe = xml_safe_text(text);
@@ -233,7 +233,7 @@ class Repairer {
       repair_text(o.name, "the object's name", "Object", line_of(o));
       repair_text(o.description, "the object's description", "Object", line_of(o));
       for (auto& e : o.entries) {
-        const int line = e.source_line ? e.source_line : line_of(o);
+        const SourcePos line = e.source_line ? SourcePos{e.source_line} : line_of(o);
         if (e.name == given_name) {
           e.name = o.name;  // a VAR's entry repeats its object's name: one warning
         } else {
@@ -251,8 +251,8 @@ class Repairer {
     for (auto* list : {&d_.rx_pdos, &d_.tx_pdos}) {
       for (auto& p : *list) {
         const char* element = list == &d_.rx_pdos ? "RxPdo" : "TxPdo";
-        repair_text(p.name, "the PDO's name", element, p.source_line ? p.source_line : device_line_);
-        for (auto& e : p.entries) repair_text(e.name, "the entry's name", element, p.source_line ? p.source_line : device_line_);
+        repair_text(p.name, "the PDO's name", element, p.source_line ? SourcePos{p.source_line} : device_line_);
+        for (auto& e : p.entries) repair_text(e.name, "the entry's name", element, p.source_line ? SourcePos{p.source_line} : device_line_);
       }
     }
     for (auto& m : d_.dc_op_modes) {
@@ -268,7 +268,7 @@ class Repairer {
       auto& sm = d_.sync_managers[i];
       const bool rx = sm.type == od::SmType::Outputs;
       if (!rx && sm.type != od::SmType::Inputs) continue;
-      const int line = sm_line(i);
+      const SourcePos line = sm_line(i);
       if (sm.max_size == 0 && sm.default_size > 0) {
         for (const auto& p : rx ? d_.rx_pdos : d_.tx_pdos) {
           const std::uint32_t bytes = (p.bit_length() + kBitsPerByte - 1) / kBitsPerByte;
@@ -380,7 +380,7 @@ class Repairer {
     }
   }
 
-  int sm_line(std::size_t n) const {
+  SourcePos sm_line(std::size_t n) const {
     std::size_t k = 0;
     for (auto s : device_.children("Sm")) {
       if (k++ == n) return ctx_.line(s);
@@ -706,7 +706,7 @@ class Repairer {
   const EsiContext& ctx_;
   od::DeviceDescription& d_;
   pugi::xml_node device_;
-  int device_line_;
+  SourcePos device_line_;
 };
 
 }  // namespace

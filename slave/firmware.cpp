@@ -61,7 +61,9 @@ Firmware::Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const Sla
       state_quota_(quota_for(options)),
       coe_(pdi, device, coe_options(options, state_quota_.get())),
       sync_(pdi, coe_.objects(), device.sync, has_type(device, od::SmType::Outputs),
-            has_type(device, od::SmType::Inputs)) {
+            has_type(device, od::SmType::Inputs)),
+      eoe_init_(options.eoe_init),
+      report_(options.report) {
   esm_.add_hooks(coe_.esm_hooks());
   sync_.install();
   sync_.attach(esm_);
@@ -97,6 +99,7 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
     state_seen_ = state;
     if (app_) app_->on_state(state);
     if (!is_operational(state)) last_cycle_.reset();
+    if (!eoe_init_.empty()) check_eoe_init(state);
   }
   const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
   if (sms_changed) coe_.process_data().load_layout(pdi_);
@@ -117,6 +120,17 @@ void Firmware::note_al_status_code(Nanoseconds now) noexcept {
   code_seen_ = esm_.status_code();
   if (code_seen_ == esc::AlStatusCode::NoError) return;
   (void)coe_.diagnosis().add(coe::DiagnosisHistory::from_al_status(static_cast<std::uint16_t>(code_seen_)), now);
+}
+
+// The ENI's EoE InitCmds due by the state just entered (SafeOp: those of
+// IP and PS; Op: SO) against what the master set (docs/eoe.md "ENI EoE
+// InitCmds"). Runs on state changes only, never per frame.
+void Firmware::check_eoe_init(esc::AlState entered) noexcept {
+  for (const auto& x : eoe_init_) {
+    if (x.due != entered) continue;
+    eoe_init_results_.push_back(slave::check_eoe_init(x, coe_.eoe().ip_parameters()));
+    if (report_) report_(eoe_init_results_.back().text);
+  }
 }
 
 // ETG.1000.4 §6.2 / ESC datasheet Section II 0x0204: the IRQ to the µC is

@@ -91,6 +91,8 @@ class Firmware {
   // Hands the application over (a test wraps it in a misbehaving one).
   std::unique_ptr<Application> take_application() noexcept { return std::move(app_); }
   const std::vector<std::string>& warnings() const noexcept { return coe_.warnings(); }
+  // Each check of the ENI's EoE InitCmds so far, in order (SlaveOptions::eoe_init).
+  const std::vector<EoeInitResult>& eoe_init_results() const noexcept { return eoe_init_results_; }
 
   // The firmware's part of a VCD trace (ESM states, SM events, cycles);
   // the ESC's DC unit is attached by the host that owns the ESC.
@@ -105,6 +107,7 @@ class Firmware {
   // The ESC no longer holds the mask programmed (an ESC reset clears it).
   bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != event_mask_; }
   void note_al_status_code(Nanoseconds now) noexcept;
+  void check_eoe_init(esc::AlState entered) noexcept;
   bool sm_events_enabled(std::uint32_t mask) noexcept;
 
   esc::Pdi& pdi_;
@@ -126,6 +129,9 @@ class Firmware {
   bool poll_each_frame_ = false;
   std::uint64_t cycles_ = 0;
   std::uint64_t polls_ = 0;
+  std::vector<EoeInitExpectation> eoe_init_;
+  std::function<void(const std::string&)> report_;
+  std::vector<EoeInitResult> eoe_init_results_;
 };
 
 }  // namespace ecat::slave

@@ -4,16 +4,19 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "coe/eoe_server.hpp"
 #include "coe/storage_quota.hpp"
 #include "common/clock.hpp"
 #include "esc/inner_delay_figures.hpp"
 #include "pdi_spi/lan9252_pdi.hpp"
+#include "slave/eoe_init_check.hpp"
 
 namespace ecat::slave {
 
@@ -57,6 +60,11 @@ struct SlaveOptions {
   std::span<const esc::InnerDelayFigures> delay_figures = esc::datasheet_inner_delays();
   // EoE start-up IP parameters, for a device that lists EoE (docs/eoe.md).
   coe::eoe::IpParameters eoe = coe::eoe::default_parameters();
+  // The ENI's EoE InitCmds for this slave (ecat-slave --eni): checked each
+  // time the slave enters their state, the line handed to `report`
+  // (slave/eoe_init_check.hpp, docs/eoe.md "ENI EoE InitCmds").
+  std::vector<EoeInitExpectation> eoe_init;
+  std::function<void(const std::string&)> report;
 };
 
 }  // namespace ecat::slave

@@ -37,6 +37,10 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
       so.eoe.ip = eoe_ip + eoe_slaves++;
       so.eoe.flags |= coe::eoe::kHasIp;
     }
+    if (i < options.eoe_init.size() && !options.eoe_init[i].empty()) {
+      so.eoe_init = options.eoe_init[i];
+      so.report = [i](const std::string& line) { fmt::print(stderr, "ecat-slave: slave {}: {}\n", i + 1, line); };
+    }
     so.state_dir = options.state_dir;
     so.state_quota = quota;
     so.name = fmt::format("slave-{}", i + 1);

@@ -1,5 +1,7 @@
 #include "apps/ecat-slave/device_list.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "esi/device_loader.hpp"
@@ -14,7 +16,7 @@ namespace {
 
 // --eni [--esi-dir]: the ENI's chain; one line per slave says where its
 // dictionary came from.
-Expected<std::vector<od::DeviceDescription>, std::string> load_eni(const SlaveProgramOptions& options) {
+Expected<std::vector<od::DeviceDescription>, std::string> load_eni(SlaveProgramOptions& options) {
   std::vector<esi::EsiWarning> warnings;
   auto net = esi::read_eni(options.eni_file, &warnings);
   if (!net) return fail(net.error().to_string());
@@ -31,6 +33,14 @@ Expected<std::vector<od::DeviceDescription>, std::string> load_eni(const SlavePr
                  d.esi_file.empty() ? std::string("dictionary synthesised from the ENI")
                                     : fmt::format("dictionary from {}", d.esi_file));
     }
+    options.eoe_init.push_back(eoe_init_expectations(net->slaves[i], options.eni_file));
+    if (!options.eoe_init.back().empty() && !d.device.mailbox.eoe) {
+      fmt::print(stderr,
+                 "ecat-slave: warning: {}:{}: slave {} ({}): the ENI sends EoE InitCmds but the device lists no "
+                 "EoE; it answers them with mailbox error 2 (unsupported protocol), as the device would\n",
+                 options.eni_file, net->slaves[i].eoe_init_cmds.front().line, i + 1, net->slaves[i].name);
+      options.eoe_init.back().clear();
+    }
     devices.push_back(std::move(d.device));
   }
   // The ENI's cyclic commands with their expected working counters (ETG.2100
@@ -45,7 +55,32 @@ Expected<std::vector<od::DeviceDescription>, std::string> load_eni(const SlavePr
 
 }  // namespace
 
-Expected<std::vector<od::DeviceDescription>, std::string> load_devices(const SlaveProgramOptions& options) {
+std::vector<slave::EoeInitExpectation> eoe_init_expectations(const esi::EniSlave& s, const std::string& file) {
+  std::vector<slave::EoeInitExpectation> out;
+  for (const auto& c : s.eoe_init_cmds) {
+    if (!c.set_ip) continue;
+    for (const auto& t : c.transitions) {
+      if (t != "IP" && t != "PS" && t != "SO") continue;  // the reader warned
+      slave::EoeInitExpectation x;
+      // ETG.1000.6 Set IP Parameter flags: the same bits on both sides.
+      x.want.flags = c.ip.flags & (coe::eoe::kHasMac | coe::eoe::kHasIp | coe::eoe::kHasSubnet |
+                                   coe::eoe::kHasGateway | coe::eoe::kHasDnsServer | coe::eoe::kHasDnsName);
+      x.want.mac = c.ip.mac;
+      x.want.ip = c.ip.ip;
+      x.want.subnet = c.ip.subnet;
+      x.want.gateway = c.ip.gateway;
+      x.want.dns_server = c.ip.dns_server;
+      std::copy_n(c.ip.dns_name.begin(), std::min(c.ip.dns_name.size(), x.want.dns_name.size()),
+                  x.want.dns_name.begin());
+      x.due = t == "SO" ? esc::AlState::Op : esc::AlState::SafeOp;
+      x.where = fmt::format("{}:{} ({})", file, c.line, t);
+      out.push_back(std::move(x));
+    }
+  }
+  return out;
+}
+
+Expected<std::vector<od::DeviceDescription>, std::string> load_devices(SlaveProgramOptions& options) {
   if (!options.eni_file.empty()) return load_eni(options);
   std::vector<od::DeviceDescription> devices;
   for (const auto& file : options.device_files) {

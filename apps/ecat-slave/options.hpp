@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "apps/ecat-slave/topology.hpp"
+#include "slave/eoe_init_check.hpp"
 #include "slave/frame_age.hpp"
 
 namespace ecat::app {
@@ -81,6 +82,9 @@ struct SlaveProgramOptions {
   // position); --eoe-tap NAME: the first EoE slave's Ethernet side is TAP
   // NAME instead of the built-in ARP/ping responder (docs/eoe.md).
   std::string eoe_ip;
+  // --eni: per slave, the ENI's EoE InitCmds to check (filled by load_devices;
+  // docs/eoe.md "ENI EoE InitCmds").
+  std::vector<std::vector<slave::EoeInitExpectation>> eoe_init;
   std::string eoe_tap;
   std::string state_dir;  // stored parameters and FoE files
   std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together

@@ -71,7 +71,7 @@ TEST(EniReader, ErrorsNameFileAndLine) {
             "net.xml:14: Data: '0g' is not hex binary (two hex digits per byte)");
   EXPECT_EQ(error_of(one_slave(kIdentity, mbx + "<InitCmd><Transition>PS</Transition><Ccs>3</Ccs><Index>#x8000</Index>"
                                                 "<SubIndex>1</SubIndex><Data>00</Data></InitCmd>\n</InitCmds></CoE>\n</Mailbox>\n")),
-            "net.xml:13: Ccs 3 is neither 1 nor 2");
+            "net.xml:13:37: Ccs 3 is neither 1 nor 2");  // <Ccs> after <InitCmd><Transition>..: its column
   EXPECT_EQ(error_of(one_slave(kIdentity, mbx + "<InitCmd><Ccs>2</Ccs><Index>#x8000</Index><SubIndex>1</SubIndex>"
                                                 "<Data>00</Data></InitCmd>\n</InitCmds></CoE>\n</Mailbox>\n")),
             "net.xml:13: InitCmd without Transition");
@@ -119,7 +119,7 @@ TEST(EniDevices, ASynthesisErrorPointsAtTheEniLine) {
   auto devs = eni_devices(*net, {});
   ASSERT_FALSE(devs);
   EXPECT_EQ(devs.error().to_string(),
-            "net.xml:11: slave 1: #x6000 is used both as a variable (subindex 0) and with subindices");
+            "net.xml:11:29: slave 1: #x6000 is used both as a variable (subindex 0) and with subindices");
 }
 
 // Bad input never crashes: every prefix of both test ENIs is read (and, if it
