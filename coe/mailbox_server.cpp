@@ -130,7 +130,9 @@ void MailboxServer::poll(Nanoseconds now) noexcept {
 void MailboxServer::handle_repeat_request(const SmRegs& sm1) noexcept {
   const int newest = newest_;
   const int older = 1 - newest_;
-  if (sm1.status & bits::kSmStatusMailboxFull) {
+  if (repeat_ignored_) {
+    // Test-only breakage: acknowledged below, nothing written again.
+  } else if (sm1.status & bits::kSmStatusMailboxFull) {
     // SM1 is still full, so the master has not read what it holds. If a
     // request came after the frame before it was written, the master had
     // that one (a master repeats a lost reply before it asks anything new:
@@ -267,7 +269,7 @@ void MailboxServer::receive(const SmRegs& sm0) noexcept {
   pdi_.read(sm0.start, {request_.data(), sm0.length});
   const auto header = MailboxHeader::unpack({request_.data(), sm0.length});
   if (!header) return;
-  if (header->counter != 0 && header->counter == last_request_counter_) {
+  if (header->counter != 0 && header->counter == last_request_counter_ && !counter_ignored_) {
     // Same counter as the last request: a retry of a write whose WKC the
     // master did not see (ETG.1000.4 §5.6; SOES drops it too). The request
     // ran and its reply is on its way: drop the repeat. A second copy of the
@@ -312,7 +314,7 @@ void MailboxServer::queue_reply(MailboxType type, std::size_t payload_length) no
 void MailboxServer::queue_error(MailboxError error) noexcept {
   ByteWriter w({reply_.data() + MailboxHeader::kSize, kMailboxErrorPayload});
   w.u16(kMailboxErrorService);
-  w.u16(static_cast<std::uint16_t>(error));
+  w.u16(static_cast<std::uint16_t>(error_code_override_.value_or(error)));
   queue_reply(MailboxType::Error, kMailboxErrorPayload);
 }
 

@@ -88,6 +88,15 @@ class MailboxServer {
   // emergency goes into SM1 until released.
   void set_counter_frozen(bool frozen) noexcept { counter_frozen_ = frozen; }
   void set_replies_held(bool held) noexcept { held_ = held; }
+  // Test-only breakages (tests/master/conformance_broken_core_test.cpp, the
+  // failing-slave proofs of mailbox.counter_repeat / mailbox.repeat_request):
+  // counter ignored = a request with the previous counter is executed again;
+  // repeat ignored = a repeat request is acknowledged but nothing is resent;
+  // error code override = every mailbox error reply, also those of the
+  // header checks, carries that code (mailbox.zero_length, length_beyond_sm).
+  void set_counter_ignored(bool ignored) noexcept { counter_ignored_ = ignored; }
+  void set_error_code_override(std::optional<MailboxError> code) noexcept { error_code_override_ = code; }
+  void set_repeat_ignored(bool ignored) noexcept { repeat_ignored_ = ignored; }
   // Error replies: the next `count` requests (0: every one until set again
   // with nullopt) are answered with a mailbox error of that code (ETG.1000.4
   // §5.6, type 0, service 01h) instead of reaching their service.
@@ -165,6 +174,9 @@ class MailboxServer {
   std::uint8_t reply_counter_ = 0;
   bool counter_frozen_ = false;
   bool held_ = false;
+  bool counter_ignored_ = false;
+  bool repeat_ignored_ = false;
+  std::optional<MailboxError> error_code_override_;
   std::optional<MailboxError> error_reply_;
   std::uint64_t error_replies_left_ = 0;  // 0 with error_reply_: until cleared
   std::size_t reply_limit_ = 0;

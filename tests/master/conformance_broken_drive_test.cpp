@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "ds402/objects.hpp"
+#include "conformance_proofs.hpp"
 #include "in_process_bus.hpp"
 #include "master/conformance/cia402_axis.hpp"
 #include "master/conformance/suite.hpp"
@@ -197,6 +198,13 @@ TEST(BrokenDrive, EveryCia402CaseIsCovered) {
 }
 
 }  // namespace
+
+std::vector<std::string> proven_drive_cases() {
+  std::vector<std::string> names;
+  for (const auto& b : breakages()) names.emplace_back(b.case_name);
+  return names;
+}
+
 }  // namespace ecat::master::test
 
 namespace ecat::master::test {
@@ -300,4 +308,11 @@ TEST(BrokenHistory, EveryCaseIsCovered) {
 }
 
 }  // namespace
+
+std::vector<std::string> proven_history_cases() {
+  std::vector<std::string> names;
+  for (const auto& b : history_breakages()) names.emplace_back(b.case_name);
+  return names;
+}
+
 }  // namespace ecat::master::test

@@ -14,6 +14,7 @@
 
 #include "coe/object_store.hpp"
 #include "common/frame.hpp"
+#include "conformance_proofs.hpp"
 #include "in_process_bus.hpp"
 #include "master/conformance/suite.hpp"
 #include "slave/fault_catalogue.hpp"
@@ -392,4 +393,24 @@ TEST_F(EscCases, SiiRulesFailOnPatchedImages) {
 }
 
 }  // namespace
+
+// The cases the tests above make fail (each test names its case in expect_fail
+// or in its patch table; keep this list in step with them).
+std::vector<std::string> proven_esc_cases() {
+  return {
+      "reg.esc_information", "reg.esc_config_from_sii", "reg.dl_status", "reg.init_eeprom_idle", "reg.init_al_status",
+      "reg.powerup_addresses", "reg.powerup_dl_control", "reg.powerup_write_protection", "reg.powerup_al",
+      "reg.powerup_watchdog", "reg.powerup_eeprom", "reg.powerup_fmmus", "reg.powerup_sync_managers", "reg.powerup_dc",
+      "id.request_in_init", "id.request_init_to_preop", "id.cleared_without_request", "id.alias_addressing",
+      "wd.expiry_time", "wd.divider_scaling", "wd.status_and_counter", "wd.disabled_with_time_zero",
+      "wd.digital_outputs_cleared", "dc.system_time_advances", "dc.system_time_matches_master", "dc.delay_and_offset",
+      "dc.time_loop_settles", "dc.sync0_below_minimum_refused", "dc.sync0_minimum_accepted",
+      "dc.sync_mode_without_sync0_refused", "dc.free_run_with_sync0_refused", "dc.single_shot_refused",
+      "dc.activation_sequence", "dc.sync0_without_frames", "sii.end_within_size", "sii.sm_sizes_fit_pdos",
+      "sii.string_indices", "sii.checksum_word", "sii.syncm_types", "sii.pdo_sync_managers", "sii.fmmu_usage",
+      "sii.sm_areas_in_ram", "sii.mailbox_sizes", "sii.protocols_match_general", "sii.general_reserved_bits",
+      "sii.dc_category_matches_esc", "sii.pdo_entries_exist", "sii.pdo_entry_types_match_od",
+  };
+}
+
 }  // namespace ecat::master::test

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -23,6 +24,7 @@ class InProcessBus {
 
   InProcessBus() : chain_(clock), transport([this](Bytes f) {
                      if (!chain_.process_frame(f, clock.now())) transport.drop_next(1);
+                     if (after_frame) after_frame();
                      clock.advance(kFrameTime);
                    }) {}
 
@@ -51,6 +53,9 @@ class InProcessBus {
   slave::Chain& chain() { return chain_; }
 
   ManualClock clock;
+  // Runs after the slaves' firmware handled each frame: a test-made firmware
+  // fault that rewrites what the µC left in the ESC (AL status, code).
+  std::function<void()> after_frame;
 
  private:
   slave::Chain chain_;
