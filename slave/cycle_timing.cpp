@@ -32,12 +32,15 @@ void CycleTiming::settle() noexcept {
     unsorted_ += oldest_kept - settled_;
     settled_ = oldest_kept;
   }
-  std::array<std::int64_t, kMedianWindow> window{};
-  const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kept, kMedianWindow));
-  for (std::size_t k = 0; k < n; ++k) window[k] = ring_[(written_ - 1 - k) % kRing];
-  std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(n / 2),
-                   window.begin() + static_cast<std::ptrdiff_t>(n));
-  period_ = Nanoseconds{window[n / 2]};
+  if (period_.count() <= 0 || median_at_ < kMedianWindow || written_ - median_at_ >= kMedianWindow) {
+    std::array<std::int64_t, kMedianWindow> window;  // the first n are filled below
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kept, kMedianWindow));
+    for (std::size_t k = 0; k < n; ++k) window[k] = ring_[(written_ - 1 - k) % kRing];
+    std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(n / 2),
+                     window.begin() + static_cast<std::ptrdiff_t>(n));
+    period_ = Nanoseconds{window[n / 2]};
+    median_at_ = written_;
+  }
   for (; settled_ < written_; ++settled_) {
     if (period_.count() <= 0) {
       ++unsorted_;  // frames at one time (simulated clock held): no period to judge by

@@ -7,7 +7,9 @@
 // The frame path only notes the start times in a ring (no allocation, no
 // division); settle(), on the loop thread at the page's or the control
 // interface's rate, takes the period as the median of the recent intervals
-// and sorts the intervals since the last settle() into lateness buckets
+// (again once kMedianWindow new ones have come: a master keeps its cycle
+// time, and the selection is most of a snapshot's cost at one drive) and
+// sorts the intervals since the last settle() into lateness buckets
 // relative to it. Only frames that came back are counted (Chain::count_returned):
 // a cycle whose frame was lost shows as a late interval.
 #pragma once
@@ -53,7 +55,9 @@ class CycleTiming {
   void settle() noexcept;
 
   std::uint64_t cycles() const noexcept { return cycles_; }
-  // Median of the last kMedianWindow intervals at the last settle() (0: none yet).
+  // Median of the last kMedianWindow intervals (0: none yet), taken at a
+  // settle() while fewer than kMedianWindow intervals had been noted, or
+  // when kMedianWindow new ones have come since it was last taken.
   Nanoseconds period() const noexcept { return period_; }
   const std::array<std::uint64_t, kBuckets>& buckets() const noexcept { return buckets_; }
   // Intervals that came faster than settle() ran (more than kRing between two calls).
@@ -70,6 +74,7 @@ class CycleTiming {
   std::uint32_t last_logical_ = 0;
   bool seen_ = false;
   Nanoseconds period_{0};
+  std::uint64_t median_at_ = 0;  // written_ when period_ was taken
   std::array<std::uint64_t, kBuckets> buckets_{};
   std::uint64_t unsorted_ = 0;
 };

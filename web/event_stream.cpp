@@ -26,10 +26,7 @@ void EventStream::close() {
   ready_.notify_all();
 }
 
-bool EventStream::closed() const {
-  const std::lock_guard lock(mutex_);
-  return closed_;
-}
+bool EventStream::closed() const { return closed_.load(std::memory_order_acquire); }
 
 std::string EventStream::take(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
@@ -47,10 +44,11 @@ std::shared_ptr<EventStream> StreamSet::open() {
   return streams_.back();
 }
 
-std::vector<std::shared_ptr<EventStream>> StreamSet::live() {
+void StreamSet::live(std::vector<std::shared_ptr<EventStream>>& out) {
+  out.clear();
   const std::lock_guard lock(mutex_);
   std::erase_if(streams_, [](const auto& s) { return s->closed(); });
-  return streams_;
+  out.assign(streams_.begin(), streams_.end());
 }
 
 void StreamSet::close_all() {

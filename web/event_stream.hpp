@@ -4,6 +4,7 @@
 // The two sides share only this buffer, under its mutex.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
@@ -39,7 +40,9 @@ class EventStream {
   mutable std::mutex mutex_;
   std::condition_variable ready_;
   std::string pending_;
-  bool closed_ = false;
+  // Written under mutex_ (the HTTP side waits on it with ready_); read
+  // without it by closed(), which the loop asks for every page on every tick.
+  std::atomic<bool> closed_{false};
 };
 
 // The pages connected: registered by HTTP threads, fed by the loop.
@@ -49,8 +52,9 @@ class StreamSet {
 
   // Null when kMaxStreams pages are connected.
   std::shared_ptr<EventStream> open();
-  // The loop's copy of the open streams (closed ones are dropped).
-  std::vector<std::shared_ptr<EventStream>> live();
+  // The loop's copy of the open streams (closed ones are dropped), into
+  // `out`, whose capacity the loop keeps: no allocation per tick.
+  void live(std::vector<std::shared_ptr<EventStream>>& out);
   void close_all();
   // Cheap for the loop's idle test: how many are open.
   std::size_t size() const;

@@ -54,6 +54,7 @@ struct WebServer::Impl {
   LiveSnapshot snapshot;
   RequestQueue queue;
   StreamSet streams;
+  std::vector<std::shared_ptr<EventStream>> live;  // the loop's, kept between ticks
   std::string www;
   bool sample_events;
   bool watching = false;
@@ -188,11 +189,12 @@ void WebServer::tick(Nanoseconds now) {
   next_ = now + kTick;
   Impl& m = *impl_;
   m.queue.serve(m.handler);
-  if (m.streams.size() == 0) {
+  std::vector<std::shared_ptr<EventStream>>& live = m.live;
+  m.streams.live(live);
+  if (live.empty()) {
     m.watching = false;
     return;
   }
-  const auto live = m.streams.live();
   if (m.sample_events) {
     if (m.watching) {
       m.watcher.sample(now, m.handler.events());

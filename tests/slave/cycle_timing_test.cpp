@@ -86,6 +86,29 @@ TEST(CycleTiming, ThePeriodIsTheMedianAndEachIntervalIsSortedOnce) {
   EXPECT_EQ(t.unsorted(), 0u);
 }
 
+// Once the window is full the period is taken again only when the window
+// has been renewed: a master that halves its cycle time is seen as early
+// cycles until kMedianWindow of the new intervals have come.
+TEST(CycleTiming, ThePeriodIsTakenAgainOnceTheWindowIsRenewed) {
+  CycleTiming t;
+  Nanoseconds at{0};
+  const auto add = [&](std::size_t n, Nanoseconds d) {
+    for (std::size_t k = 0; k < n; ++k) t.on_frame(at += d, 0);
+  };
+  t.on_frame(at, 0);
+  add(CycleTiming::kMedianWindow, milliseconds(1));
+  t.settle();
+  EXPECT_EQ(t.period(), milliseconds(1));
+  add(200, microseconds(500));
+  t.settle();  // 200 new: the period stays, the 200 are early against it
+  EXPECT_EQ(t.period(), milliseconds(1));
+  EXPECT_EQ(t.buckets()[CycleTiming::Early], 200u);
+  add(CycleTiming::kMedianWindow - 200, microseconds(500));
+  t.settle();  // the window renewed: its median is the new period
+  EXPECT_EQ(t.period(), microseconds(500));
+  EXPECT_EQ(t.buckets()[CycleTiming::OnTime], CycleTiming::kMedianWindow + CycleTiming::kMedianWindow - 200);
+}
+
 TEST(CycleTiming, IntervalsOverwrittenBeforeASettleAreCountedUnsorted) {
   CycleTiming t;
   const std::size_t extra = 10;
