@@ -126,7 +126,7 @@ steps:
 
 // A register read (docs/scenarios.md): the master brought the servo to Op,
 // so AL status 0x0130 reads 0x0008; a mask goes with min/max as well (the
-// station address the master gave, 0x1000, through a mask with min/max).
+// station address the master gave, 0x1001: 0x1000 through a mask with min/max).
 TEST(ScenarioRunner, RegistersReadWithMaskEqualsAndBounds) {
   Rig rig;
   auto r = rig.runner(R"(name: registers
@@ -143,7 +143,7 @@ steps:
   const auto& res = r.results();
   ASSERT_EQ(res.size(), 3u);
   EXPECT_EQ(res[0].message, "seen after 0 ms: 0x8 (8)");
-  EXPECT_EQ(res[1].message, "seen after 0 ms: 0x1000 (4096)");
+  EXPECT_EQ(res[1].message, "seen after 0 ms: 0x1001 (4097)");  // the message shows the value before the mask
   EXPECT_EQ(res[2].status, StepResult::Status::Failed);
   EXPECT_EQ(res[2].message, "not seen within 3 ms; last value 0x8 (8)");
 }
