@@ -9,6 +9,7 @@
 #include "control/network_view.hpp"
 #include "control/object_access.hpp"
 #include "control/simulated_run.hpp"
+#include "esc/esc.hpp"
 #include "slave/chain.hpp"
 #include "slave/fault_catalogue.hpp"
 
@@ -138,11 +139,12 @@ json RequestHandler::handle(const json& request) {
 }
 
 json RequestHandler::dispatch(const json& request) {
-  static constexpr std::array<Command, 17> kCommands{{
+  static constexpr std::array<Command, 18> kCommands{{
       {"hello", &RequestHandler::hello},
       {"network", &RequestHandler::network},
       {"slave", &RequestHandler::slave},
       {"read", &RequestHandler::read},
+      {"register", &RequestHandler::register_read},
       {"write", &RequestHandler::write},
       {"pdo", &RequestHandler::pdo},
       {"events", &RequestHandler::events_since},
@@ -199,6 +201,33 @@ json RequestHandler::read(const json& r) {
   auto v = read_object(chain[i].firmware().coe().objects(), index, sub);
   if (!v) throw from(v.error());
   return *v;
+}
+
+// An ESC register as the slave's own firmware (PDI) would read it, without
+// side effects: no AL event acknowledged, no counter cleared, the DC block
+// (0x0900-0x09FF: system time, 0x092C difference) at the ESC's latest time.
+json RequestHandler::register_read(const json& r) {
+  const std::size_t i = slave_field(r, chain_);
+  const auto address = static_cast<std::uint16_t>(field(r, "address", esc::Esc::kRegisterEnd - 1));
+  const std::uint64_t size = field(r, "size", sizeof(std::uint64_t), sizeof(std::uint16_t));
+  if (size != 1 && size != 2 && size != 4 && size != 8) {
+    refuse(error_code::kBadRequest, fmt::format("\"size\": {} is not 1, 2, 4 or 8 bytes", size));
+  }
+  if (address + size > esc::Esc::kRegisterEnd) {
+    refuse(error_code::kBadRequest,
+           fmt::format("register 0x{:04X} + {} bytes goes past the registers (0x0000-0x{:04X})", address, size,
+                       esc::Esc::kRegisterEnd - 1));
+  }
+  const esc::Esc& esc = chain_[i].esc();
+  std::uint64_t value = 0;
+  for (std::uint64_t k = 0; k < size; k += sizeof(std::uint16_t)) {
+    const std::uint16_t word = esc.register_u16(static_cast<std::uint16_t>(address + k));
+    value |= static_cast<std::uint64_t>(size == 1 ? word & 0xFFU : word) << (8 * k);
+  }
+  return json{{"address", address},
+              {"size", size},
+              {"value", value},
+              {"hex", fmt::format("{:0{}X}", value, 2 * size)}};
 }
 
 json RequestHandler::write(const json& r) {

@@ -65,6 +65,7 @@ class RequestHandler {
   nlohmann::json network(const nlohmann::json& r);
   nlohmann::json slave(const nlohmann::json& r);
   nlohmann::json read(const nlohmann::json& r);
+  nlohmann::json register_read(const nlohmann::json& r);
   nlohmann::json write(const nlohmann::json& r);
   nlohmann::json pdo(const nlohmann::json& r);
   nlohmann::json events_since(const nlohmann::json& r);

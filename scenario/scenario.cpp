@@ -74,9 +74,18 @@ class Parser {
       only_keys(n, kValueKeys, key);
       m.kind = Match::Kind::Value;
       const YAML::Node read = n["read"];
-      if (!read.IsMap() || !read["slave"] || !read["index"]) fail(read, "'read' needs slave and index");
+      // An object (index, subindex) or an ESC register (register, size).
+      if (!read.IsMap() || !read["slave"] || (!read["index"] == !read["register"])) {
+        fail(read, "'read' needs slave and either index (an object) or register (an ESC register)");
+      }
       m.read = to_json(read);
-      m.read["cmd"] = "read";
+      if (read["register"]) {
+        m.read["address"] = m.read["register"];
+        m.read.erase("register");
+        m.read["cmd"] = "register";
+      } else {
+        m.read["cmd"] = "read";
+      }
       if (n["mask"]) {
         const json mask = to_json(n["mask"]);
         if (!mask.is_number_integer() || mask.get<std::int64_t>() < 0) fail(n["mask"], "'mask' must be an integer");
@@ -90,7 +99,9 @@ class Parser {
         (std::string_view(bound) == "min" ? m.min : m.max) = b.get<double>();
       }
       if (m.equals.is_null() && !m.min && !m.max) fail(n, "a value match needs 'equals', 'min' or 'max'");
-      if (m.mask && !m.equals.is_number_integer()) fail(n, "'mask' goes with an integer 'equals'");
+      if (m.mask && !m.equals.is_null() && !m.equals.is_number_integer()) {
+        fail(n, "'mask' goes with an integer 'equals' (or with 'min'/'max')");
+      }
       return m;
     }
     if (!n["type"]) fail(n, fmt::format("'{}' needs 'type' (an event) or 'read' (a value)", key));

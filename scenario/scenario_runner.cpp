@@ -242,7 +242,10 @@ bool ScenarioRunner::value_holds(const Match& m, std::string* seen, bool* error)
     }
     const std::uint64_t v = value.is_number_unsigned() ? value.get<std::uint64_t>()
                                                        : static_cast<std::uint64_t>(value.get<std::int64_t>());
-    return (v & *m.mask) == m.equals.get<std::uint64_t>();
+    const std::uint64_t masked = v & *m.mask;
+    if (!m.equals.is_null() && masked != m.equals.get<std::uint64_t>()) return false;
+    const auto d = static_cast<double>(masked);
+    return !(m.min && d < *m.min) && !(m.max && d > *m.max);
   }
   if (!m.equals.is_null() && !field_matches(m.equals, value)) return false;
   if (m.min || m.max) {

@@ -105,6 +105,43 @@ TEST(ControlHandler, ReadsAnyEntryWithItsTypeAndBytes) {
                             "value":1026,"hex":"02040000"})j"));
 }
 
+// ESC registers as the firmware reads them (PDI), without side effects:
+// the same bytes the network view shows, the DC block at the ESC's time.
+TEST(ControlHandler, ReadsRegistersAsTheFirmwareSeesThem) {
+  Rig rig;
+  EXPECT_EQ(rig.result({{"cmd", "register"}, {"slave", 0}, {"address", "0x0130"}}),
+            json::parse(R"j({"address":304,"size":2,"value":1,"hex":"0001"})j"));  // AL status: Init
+  EXPECT_EQ(rig.result({{"cmd", "register"}, {"slave", 1}, {"address", "0x0000"}, {"size", 1}})["value"],
+            rig.chain[1].esc().memory()[0x0000]);  // ESC type
+  const json net = rig.result({{"cmd", "network"}});
+  EXPECT_EQ(rig.result({{"cmd", "register"}, {"slave", 1}, {"address", "0x0110"}})["value"],
+            net["slaves"][1]["dl_status"]);
+  // 4 bytes from two 16-bit reads, little-endian: 0x0130 and 0x0132 (reserved, 0).
+  EXPECT_EQ(rig.result({{"cmd", "register"}, {"slave", 0}, {"address", 0x0130}, {"size", 4}})["hex"], "00000001");
+  // 0x0910 (system time, 64 bit) is the ESC's time at its latest access
+  // (a frame, a PDI access), not the host clock's: no frame, no change.
+  const auto t0 = rig.result({{"cmd", "register"}, {"slave", 0}, {"address", "0x0910"}, {"size", 8}})["value"]
+                      .get<std::uint64_t>();
+  rig.clock.advance(std::chrono::microseconds(1500));
+  const auto t1 = rig.result({{"cmd", "register"}, {"slave", 0}, {"address", "0x0910"}, {"size", 8}})["value"]
+                      .get<std::uint64_t>();
+  EXPECT_EQ(t1, t0);
+  // A read does not acknowledge what the firmware would: the AL event
+  // request 0x0220 is read twice with the same value.
+  const json ev = rig.result({{"cmd", "register"}, {"slave", 0}, {"address", "0x0220"}, {"size", 4}});
+  EXPECT_EQ(rig.result({{"cmd", "register"}, {"slave", 0}, {"address", "0x0220"}, {"size", 4}}), ev);
+  // Bad input: the message names the limit.
+  EXPECT_EQ(rig.ask({{"id", 1}, {"cmd", "register"}, {"slave", 0}, {"address", "0x0FFF"}, {"size", 2}}),
+            json::parse(R"j({"id":1,"error":{"code":"bad_request",
+                "message":"register 0x0FFF + 2 bytes goes past the registers (0x0000-0x0FFF)"}})j"));
+  EXPECT_EQ(rig.ask({{"id", 2}, {"cmd", "register"}, {"slave", 0}, {"address", 0x10}, {"size", 3}}),
+            json::parse(R"j({"id":2,"error":{"code":"bad_request","message":"\"size\": 3 is not 1, 2, 4 or 8 bytes"}})j"));
+  EXPECT_EQ(rig.refused({{"cmd", "register"}, {"slave", 0}, {"address", "0x1000"}}), "bad_request");
+  EXPECT_EQ(rig.refused({{"cmd", "register"}, {"slave", 0}}), "bad_request");
+  EXPECT_EQ(rig.refused({{"cmd", "register"}, {"slave", 2}, {"address", 0}}), "unknown_slave");
+  EXPECT_EQ(rig.result({{"cmd", "network"}}), rig.result({{"cmd", "network"}}));
+}
+
 TEST(ControlHandler, WritesWhatTheDeviceWouldSetItselfAndTheMasterReadsIt) {
   Rig rig;
   // 6064h is read-only to the master (an input); the device's side sets it.

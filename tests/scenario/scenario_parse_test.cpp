@@ -106,7 +106,9 @@ TEST(ScenarioParse, MistakesNameTheirPlace) {
   EXPECT_EQ(error_of("steps:\n  - expect_not: {type: link}\n"),
             "f.yaml:2:5: 'expect_not' needs 'for' (how long it must not happen)");
   EXPECT_EQ(error_of("steps:\n  - expect: {read: {slave: 0}, equals: 1}\n"),
-            "f.yaml:2:20: 'read' needs slave and index");
+            "f.yaml:2:20: 'read' needs slave and either index (an object) or register (an ESC register)");
+  EXPECT_EQ(error_of("steps:\n  - expect: {read: {slave: 0, index: 1, register: 2}, equals: 1}\n"),
+            "f.yaml:2:20: 'read' needs slave and either index (an object) or register (an ESC register)");
   EXPECT_EQ(error_of("steps:\n  - expect: {read: {slave: 0, index: 0x6041}}\n"),
             "f.yaml:2:13: a value match needs 'equals', 'min' or 'max'");
   EXPECT_EQ(error_of("steps:\n  - do: {cmd: hello}\n    within: 1s\n"), "f.yaml:3:13: 'within' goes with 'expect'");
