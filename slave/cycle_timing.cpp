@@ -33,7 +33,7 @@ void CycleTiming::settle() noexcept {
     settled_ = oldest_kept;
   }
   if (period_.count() <= 0 || median_at_ < kMedianWindow || written_ - median_at_ >= kMedianWindow) {
-    std::array<std::int64_t, kMedianWindow> window;  // the first n are filled below
+    std::array<std::int64_t, kMedianWindow> window{};
     const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kept, kMedianWindow));
     for (std::size_t k = 0; k < n; ++k) window[k] = ring_[(written_ - 1 - k) % kRing];
     std::nth_element(window.begin(), window.begin() + static_cast<std::ptrdiff_t>(n / 2),

@@ -3,6 +3,8 @@
 // line and column where it is.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "scenario/scenario.hpp"
 
 namespace ecat::scenario {
@@ -126,6 +128,21 @@ TEST(ScenarioParse, MissingFile) {
   auto s = load_scenario("/nonexistent/scenario.yaml");
   ASSERT_FALSE(s);
   EXPECT_EQ(s.error(), "/nonexistent/scenario.yaml: cannot open the scenario file");
+}
+
+// Every example that ships, the SOEM variants too (e2e_soem_scenarios.sh
+// runs those only where SOEM's binaries are), loads without an error.
+TEST(ScenarioParse, EveryShippedExampleLoads) {
+  const std::filesystem::path dir = std::filesystem::path(ECAT_SOURCE_DIR) / "examples" / "scenarios";
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    if (e.path().extension() != ".yaml") continue;
+    ++files;
+    auto s = load_scenario(e.path().string());
+    EXPECT_TRUE(s) << s.error();
+    if (s) EXPECT_FALSE(s->steps.empty()) << e.path();
+  }
+  EXPECT_GE(files, 10u) << "the examples of docs/scenarios.md and their SOEM variants";
 }
 
 }  // namespace
