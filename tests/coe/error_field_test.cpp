@@ -62,12 +62,17 @@ TEST(ErrorField, WriteZeroClearsOtherValuesRefused) {
   EXPECT_EQ(field(rig, 1), 0x3210u);
   // 1003h:01 is read-only.
   EXPECT_EQ(rig.sdo_request(test::sdo(0x23, 0x1003, 1, 0)), test::sdo(0x80, 0x1003, 1, 0x06010002));
-  // 1003h:00 = 0 clears every entry.
-  EXPECT_EQ(rig.sdo_request(test::sdo(0x2F, 0x1003, 0, 0)), test::sdo(0x60, 0x1003, 0, 0));
+  // 1003h:00 = 0 clears every entry (replies carry CoE service 3, SDO response).
+  auto response = [](std::uint8_t cmd, std::uint32_t data) {
+    Frame f = test::sdo(cmd, 0x1003, 0, data);
+    f[1] = 0x30;
+    return f;
+  };
+  EXPECT_EQ(rig.sdo_request(test::sdo(0x2F, 0x1003, 0, 0)), response(0x60, 0));
   EXPECT_EQ(count(rig), 0);
   EXPECT_EQ(field(rig, 1), 0u);
   EXPECT_EQ(field(rig, 2), 0u);
-  EXPECT_EQ(rig.sdo_request(test::sdo(0x40, 0x1003, 0, 0)), test::sdo(0x4F, 0x1003, 0, 0));
+  EXPECT_EQ(rig.sdo_request(test::sdo(0x40, 0x1003, 0, 0)), response(0x4F, 0));
 }
 
 TEST(ErrorField, AbsentWithoutEntries) {
