@@ -21,7 +21,7 @@ CoeServer::CoeServer(esc::Pdi& pdi, const od::DeviceDescription& device, CoeOpti
       sdo_(store_, device.mailbox.complete_access),
       info_(store_),
       coe_(sdo_, device.mailbox.sdo_info ? &info_ : nullptr),
-      foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64, options.state_quota}),
+      foe_(FoeServer::Options{options.foe_dir, options.max_foe_file_bytes, 64, options.state_quota, options.foe_password}),
       mailbox_(pdi, mailbox_bytes(device), options.mailbox_queue),
       emergency_(mailbox_, store_, &diagnosis_),
       pdo_(store_, device),

@@ -47,6 +47,7 @@ struct CoeOptions {
   std::size_t mailbox_queue = MailboxServer::kDefaultQueueCapacity;
   std::uint32_t variable_capacity = 65536;  // bytes for strings/domains of unbounded length
   std::size_t max_foe_file_bytes = 16u << 20;
+  std::uint32_t foe_password = 0;  // FoE RRQ/WRQ password (0: none; FoeServer::Options::password)
   // Budget of the state directory, shared by the slaves that write there
   // (FoE files + parameter file); null: unbounded. Must outlive the server.
   StorageQuota* state_quota = nullptr;

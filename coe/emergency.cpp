@@ -12,6 +12,7 @@ Expected<void, MailboxError> Emergency::raise(std::uint16_t error_code, std::uin
                                               Nanoseconds now) noexcept {
   (void)store_.set<std::uint8_t>(kErrorRegister, 0, error_register);
   if (history_) (void)history_->add(DiagnosisHistory::from_emergency(error_code), now);
+  errors_.add(error_code, static_cast<std::uint16_t>(manufacturer[0] | (manufacturer[1] << 8)));
   const auto payload = message(error_code, error_register, manufacturer);
   auto queued = mailbox_.send(MailboxType::CoE, payload);
   if (queued) sent_.add({error_code, error_register});

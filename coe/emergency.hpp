@@ -1,14 +1,17 @@
 // CoE emergency (ETG.1000.6 §5.6.4, CiA 301 §7.2.7; shared/spec/coe-mailbox.md
 // §9): an 8-byte message (error code, error register, 5 manufacturer bytes)
 // sent unsolicited through the read mailbox. raise() also sets the error
-// register 1001h and, if the device has one, appends a message to the
-// diagnosis history 10F3h (coe::DiagnosisHistory, Diag Code E800h).
+// register 1001h, records the error in the pre-defined error field 1003h
+// where the device has one (coe::ErrorField) and, if the device has one,
+// appends a message to the diagnosis history 10F3h (coe::DiagnosisHistory,
+// Diag Code E800h).
 #pragma once
 
 #include <array>
 #include <cstdint>
 
 #include "coe/diagnosis_history.hpp"
+#include "coe/error_field.hpp"
 #include "coe/mailbox_server.hpp"
 #include "coe/object_store.hpp"
 #include "coe/recent_log.hpp"
@@ -24,7 +27,10 @@ class Emergency {
 
   // `history`: the device's 10F3h (null or absent: no message is kept).
   Emergency(MailboxServer& mailbox, ObjectStore& store, DiagnosisHistory* history = nullptr)
-      : mailbox_(mailbox), store_(store), history_(history) {}
+      : mailbox_(mailbox), store_(store), history_(history), errors_(store) {}
+  Emergency(const Emergency&) = delete;
+  Emergency& operator=(const Emergency&) = delete;
+  const ErrorField& error_field() const noexcept { return errors_; }
 
   // Queues the message; 1001h and 10F3h are updated even when the mailbox is
   // closed or full (the error is then returned: the message itself was not sent).
@@ -51,6 +57,7 @@ class Emergency {
   MailboxServer& mailbox_;
   ObjectStore& store_;
   DiagnosisHistory* history_;
+  ErrorField errors_;  // 1003h (hooks on the store: not copyable)
   RecentLog<Sent, kSentLogSize> sent_;
 };
 

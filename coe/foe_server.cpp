@@ -59,8 +59,8 @@ Expected<std::size_t, MailboxError> FoeServer::handle(ConstBytes request, Bytes 
   const ConstBytes rest = r.rest();
   const std::string_view name(reinterpret_cast<const char*>(rest.data()), rest.size());
   switch (opcode) {
-    case foe::kReadRequest: return read_request(name, reply);
-    case foe::kWriteRequest: return write_request(name, reply);
+    case foe::kReadRequest: return read_request(value, name, reply);
+    case foe::kWriteRequest: return write_request(value, name, reply);
     case foe::kData: return data(value, rest, reply);
     case foe::kAck: return ack(value, reply);
     case foe::kError: reset(); return std::size_t{0};  // the master gave up: no answer
@@ -69,9 +69,10 @@ Expected<std::size_t, MailboxError> FoeServer::handle(ConstBytes request, Bytes 
   }
 }
 
-std::size_t FoeServer::read_request(std::string_view name, Bytes reply) noexcept {
+std::size_t FoeServer::read_request(std::uint32_t password, std::string_view name, Bytes reply) noexcept {
   reset();
   if (options_.directory.empty() || !safe_name(name)) return error(reply, foe::FoeError::AccessDenied);
+  if (password != options_.password) return error(reply, foe::FoeError::NoRights);
   try {
     path_ = options_.directory + "/" + std::string(name);
   } catch (...) {
@@ -104,9 +105,10 @@ std::size_t FoeServer::ack(std::uint32_t packet, Bytes reply) noexcept {
   return send_data(reply);
 }
 
-std::size_t FoeServer::write_request(std::string_view name, Bytes reply) noexcept {
+std::size_t FoeServer::write_request(std::uint32_t password, std::string_view name, Bytes reply) noexcept {
   reset();
   if (options_.directory.empty() || !safe_name(name)) return error(reply, foe::FoeError::AccessDenied);
+  if (password != options_.password) return error(reply, foe::FoeError::NoRights);
   try {
     path_ = options_.directory + "/" + std::string(name);
     temp_path_ = path_ + ".part";

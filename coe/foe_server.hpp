@@ -9,6 +9,7 @@
 // With a StorageQuota, every file and byte written is charged to it first;
 // beyond it the write ends with ERR 0x8003 "disk full" (ETG.1000.5 FoE error
 // codes), the partial `<name>.part` is removed and any earlier `<name>` stays.
+// With Options::password, a request with another password gets ERR 0x800A.
 #pragma once
 
 #include <cstdint>
@@ -54,6 +55,10 @@ class FoeServer final : public MailboxService {
     std::size_t max_file_bytes = 16u << 20;     // writes beyond: ERR disk full
     std::size_t max_name_length = 64;
     StorageQuota* quota = nullptr;              // shared budget of the state directory; null: none
+    // Password every RRQ/WRQ must carry (0: none). Another one is ERR 0x800A
+    // "no rights", as SOES answers a file's wrong password (ETG.1000.6 gives
+    // RRQ/WRQ a password field but, in what is at hand, no code for it).
+    std::uint32_t password = 0;
   };
 
   explicit FoeServer(Options options) : options_(std::move(options)) {}
@@ -78,8 +83,8 @@ class FoeServer final : public MailboxService {
  private:
   enum class State : std::uint8_t { Idle, Reading, Writing };
 
-  std::size_t read_request(std::string_view name, Bytes reply) noexcept;
-  std::size_t write_request(std::string_view name, Bytes reply) noexcept;
+  std::size_t read_request(std::uint32_t password, std::string_view name, Bytes reply) noexcept;
+  std::size_t write_request(std::uint32_t password, std::string_view name, Bytes reply) noexcept;
   std::size_t data(std::uint32_t packet, ConstBytes bytes, Bytes reply) noexcept;
   std::size_t ack(std::uint32_t packet, Bytes reply) noexcept;
   std::size_t send_data(Bytes reply) noexcept;

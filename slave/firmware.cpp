@@ -20,6 +20,7 @@ bool has_type(const od::DeviceDescription& device, od::SmType type) {
 coe::CoeOptions coe_options(const SlaveOptions& o, coe::StorageQuota* quota) {
   coe::CoeOptions c;
   c.eoe_defaults = o.eoe;
+  c.foe_password = o.foe_password;
   if (!o.state_dir.empty()) {
     c.parameter_file = (o.state_dir / (o.name + ".par")).string();
     c.foe_dir = (o.state_dir / (o.name + "-foe")).string();

@@ -35,6 +35,8 @@ struct SlaveOptions {
   std::shared_ptr<coe::StorageQuota> state_quota;
   // Name of this slave's files inside state_dir ("slave-1"); chains number them.
   std::string name = "slave";
+  // Password FoE read/write requests must carry (0: none; coe::FoeServer).
+  std::uint32_t foe_password = 0;
   // Oscillator error of the DC local clock and its value at time 0.
   double clock_ppm = 0.0;
   std::uint64_t clock_start = 0;

@@ -48,8 +48,11 @@ std::vector<Case> device_file_cases(const od::DeviceDescription& device) {
                      const auto& m = d->mailbox;
                      const auto protocols = static_cast<std::uint16_t>((m.coe ? sii::kProtoCoe : 0) | (m.foe ? sii::kProtoFoe : 0) |
                                                                        (m.eoe ? sii::kProtoEoe : 0) | (m.soe ? sii::kProtoSoe : 0));
-                     const auto details = static_cast<std::uint8_t>(
-                         (m.coe ? sii::kCoeSdo : 0) | (m.sdo_info ? sii::kCoeSdoInfo : 0) |
+                     // ETG.2000: SdoInfo, PdoAssign ... are attributes of Mailbox/CoE, so a
+                     // device without CoE has no CoE details (ETG.2010 GENERAL byte 5 = 0);
+                     // the device file's defaults for them mean nothing there.
+                     const auto details = !m.coe ? std::uint8_t{0} : static_cast<std::uint8_t>(
+                         sii::kCoeSdo | (m.sdo_info ? sii::kCoeSdoInfo : 0) |
                          (m.pdo_assign ? sii::kCoePdoAssign : 0) | (m.pdo_config ? sii::kCoePdoConfig : 0) |
                          (m.pdo_upload ? sii::kCoeUploadAtStartup : 0) | (m.complete_access ? sii::kCoeCompleteAccess : 0));
                      const auto& s = ctx.info().sii;

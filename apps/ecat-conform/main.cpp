@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 #include "apps/ecat-conform/target.hpp"
 #include "master/conformance/suite.hpp"
@@ -45,6 +46,12 @@ int main(int argc, char** argv) {
   app.add_option("--pcap", pcap, "record every frame to this pcap file");
   app.add_flag("--free-run", free_run,
                "with --device: run a device whose ESI offers only DC OpModes in free run anyway (default: DC Sync0)");
+  std::optional<std::uint32_t> foe_password;
+  std::optional<std::size_t> foe_capacity;
+  std::string foe_denied;
+  app.add_option("--foe-password", foe_password, "FoE: the password the device's files need (sent in every read/write request; runs foe.wrong_password)");
+  app.add_option("--foe-denied", foe_denied, "FoE: a file name the device denies access to (runs foe.access_denied)");
+  app.add_option("--foe-capacity", foe_capacity, "FoE: bytes the device can store (runs foe.write_disk_full with a longer file)");
   app.add_flag("--list", list, "list the tests and the clauses they check, then exit");
   CLI11_PARSE(app, argc, argv);
 
@@ -106,6 +113,9 @@ int main(int argc, char** argv) {
     options.identity = t.identity();
     options.wait = [&t](Nanoseconds d) { t.wait(d); };
     options.power_cycle = [&t]() { return t.power_cycle(); };
+    options.foe_password = foe_password;
+    options.foe_denied_file = foe_denied;
+    options.foe_capacity = foe_capacity;
     fmt::print("ecat-conform: {}\n", t.description());
     std::vector<master::conformance::Case> extra;
     if (const od::DeviceDescription* d = t.device()) {

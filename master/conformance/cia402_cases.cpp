@@ -438,4 +438,74 @@ std::vector<Case> cia402_cases() {
   return cases;
 }
 
+// Pre-defined error field 1003h (CiA 301 §7.5.2.3), with the CiA 402 fault
+// above as the error: the device signals it by EMCY and keeps it in 1003h.
+namespace {
+
+constexpr std::uint16_t kErrorField = 0x1003;
+constexpr std::uint32_t kValueRange = 0x06090030;
+
+std::optional<CaseResult> need_error_field(Context& ctx) {
+  if (auto r = ctx.go_to(AlState::PreOp); !r) return CaseResult::failed("reach PreOp", r.error());
+  if (!ctx.info().sii.has_coe()) return CaseResult::skip("no CoE");
+  if (auto r = ctx.coe().upload_value(kErrorField, 0); !r) return CaseResult::skip("no 1003h: " + describe_sdo(r.error()));
+  return std::nullopt;
+}
+
+std::optional<CaseResult> clear_error_field(Context& ctx) {
+  const std::uint8_t zero[1]{0};
+  if (auto w = ctx.coe().download(kErrorField, 0, zero); !w) return CaseResult::failed("1003h:00 = 0 taken", describe_sdo(w.error()));
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<Case> error_field_cases() {
+  std::vector<Case> cases;
+  cases.push_back({"emcy.1003h_records_error", "CiA 301 §7.5.2.3 1003h: after 1003h was cleared, the drive fault's emergency is kept: 1003h:00 = 1, 1003h:01 bits 0-15 = the EMCY error code",
+                   [](Context& ctx) {
+                     if (auto c = need_error_field(ctx)) return *c;
+                     if (auto c = clear_error_field(ctx)) return *c;
+                     Cia402Axis axis(ctx);
+                     if (auto c = axis.open()) return *c;
+                     if (auto c = provoke_fault(axis)) return *c;
+                     axis.collect_emergencies();
+                     const auto& all = axis.emergencies();
+                     std::optional<std::uint16_t> code;
+                     for (const auto& e : all) {
+                       if (e.code() != 0) code = e.code();
+                     }
+                     if (!code) return CaseResult::failed("an EMCY for the fault", std::to_string(all.size()) + " emergencies, none with an error");
+                     CoeClient coe = ctx.coe();
+                     auto n = coe.upload_value(kErrorField, 0);
+                     auto first = coe.upload_value(kErrorField, 1);
+                     const std::string want = "1003h:00 = 1, 1003h:01 code " + hex(*code, 4);
+                     if (!n || !first) return CaseResult::failed(want, describe_sdo(n ? first.error() : n.error()));
+                     return CaseResult::compare(want, "1003h:00 = " + std::to_string(*n) + ", 1003h:01 code " + hex(*first & 0xFFFF, 4));
+                   }});
+  cases.push_back({"emcy.1003h_write_zero_clears", "CiA 301 §7.5.2.3 1003h: writing 0 to 1003h:00 deletes the error history (1003h:00 reads 0 after a fault filled it)",
+                   [](Context& ctx) {
+                     if (auto c = need_error_field(ctx)) return *c;
+                     {
+                       Cia402Axis axis(ctx);
+                       if (auto c = axis.open()) return *c;
+                       if (auto c = provoke_fault(axis)) return *c;
+                     }
+                     CoeClient coe = ctx.coe();
+                     auto before = coe.upload_value(kErrorField, 0);
+                     if (!before || *before == 0) return CaseResult::failed("1003h:00 > 0 after a fault", before ? "0" : describe_sdo(before.error()));
+                     if (auto c = clear_error_field(ctx)) return *c;
+                     auto after = coe.upload_value(kErrorField, 0);
+                     return CaseResult::compare("1003h:00 = 0", after ? "1003h:00 = " + std::to_string(*after) : describe_sdo(after.error()));
+                   }});
+  cases.push_back({"emcy.1003h_write_nonzero_refused", "CiA 301 §7.5.2.3 1003h: a value other than 0 written to 1003h:00 is refused with SDO abort 06090030h",
+                   [](Context& ctx) {
+                     if (auto c = need_error_field(ctx)) return *c;
+                     const std::uint8_t one[1]{1};
+                     auto w = ctx.coe().download(kErrorField, 0, one);
+                     return CaseResult::compare("abort " + hex(kValueRange, 8), w ? std::string("taken") : describe_sdo(w.error()));
+                   }});
+  return cases;
+}
+
 }  // namespace ecat::master::conformance

@@ -22,7 +22,9 @@ constexpr std::size_t kHeader = 6;
 constexpr std::size_t kMailboxHeader = 6;
 constexpr std::uint32_t kNotFound = 0x8001;
 constexpr std::uint32_t kAccessDenied = 0x8002;
+constexpr std::uint32_t kDiskFull = 0x8003;
 constexpr std::uint32_t kPacketNumber = 0x8005;
+constexpr std::uint32_t kNoRights = 0x800A;
 constexpr unsigned kBusyRetries = 100;
 constexpr char kFileName[] = "ecat-conform.bin";
 constexpr char kAbsentName[] = "ecat-conform-absent.bin";
@@ -82,12 +84,14 @@ std::optional<CaseResult> need_foe(Context& ctx) {
   return std::nullopt;
 }
 
+std::uint32_t password(const Context& ctx) { return ctx.options().foe_password.value_or(0); }
+
 std::size_t write_room(Context& ctx) { return ctx.info().sii.rx_mailbox_size - kMailboxHeader - kHeader; }
 
 // WRQ and its ACK(0), retrying on BUSY; a skip when the device refuses.
 std::optional<CaseResult> open_write(Context& ctx, const char* name) {
   for (unsigned i = 0; i < kBusyRetries; ++i) {
-    auto r = foe_exchange(ctx, request(kWrq, 0, name_bytes(name)));
+    auto r = foe_exchange(ctx, request(kWrq, password(ctx), name_bytes(name)));
     if (!r) return CaseResult::failed("ACK(0) to WRQ", r.error());
     if (r->opcode == kBusy) {
       ctx.wait(std::chrono::milliseconds(1));
@@ -128,7 +132,7 @@ Expected<std::string, CaseResult> write_file(Context& ctx, const std::vector<std
 Expected<std::pair<std::string, std::vector<std::uint8_t>>, std::string> read_file(Context& ctx, const char* name) {
   std::string packets;
   std::vector<std::uint8_t> bytes;
-  auto r = foe_exchange(ctx, request(kRrq, 0, name_bytes(name)));
+  auto r = foe_exchange(ctx, request(kRrq, password(ctx), name_bytes(name)));
   const std::size_t room = ctx.info().sii.tx_mailbox_size - kMailboxHeader - kHeader;
   for (unsigned guard = 0; guard < 1000; ++guard) {
     if (!r) return fail(r.error());
@@ -190,7 +194,7 @@ std::vector<Case> foe_cases() {
   cases.push_back({"foe.read_not_found", "ETG.1000.6 §5.3.2 FoE (shared/spec/coe-mailbox.md §10): RRQ of a file that does not exist -> ERR 0x8001 not found",
                    [](Context& ctx) {
                      if (auto c = need_foe(ctx)) return *c;
-                     auto r = foe_exchange(ctx, request(kRrq, 0, name_bytes(kAbsentName)));
+                     auto r = foe_exchange(ctx, request(kRrq, password(ctx), name_bytes(kAbsentName)));
                      // A device without a file store denies every access (a twin
                      // without --state-dir): it has no file to be found or not.
                      if (r && r->opcode == kErr && r->value == kAccessDenied) {
@@ -205,6 +209,49 @@ std::vector<Case> foe_cases() {
                      const std::uint8_t one[1]{0x55};
                      auto r = foe_exchange(ctx, request(kData, 2, one));
                      return CaseResult::compare("ERR " + hex(kPacketNumber, 4), r ? describe(*r) : r.error());
+                   }});
+  cases.push_back({"foe.access_denied", "ETG.1000.6 §5.3.2 FoE (shared/spec/coe-mailbox.md §10): RRQ of a file the device denies (ecat-conform --foe-denied NAME) -> ERR 0x8002 access denied",
+                   [](Context& ctx) {
+                     if (auto c = need_foe(ctx)) return *c;
+                     const std::string& name = ctx.options().foe_denied_file;
+                     if (name.empty()) return CaseResult::skip("which file a device denies is not in its ESI: give --foe-denied NAME");
+                     auto r = foe_exchange(ctx, request(kRrq, password(ctx), name_bytes(name.c_str())));
+                     return CaseResult::compare("ERR " + hex(kAccessDenied, 4), r ? describe(*r) : r.error());
+                   }});
+  cases.push_back({"foe.wrong_password", "ETG.1000.6 §5.3.2 FoE RRQ/WRQ password (shared/spec/coe-mailbox.md §10): WRQ with another password than the device's (--foe-password) -> ERR 0x800A no rights (SOES) or 0x8002 access denied, nothing written",
+                   [](Context& ctx) {
+                     if (auto c = need_foe(ctx)) return *c;
+                     if (!ctx.options().foe_password) return CaseResult::skip("whether a device's files need a password is not in its ESI: give --foe-password N");
+                     const std::uint32_t wrong = *ctx.options().foe_password + 1;
+                     auto r = foe_exchange(ctx, request(kWrq, wrong, name_bytes(kFileName)));
+                     const std::string want = "ERR " + hex(kNoRights, 4) + " (or " + hex(kAccessDenied, 4) + ")";
+                     if (!r) return CaseResult::failed(want, r.error());
+                     if (r->opcode == kAck) {
+                       // Taken: end the write the way a master gives up.
+                       (void)ctx.master().mailbox_send(ctx.slave(), mbx::kTypeFoe, request(kErr, kNoRights, {}));
+                     }
+                     const bool ok = r->opcode == kErr && (r->value == kNoRights || r->value == kAccessDenied);
+                     return ok ? CaseResult::pass(want, describe(*r)) : CaseResult::failed(want, describe(*r));
+                   }});
+  cases.push_back({"foe.write_disk_full", "ETG.1000.6 §5.3.2 FoE write (shared/spec/coe-mailbox.md §10): a file longer than the device can store (--foe-capacity BYTES) ends with ERR 0x8003 disk full, not a last ACK",
+                   [](Context& ctx) {
+                     if (auto c = need_foe(ctx)) return *c;
+                     if (!ctx.options().foe_capacity) return CaseResult::skip("a device's FoE storage is not in its ESI: give --foe-capacity BYTES");
+                     const std::size_t room = write_room(ctx);
+                     const std::size_t size = (*ctx.options().foe_capacity / room + 2) * room + room / 2;
+                     if (auto c = open_write(ctx, kFileName)) return *c;
+                     std::vector<std::uint8_t> packet(room, 0xA5);
+                     const std::string want = "ERR " + hex(kDiskFull, 4);
+                     std::uint32_t number = 1;
+                     for (std::size_t at = 0; at < size; ++number) {
+                       const std::size_t n = std::min(room, size - at);
+                       auto r = foe_exchange(ctx, request(kData, number, ConstBytes(packet.data(), n)));
+                       if (!r) return CaseResult::failed(want, r.error());
+                       if (r->opcode == kErr) return CaseResult::compare(want, describe(*r));
+                       if (r->opcode != kAck || r->value != number) return CaseResult::failed(want, "DATA(" + std::to_string(number) + ") -> " + describe(*r));
+                       at += n;
+                     }
+                     return CaseResult::failed(want, "all " + std::to_string(size) + " bytes taken (ACK(" + std::to_string(number - 1) + "))");
                    }});
   return cases;
 }

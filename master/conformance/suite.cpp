@@ -176,7 +176,7 @@ std::vector<Case> all_cases() {
   std::vector<Case> all;
   for (auto group : {esm_cases(), config_cases(), mailbox_cases(), sdo_cases(), consistency_cases(), register_cases(),
                      identification_cases(), watchdog_cases(), dc_cases(), sii_rule_cases(), cia402_cases(),
-                     emergency_cases(), foe_cases()}) {
+                     emergency_cases(), error_field_cases(), foe_cases(), eoe_cases()}) {
     all.insert(all.end(), group.begin(), group.end());
   }
   return all;

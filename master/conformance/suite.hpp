@@ -65,6 +65,13 @@ struct SuiteOptions {
   // power_cycle). Returns false or an empty function when the runner cannot,
   // and the power-up register cases skip saying so.
   std::function<bool()> power_cycle;
+  // FoE properties an ESI cannot express (ecat-conform --foe-*): the password
+  // the device's files need (sent in every RRQ/WRQ; the wrong-password case
+  // runs only with it), a file name the device denies access to, and how many
+  // bytes it can store (the disk-full case writes more). Unset: those cases skip.
+  std::optional<std::uint32_t> foe_password;
+  std::string foe_denied_file;
+  std::optional<std::size_t> foe_capacity;
 };
 
 // Registers 0x0000-0x0FFF as the ESC shows them right after power-up, read by
@@ -134,10 +141,13 @@ std::vector<Case> identification_cases();
 std::vector<Case> watchdog_cases();
 std::vector<Case> dc_cases();
 std::vector<Case> sii_rule_cases();
-// Application-level areas: CiA402, emergencies and 10F3h, FoE.
+// Application-level areas: CiA402, emergencies and 10F3h, FoE, EoE.
 std::vector<Case> cia402_cases();
 std::vector<Case> emergency_cases();
 std::vector<Case> foe_cases();
+std::vector<Case> eoe_cases();
+// 1003h pre-defined error field (CiA 301), filled by the CiA 402 fault.
+std::vector<Case> error_field_cases();
 std::vector<Case> all_cases();
 
 bool matches_filter(const std::string& name, const std::string& filter);

@@ -213,3 +213,32 @@ TEST(Foe, NotOfferedIsAMailboxError) {
 
 }  // namespace
 }  // namespace ecat::coe
+
+namespace ecat::coe {
+namespace {
+
+// Options::password: RRQ/WRQ must carry it; another one is ERR 0x800A (no
+// rights, as SOES answers a wrong file password) and nothing is written.
+class FoePasswordTest : public FoeTest {
+ protected:
+  FoeServer::Options options() override {
+    FoeServer::Options o{dir.string(), 200, 16};
+    o.password = 0x12345678;
+    return o;
+  }
+};
+
+TEST_F(FoePasswordTest, WrongPasswordIsNoRights) {
+  EXPECT_EQ(error_code(request(foe_frame(2, 0, name("p.bin")))), 0x800Au);
+  EXPECT_EQ(error_code(request(foe_frame(2, 0x12345679, name("p.bin")))), 0x800Au);
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.bin.part"));
+  EXPECT_EQ(request(foe_frame(2, 0x12345678, name("p.bin"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, pattern(10))), foe_frame(4, 1));
+  EXPECT_EQ(error_code(request(foe_frame(1, 0, name("p.bin")))), 0x800Au);
+  EXPECT_EQ(request(foe_frame(1, 0x12345678, name("p.bin"))), foe_frame(3, 1, pattern(10)));
+  // An unsafe name is still access denied, whatever the password.
+  EXPECT_EQ(error_code(request(foe_frame(1, 0, name(".hidden")))), 0x8002u);
+}
+
+}  // namespace
+}  // namespace ecat::coe

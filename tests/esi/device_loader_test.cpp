@@ -45,7 +45,7 @@ TEST_F(GenericServo, Identity) {
 TEST_F(GenericServo, EscMailboxAndLayout) {
   EXPECT_EQ(dev.esc.process_ram_bytes, 8192u);
   EXPECT_EQ(dev.esc.eeprom_bytes, 2048u);
-  EXPECT_EQ(dev.esc.pdi_control, 0x0005u);
+  EXPECT_EQ(dev.esc.pdi_control, 0x0C05u);  // SPI, DC SYNC out + latch in units enabled
   EXPECT_TRUE(dev.mailbox.coe);
   EXPECT_FALSE(dev.mailbox.foe);
   ASSERT_EQ(dev.sync_managers.size(), 4u);

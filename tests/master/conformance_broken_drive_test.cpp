@@ -316,3 +316,139 @@ std::vector<std::string> proven_history_cases() {
 }
 
 }  // namespace ecat::master::test
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "esi/device_loader.hpp"
+#include "esi/esi_writer_device_xml.hpp"
+
+namespace ecat::master::test {
+namespace {
+
+// 1003h: the generic servo with a pre-defined error field of 4 entries
+// (CiA 301 §7.5.2.3; coe::ErrorField gives it its behaviour). Each case
+// passes on it, and fails when the field is broken on purpose.
+constexpr std::uint16_t kErrorField = 0x1003;
+
+class ServoWithErrorField : public testing::Test {
+ protected:
+  void SetUp() override {
+    auto d = esi::load_device_file(device_path("generic-servo.xml"));
+    ASSERT_TRUE(d);
+    od::Object o;
+    o.index = kErrorField;
+    o.name = "Pre-defined error field";
+    o.code = od::ObjectCode::Array;
+    o.type = od::DataType::Unsigned32;
+    auto entry = [](std::uint8_t sub, od::DataType type, std::uint16_t bits, std::uint16_t access) {
+      od::Entry e;
+      e.subindex = sub;
+      e.name = sub == 0 ? "Number of errors" : "Standard error field";
+      e.type = type;
+      e.bit_length = bits;
+      e.access.bits = access;
+      e.default_value.assign(bits / 8, 0);
+      return e;
+    };
+    o.entries.push_back(entry(0, od::DataType::Unsigned8, 8, od::Access::kRw));
+    for (std::uint8_t k = 1; k <= 4; ++k) o.entries.push_back(entry(k, od::DataType::Unsigned32, 32, od::Access::kRo));
+    ASSERT_TRUE(d->dictionary.put(o));
+    dir_ = std::filesystem::path(::testing::TempDir()) / ("servo-1003-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+    file_ = (dir_ / "servo.device.xml").string();
+    std::ofstream(file_) << esi::write_device_xml(*d);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::vector<conformance::Report> run(InProcessBus& bus, const std::string& filter) {
+    Master master(bus.transport, bus.clock);
+    conformance::SuiteOptions options;
+    options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
+    options.filter = filter;
+    return conformance::run_suite(master, options);
+  }
+
+  std::filesystem::path dir_;
+  std::string file_;
+};
+
+// Hooks that refuse a write of 1003h:00 as read-only (a field that cannot be cleared).
+class RefuseWrites final : public ecat::coe::ObjectHooks {
+ public:
+  Expected<void, ecat::coe::SdoAbort> on_write(ecat::coe::ObjectStore&, const ecat::coe::WriteRequest&) noexcept override {
+    return fail(ecat::coe::SdoAbort::ReadOnly);
+  }
+};
+
+struct FieldBreakage {
+  const char* case_name;
+  Tampered::Rewrite after;  // on the drive's cycle
+  bool unhook;              // 1003h without its hooks (any value taken)
+  bool refuse_writes;
+};
+
+std::vector<FieldBreakage> field_breakages() {
+  return {
+      // 1003h:01 keeps a code that is not the fault's.
+      {"emcy.1003h_records_error", [](ecat::coe::ObjectStore& s) {
+         if (s.get<std::uint32_t>(kErrorField, 1) != 0) (void)s.set<std::uint32_t>(kErrorField, 1, 0x1000);
+       }, false, false},
+      {"emcy.1003h_write_zero_clears", nullptr, false, true},
+      {"emcy.1003h_write_nonzero_refused", nullptr, true, false},
+  };
+}
+
+TEST_F(ServoWithErrorField, EveryCasePasses) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(file_));
+  const auto reports = run(bus, "emcy.1003h");
+  ASSERT_EQ(reports.size(), conformance::error_field_cases().size());
+  for (const auto& r : reports) {
+    EXPECT_EQ(r.result.verdict, Verdict::Pass) << r.name << ": expected " << r.result.expected << ", seen " << r.result.seen;
+  }
+}
+
+TEST_F(ServoWithErrorField, EachCaseFailsOnABrokenField) {
+  for (const auto& broken : field_breakages()) {
+    InProcessBus bus;
+    ASSERT_TRUE(bus.add(file_));
+    slave::Firmware& fw = bus.chain()[0].firmware();
+    ecat::coe::ObjectStore& store = fw.coe().objects();
+    if (broken.after) fw.set_application(std::make_unique<Tampered>(fw.take_application(), store, nullptr, broken.after));
+    RefuseWrites refuse;
+    if (broken.unhook) store.set_hooks(kErrorField, nullptr);
+    if (broken.refuse_writes) store.set_hooks(kErrorField, &refuse);
+    const auto reports = run(bus, broken.case_name);
+    ASSERT_EQ(reports.size(), 1u) << broken.case_name;
+    EXPECT_EQ(reports[0].result.verdict, Verdict::Fail)
+        << broken.case_name << ": expected " << reports[0].result.expected << ", seen " << reports[0].result.seen;
+  }
+}
+
+// Without 1003h (the shipped generic servo) the cases skip with the abort.
+TEST(ErrorFieldCases, SkipWithout1003h) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(device_path("generic-servo.xml")));
+  Master master(bus.transport, bus.clock);
+  conformance::SuiteOptions options;
+  options.filter = "emcy.1003h";
+  for (const auto& r : conformance::run_suite(master, options)) {
+    EXPECT_EQ(r.result.verdict, Verdict::Skip) << r.name;
+    EXPECT_EQ(r.result.seen.rfind("no 1003h: ", 0), 0u) << r.result.seen;
+  }
+}
+
+TEST(ErrorFieldCases, EveryCaseIsCovered) {
+  const auto all = field_breakages();
+  for (const auto& c : conformance::error_field_cases()) {
+    bool found = false;
+    for (const auto& b : all) found = found || c.name == b.case_name;
+    EXPECT_TRUE(found) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace ecat::master::test

@@ -9,8 +9,10 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 
 #include "coe/mailbox_service.hpp"
+#include "coe/storage_quota.hpp"
 #include "esi/esi_writer_device_xml.hpp"
 #include "esi/twin_import.hpp"
 #include "conformance_proofs.hpp"
@@ -76,6 +78,21 @@ std::vector<FoeBreakage> foe_breakages() {
            set_value(r, 2);
          }
        }},
+      // The denied file is reported missing instead.
+      {"foe.access_denied", [](Bytes r) {
+         if (r[0] == kErr && value_of(r) == 0x8002) set_value(r, 0x8001);
+       }},
+      // A wrong password is taken.
+      {"foe.wrong_password", [](Bytes r) {
+         if (r[0] == kErr && value_of(r) == 0x800A) {
+           r[0] = kAck;
+           set_value(r, 0);
+         }
+       }},
+      // A full store answers "not defined".
+      {"foe.write_disk_full", [](Bytes r) {
+         if (r[0] == kErr && value_of(r) == 0x8003) set_value(r, 0x8000);
+       }},
   };
 }
 
@@ -96,14 +113,22 @@ class ElmoFoe : public testing::Test {
     conformance::SuiteOptions options;
     options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
     options.filter = filter;
+    options.foe_password = kPassword;
+    options.foe_denied_file = ".denied";  // coe::FoeServer denies names starting with '.'
+    options.foe_capacity = kCapacity;
     return conformance::run_suite(master, options);
   }
+  // The twin's files need kPassword; its state directory holds kCapacity bytes.
   slave::SlaveOptions options() const {
     slave::SlaveOptions o;
     o.state_dir = dir_ / "state";
     std::filesystem::create_directories(o.state_dir);
+    o.foe_password = kPassword;
+    o.state_quota = std::make_shared<ecat::coe::StorageQuota>(ecat::coe::StorageQuota::Limits{kCapacity, 64});
     return o;
   }
+  static constexpr std::uint32_t kPassword = 0x00C0FFEE;
+  static constexpr std::size_t kCapacity = 4096;
 
   std::filesystem::path dir_;
   std::string file_;
