@@ -13,6 +13,9 @@ namespace {
 
 constexpr std::size_t kFlagsSize = 4;       // UINT32 flags of Set/Get IP Parameter
 constexpr std::size_t kIpSize = 4;
+// Set IP Parameter with every field in place: flags, MAC, IP, subnet,
+// gateway, DNS server, DNS name (ETG.1000.6 §5.7, 58 bytes).
+constexpr std::size_t kFixedPlacesSize = kFlagsSize + eoe::kMacSize + 4 * kIpSize + eoe::kDnsNameSize;
 constexpr std::size_t kFilterOptionsSize = 2;
 constexpr std::uint8_t kFrameNumberMask = 0x0F;
 constexpr std::uint8_t kFragmentNumberMask = 0x3F;
@@ -96,9 +99,21 @@ std::size_t EoeServer::set_ip(const Header& h, ConstBytes body, Bytes reply) noe
   ByteReader r(body);
   eoe::IpParameters p = ip_;
   const std::uint32_t flags = r.u32();
+  // Two layouts are in use: the flagged fields packed one after another
+  // (SOES reads them so, and older SOEM and the ENI InitCmds write them so),
+  // or every field at its fixed place with only the valid ones flagged
+  // (SOEM 2.x: "TwinCAT include empty entries"). A request as long as every
+  // field together is read at the fixed places, which is also where a packed
+  // request with every field flagged has them; any other length is packed.
+  const bool fixed_places = body.size() == kFixedPlacesSize;
   auto need = [&](std::size_t n) { return r.remaining() >= n; };
+  // A field that is not flagged is skipped at its fixed place, or absent.
+  auto skip_unless = [&](std::uint32_t flag, std::size_t n) {
+    if (fixed_places && !(flags & flag)) r.skip(n);
+    return (flags & flag) != 0;
+  };
   bool ok = true;
-  if (flags & eoe::kHasMac) {
+  if (skip_unless(eoe::kHasMac, eoe::kMacSize)) {
     ok = ok && need(eoe::kMacSize);
     if (ok) std::memcpy(p.mac.data(), r.bytes(eoe::kMacSize).data(), eoe::kMacSize);
   }
@@ -106,7 +121,7 @@ std::size_t EoeServer::set_ip(const Header& h, ConstBytes body, Bytes reply) noe
       {eoe::kHasIp, &p.ip}, {eoe::kHasSubnet, &p.subnet}, {eoe::kHasGateway, &p.gateway},
       {eoe::kHasDnsServer, &p.dns_server}};
   for (const auto& [flag, field] : addresses) {
-    if (!(flags & flag) || !ok) continue;
+    if (!ok || !skip_unless(flag, kIpSize)) continue;
     ok = need(kIpSize);
     if (ok) *field = r.u32();
   }

@@ -220,6 +220,35 @@ TEST_F(EoeTest, SetIpParameterEveryFieldThenGetIpParameter) {
   EXPECT_EQ(eoe.ip_parameters().subnet, 0xFFFFFF00u);
 }
 
+// SOEM 2.x writes every field at its fixed place and flags only the valid
+// ones ("TwinCAT include empty entries"); SOES and older SOEM pack the
+// flagged ones. A request as long as every field together (58 bytes after
+// the EoE header) is read at the fixed places.
+TEST_F(EoeTest, SetIpParameterWithEveryFieldAtItsFixedPlace) {
+  Frame body = {0x06, 0x00, 0x00, 0x00,                // flags: IP and subnet only
+                0x00, 0x00, 0x00, 0x00, 0x00, 0x00,    // MAC (empty, not flagged)
+                0x07, 0x0A, 0xA8, 0xC0,                // 192.168.10.7
+                0x00, 0xFF, 0xFF, 0xFF,                // 255.255.255.0
+                0x00, 0x00, 0x00, 0x00,                // gateway (empty)
+                0x00, 0x00, 0x00, 0x00};               // DNS server (empty)
+  body.resize(58, 0);                                   // DNS name (empty)
+  auto reply = send(eoe_header(0x0002, 0x0000, body));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(payload_of(*reply), (Frame{0x03, 0x00, 0x00, 0x00}));
+  const auto& p = eoe.ip_parameters();
+  EXPECT_EQ(p.flags, 0x06u);
+  EXPECT_EQ(p.ip, 0xC0A80A07u);  // packed, the IP would have been read from the MAC's bytes
+  EXPECT_EQ(p.subnet, 0xFFFFFF00u);
+  EXPECT_EQ(p.mac, eoe::Mac{});
+  EXPECT_EQ(p.gateway, 0u);
+  // The same two fields packed (12 bytes): the same result.
+  auto packed = send(eoe_header(0x0002, 0, {0x06, 0, 0, 0, 0x08, 0x0A, 0xA8, 0xC0, 0x00, 0x00, 0xFF, 0xFF}));
+  ASSERT_TRUE(packed);
+  EXPECT_EQ(payload_of(*packed), (Frame{0x03, 0x00, 0x00, 0x00}));
+  EXPECT_EQ(eoe.ip_parameters().ip, 0xC0A80A08u);
+  EXPECT_EQ(eoe.ip_parameters().subnet, 0xFFFF0000u);
+}
+
 TEST_F(EoeTest, BadAndUnsupportedRequestsGetTheirResultCodes) {
   // IP flag but no address: unspecified error 0x0001, nothing changed.
   auto r = send(eoe_header(0x0002, 0, {0x02, 0, 0, 0, 0x01}));

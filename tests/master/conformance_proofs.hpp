@@ -14,5 +14,7 @@ std::vector<std::string> proven_esc_cases();      // conformance_esc_cases_test.
 std::vector<std::string> proven_drive_cases();    // conformance_broken_drive_test.cpp (CiA 402)
 std::vector<std::string> proven_history_cases();  // conformance_broken_drive_test.cpp (10F3h)
 std::vector<std::string> proven_foe_cases();      // conformance_broken_foe_test.cpp
+std::vector<std::string> proven_eoe_cases();      // conformance_broken_eoe_test.cpp
+std::vector<std::string> proven_error_field_cases();  // conformance_broken_drive_test.cpp (1003h)
 
 }  // namespace ecat::master::test

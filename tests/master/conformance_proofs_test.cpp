@@ -20,7 +20,7 @@ namespace {
 std::multiset<std::string> proven() {
   std::multiset<std::string> all;
   for (const auto& list : {proven_core_cases(), proven_esc_cases(), proven_drive_cases(), proven_history_cases(),
-                           proven_foe_cases()}) {
+                           proven_foe_cases(), proven_eoe_cases(), proven_error_field_cases()}) {
     all.insert(list.begin(), list.end());
   }
   return all;

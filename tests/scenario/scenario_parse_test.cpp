@@ -140,7 +140,9 @@ TEST(ScenarioParse, EveryShippedExampleLoads) {
     ++files;
     auto s = load_scenario(e.path().string());
     EXPECT_TRUE(s) << s.error();
-    if (s) EXPECT_FALSE(s->steps.empty()) << e.path();
+    if (s) {
+      EXPECT_FALSE(s->steps.empty()) << e.path();
+    }
   }
   EXPECT_GE(files, 10u) << "the examples of docs/scenarios.md and their SOEM variants";
 }
