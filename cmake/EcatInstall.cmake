@@ -110,7 +110,7 @@ ecat_install_library(esc esc HEADERS
 ecat_install_library(coe coe HEADERS
   # public
   coe/coe_server.hpp coe/object_store.hpp coe/sdo_server.hpp coe/sdo_info.hpp
-  coe/coe_protocol.hpp coe/mailbox_server.hpp coe/mailbox_service.hpp coe/emergency.hpp coe/diagnosis_history.hpp
+  coe/coe_protocol.hpp coe/mailbox_server.hpp coe/mailbox_service.hpp coe/emergency.hpp coe/error_field.hpp coe/diagnosis_history.hpp
   coe/foe_server.hpp coe/eoe_server.hpp coe/eoe_header.hpp coe/eoe_responder.hpp
   coe/process_data.hpp coe/pdo_config.hpp coe/parameter_store.hpp
   coe/sdo_abort.hpp coe/object_hooks.hpp coe/value.hpp coe/sync_controller.hpp
