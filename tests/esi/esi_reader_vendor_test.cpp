@@ -263,7 +263,8 @@ TEST(EsiReaderErrors, BadInputGivesFileLineMessage) {
   auto c = read_esi_string("<EtherCATInfo>\n<Descriptions><Devices/></Descriptions></EtherCATInfo>",
                            "none.xml");
   ASSERT_FALSE(c);
-  EXPECT_EQ(c.error().to_string(), "none.xml:2: the file describes no device");
+  // <Devices> follows <Descriptions> on line 2: the position is line:column.
+  EXPECT_EQ(c.error().to_string(), "none.xml:2:15: the file describes no device");
   auto e = read_esi("/nonexistent/x.xml");
   ASSERT_FALSE(e);
   EXPECT_EQ(e.error().to_string(), "/nonexistent/x.xml: cannot open file");

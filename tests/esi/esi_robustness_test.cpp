@@ -49,7 +49,7 @@ TEST(EsiRobustness, OutOfRangeNumbersWarn) {
   EXPECT_EQ(w[0].to_string("range.xml"),
             "range.xml:3: warning: Sm: StartAddress '#x12345' is not a number in range; taken as 0");
   EXPECT_EQ(w[1].to_string("range.xml"),
-            "range.xml:4: warning: Entry: BitLen '300' is not a number in range; taken as 0");
+            "range.xml:4:43: warning: Entry: BitLen '300' is not a number in range; taken as 0");
   // What is left (a mailbox SM of no size at 0000h) no device file can say:
   // the import refuses it at the Sm's line (issue 32, one judge).
   ASSERT_FALSE(d);
@@ -67,7 +67,7 @@ TEST(EsiRobustness, ReservedConfigWordsWarn) {
   auto d = read_esi_string(xml, "cfg.xml", {}, &w);
   ASSERT_TRUE(d);
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_EQ(w[0].to_string("cfg.xml"), "cfg.xml:3: warning: ConfigData: bytes after word 4 (reserved "
+  EXPECT_EQ(w[0].to_string("cfg.xml"), "cfg.xml:3:34: warning: ConfigData: bytes after word 4 (reserved "
                                        "words 5-6) are not modelled; written as 0");
   EXPECT_EQ(d->esc.pdi_control, 0x0380);
   EXPECT_EQ(d->esc.pdi_configuration, 0x6E00);

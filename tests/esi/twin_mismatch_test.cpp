@@ -54,6 +54,11 @@ Read read(const std::string& name) {
 std::string at(const Read& r, int line, const std::string& rest) {
   return r.file + ":" + std::to_string(line) + ": warning: " + rest;
 }
+// An element with another one before it on its line (`<Info><DefaultData>`)
+// is placed by line:column (docs/twins.md "Positions in vendor files").
+std::string at(const Read& r, int line, int column, const std::string& rest) {
+  return r.file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": warning: " + rest;
+}
 
 TEST(TwinMismatch, ZeroLengthPlaceholderEntryIsDropped) {
   const Read r = read("placeholder-entry.xml");
@@ -127,10 +132,10 @@ TEST(TwinMismatch, StringDefaultsGivenAsBytes) {
   EXPECT_EQ(r.d.dictionary.find(0x2003)->name, "Name?with a control character");
   EXPECT_EQ(r.warnings,
             (std::vector<std::string>{
-                at(r, line_of(r.text, "01000000"),
+                at(r, line_of(r.text, "01000000"), 23,
                    "DefaultData: STRING default 01000000 holds the byte 01h, a control character no VISIBLE_STRING "
                    "and no XML file holds; the entry keeps no default"),
-                at(r, line_of(r.text, "4100420000"),
+                at(r, line_of(r.text, "4100420000"), 23,
                    "DefaultData: STRING default 4100420000 ends at its first 00 byte; the bytes after it are dropped"),
                 at(r, line_of(r.text, "<Index>#x2003<") - 1,
                    "Object: the object's name holds the byte 01h at 4, a character XML 1.0 forbids; the twin has "
