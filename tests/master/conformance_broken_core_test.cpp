@@ -463,9 +463,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, BrokenCore, testing::Range<std::size_t>(0, break
 }  // namespace
 
 std::vector<std::string> proven_core_cases() {
-  std::vector<std::string> names;
-  for (const auto& b : breakages()) names.emplace_back(b.case_name);
-  return names;
+  return case_names(breakages());
 }
 
 }  // namespace ecat::master::test

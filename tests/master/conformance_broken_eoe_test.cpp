@@ -179,20 +179,13 @@ TEST_F(ElmoEoe, EachCaseFailsOnABrokenEoe) {
 }
 
 TEST(ConformanceEoe, EveryCaseHasABreakage) {
-  const auto all = eoe_breakages();
-  for (const auto& c : conformance::eoe_cases()) {
-    bool found = false;
-    for (const auto& b : all) found = found || c.name == b.case_name;
-    EXPECT_TRUE(found) << c.name;
-  }
+  expect_every_case_broken(conformance::eoe_cases(), eoe_breakages());
 }
 
 }  // namespace
 
 std::vector<std::string> proven_eoe_cases() {
-  std::vector<std::string> names;
-  for (const auto& b : eoe_breakages()) names.emplace_back(b.case_name);
-  return names;
+  return case_names(eoe_breakages());
 }
 
 }  // namespace ecat::master::test

@@ -179,20 +179,13 @@ TEST_F(ElmoFoe, EachCaseFailsOnABrokenFoe) {
 }
 
 TEST(ConformanceFoe, EveryCaseHasABreakage) {
-  const auto all = foe_breakages();
-  for (const auto& c : conformance::foe_cases()) {
-    bool found = false;
-    for (const auto& b : all) found = found || c.name == b.case_name;
-    EXPECT_TRUE(found) << c.name;
-  }
+  expect_every_case_broken(conformance::foe_cases(), foe_breakages());
 }
 
 }  // namespace
 
 std::vector<std::string> proven_foe_cases() {
-  std::vector<std::string> names;
-  for (const auto& b : foe_breakages()) names.emplace_back(b.case_name);
-  return names;
+  return case_names(foe_breakages());
 }
 
 }  // namespace ecat::master::test
