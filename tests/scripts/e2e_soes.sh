@@ -25,6 +25,8 @@
 # linux_lan9252demo on our HAL under ecat-master --iface (the same checks)
 # and SOEM's slaveinfo -map/-sdo and simple_ng where SOEM is found
 # ($ECAT_SOEM_BIN or PATH; E2E_SOES_NO_VETH=1 skips the veth part).
+# Under load a master run that missed its own cycle (its log shows it) and
+# found nothing else wrong is tried again, as lib/netns.sh does (master_run).
 # SOES is not in the repository and not a Debian package: its sources are
 # taken from $ECAT_SOES_SRC (a checkout); unset, or without a C compiler,
 # the test is skipped (exit 77). Everything is built in a temporary
@@ -153,28 +155,74 @@ period_us=${E2E_SOES_PERIOD_US:-1000}
 port_base=$((20000 + RANDOM % 20000))
 n=0
 # check_master NAME LOG RC ONE-BYTE-SM2 DEVICE-NAME: the checks of an
-# ecat-master run (--cycles 2000 --sdo-read 1018:01 --sdo-read 1008:00).
+# ecat-master run (--cycles 2000 --sdo-read 1018:01 --sdo-read 1008:00);
+# what is wrong goes to hard_problems (never allowed) or timing_problems
+# (allowed only when the master was late: see master_run).
+hard_problems=()
+timing_problems=()
 check_master() {
   local name=$1 log=$2 rc=$3 one_byte_sm2=$4 device_name=$5
-  grep -q "all 1 slave(s) in Op" "$log" || fail "$name: Op not reached"
+  grep -q "all 1 slave(s) in Op" "$log" || hard_problems+=("$name: Op not reached")
   if [ "$one_byte_sm2" = 1 ]; then
     # Its SM2 is 1 byte: not activated on an ESC (Section II 0x0802), so no
     # SM2 event ever comes and SOES's own watchdog takes it to SafeOp+Err
     # 001Bh - the documented difference between SOES and the ESC
     # (docs/pdi-host.md), checked as it is so that a change shows.
     grep -qE "^cycles 2000 lost 0 wkc-errors 0 state-errors [1-9]" "$log" ||
-      fail "$name: expected 2000 cycles with the expected WKC and state errors (SM2 of 1 byte)"
+      timing_problems+=("$name: expected 2000 cycles with the expected WKC and state errors (SM2 of 1 byte)")
     grep -q "left Op: AL status 0x0014, AL status code 0x001B" "$log" ||
-      fail "$name: expected SafeOp+Err 001Bh (SOES's watchdog, no SM2 event for a 1-byte SM2)"
+      hard_problems+=("$name: expected SafeOp+Err 001Bh (SOES's watchdog, no SM2 event for a 1-byte SM2)")
   else
-    [ "$rc" -eq 0 ] || fail "$name: ecat-master exit $rc"
+    [ "$rc" -eq 0 ] || timing_problems+=("$name: ecat-master exit $rc")
     grep -qE "^cycles 2000 lost 0 wkc-errors 0 state-errors 0 " "$log" ||
-      fail "$name: not 2000 cycles with the expected WKC and no state error"
+      timing_problems+=("$name: not 2000 cycles with the expected WKC and no state error")
   fi
-  grep -q "slave 1 sdo 1018h:01 = 37 13 00 00" "$log" || fail "$name: 1018h:01 is not SOES's vendor 1337h"
+  # A state error other than SOES's own watchdog (SafeOp+Err 001Bh) is never timing.
+  ! grep "left Op" "$log" | grep -qv "left Op: AL status 0x0014, AL status code 0x001B" ||
+    hard_problems+=("$name: left Op other than to SafeOp+Err 001Bh: $(grep -m1 "left Op" "$log" | grep -v 0x001B)")
+  grep -q "slave 1 sdo 1018h:01 = 37 13 00 00" "$log" || hard_problems+=("$name: 1018h:01 is not SOES's vendor 1337h")
   local hex
   hex=$(printf '%s' "$device_name" | od -An -tx1 | tr -s ' \n' ' ' | sed 's/^ //; s/ $//' | tr a-f A-F)
-  grep -qF "slave 1 sdo 1008h:00 = $hex" "$log" || fail "$name: 1008h is not '$device_name'"
+  grep -qF "slave 1 sdo 1008h:00 = $hex" "$log" || hard_problems+=("$name: 1008h is not '$device_name'")
+}
+
+# Live timing under load, as tests/scripts/lib/netns.sh and docs/e2e.md
+# "Live timing under load": the kernel may stall even a SCHED_FIFO master
+# for tens of ms on a shared 2-core host. SOES's process-data watchdog counts
+# its loop passes (150, a few ms through the host), so it then leaves Op
+# with SafeOp+Err 001Bh and the cycles after it carry the WKC of SafeOp.
+# That counts as late only with the master's own evidence (cycle-jitter-max-
+# us above the period or skipped-periods above 0) and no other problem; a
+# late run is tried again (E2E_LIVE_ATTEMPTS, default 3), and when every
+# attempt was late the test passes with a NOTE, as nothing was shown wrong.
+live_attempts=${E2E_LIVE_ATTEMPTS:-3}
+master_was_late() {  # LOG
+  local v
+  v=$(sed -n 's/.*cycle-jitter-max-us \([0-9.]*\).*/\1/p' "$1" | head -1)
+  [ -n "$v" ] && awk -v j="$v" -v p="$period_us" 'BEGIN { exit !(j > p) }' && return 0
+  grep -qE 'skipped-periods [1-9]' "$1"
+}
+# master_run NAME LOG ONE-BYTE-SM2 DEVICE-NAME COMMAND...: runs the
+# ecat-master COMMAND (output to LOG) and judges it, again when late.
+master_run() {
+  local name=$1 log=$2 one_byte_sm2=$3 device_name=$4; shift 4
+  local attempt rc p
+  for attempt in $(seq "$live_attempts"); do
+    "$@" > "$log" 2>&1
+    rc=$?
+    echo "--- $name: ecat-master (attempt $attempt)"; cat "$log"
+    hard_problems=()
+    timing_problems=()
+    check_master "$name" "$log" "$rc" "$one_byte_sm2" "$device_name"
+    [ ${#hard_problems[@]} -eq 0 ] && [ ${#timing_problems[@]} -eq 0 ] && return 0
+    if [ ${#hard_problems[@]} -eq 0 ] && master_was_late "$log"; then
+      echo "late: $name: the master missed its cycle ($(grep -oE 'cycle-jitter-max-us [0-9.]+' "$log"), $(grep -oE 'skipped-periods [0-9]+' "$log")): ${timing_problems[*]}"
+      continue
+    fi
+    for p in "${hard_problems[@]}" "${timing_problems[@]}"; do fail "$p"; done
+    return 1
+  done
+  echo "NOTE: $name: all $live_attempts attempts late (the master missed its cycle): nothing shown wrong"
 }
 
 # run_sample NAME DEVICE-NAME ONE-BYTE-SM2 [DIR CHIP PRELOAD CONFORM-SKIP
@@ -200,11 +248,9 @@ run_sample() {
   # SOES's start-up (ESC reset to Init, SMs disabled, mailbox set-up) before the master comes.
   for _ in $(seq 50); do grep -q "firmware attached" "$dir/slave.log" && break; sleep 0.1; done
   sleep 1
-  timeout -s KILL 120 "${master_rt[@]}" "$build/bin/ecat-master" --udp "127.0.0.1:$port" --cycles 2000 --period-us "$period_us" --expect-slaves 1 \
-    --sdo-read 1018:01 --sdo-read 1008:00 > "$dir/master.log" 2>&1
-  local rc=$?
-  echo "--- $name: ecat-master"; cat "$dir/master.log"
-  check_master "$name" "$dir/master.log" "$rc" "$one_byte_sm2" "$device_name"
+  master_run "$name" "$dir/master.log" "$one_byte_sm2" "$device_name" \
+    timeout -s KILL 120 "${master_rt[@]}" "$build/bin/ecat-master" --udp "127.0.0.1:$port" --cycles 2000 \
+    --period-us "$period_us" --expect-slaves 1 --sdo-read 1018:01 --sdo-read 1008:00
   kill -0 "$fw_pid" 2> /dev/null || fail "$name: the firmware died: $(tail -3 "$dir/firmware.log")"
   # CONFORM-SKIP: a case left out, with its reason (the run's table would
   # otherwise stop there): every other case of `ecat-conform --list` runs.
@@ -306,11 +352,9 @@ run_veth() {
   for _ in $(seq 50); do grep -q "firmware attached" "$vdir/slave.log" && break; sleep 0.1; done
   sleep 1
   local on_m=(timeout -s KILL 150 ip netns exec "$nm" "${master_rt[@]}")
-  "${on_m[@]}" "$build/bin/ecat-master" --iface m0 --cycles 2000 --period-us "$period_us" --expect-slaves 1 \
-    --sdo-read 1018:01 --sdo-read 1008:00 > "$vdir/master.log" 2>&1
-  local rc=$?
-  echo "--- $name over veth: ecat-master --iface"; cat "$vdir/master.log"
-  check_master "$name over veth" "$vdir/master.log" "$rc" 0 evb9252_dig
+  master_run "$name over veth" "$vdir/master.log" 0 evb9252_dig \
+    "${on_m[@]}" "$build/bin/ecat-master" --iface m0 --cycles 2000 --period-us "$period_us" --expect-slaves 1 \
+    --sdo-read 1018:01 --sdo-read 1008:00
   local slaveinfo simple_ng
   slaveinfo=$(soem_find slaveinfo) || slaveinfo=""
   simple_ng=$(soem_find simple_ng) || simple_ng=""
@@ -332,15 +376,37 @@ run_veth() {
   if [ -z "$simple_ng" ]; then
     echo "skip (SOEM): simple_ng not found (set ECAT_SOEM_BIN=dir; SOEM 2.x)"
   else
-    "${on_m[@]}" "$simple_ng" m0 2>&1 | tr '\r' '\n' > "$vdir/simple_ng.log"
-    local iters exact late late_max=${E2E_SOEM_LATE_MAX:-1000}
-    iters=$(grep -cE '^Iteration +[0-9]+:' "$vdir/simple_ng.log")
-    exact=$(grep -cE '^Iteration +[0-9]+: +[0-9]+ usec  WKC 3  O:' "$vdir/simple_ng.log")
-    late=$(grep -E '^Iteration +[0-9]+: +[0-9]+ usec  WKC -?[0-9]+ wrong \(expected 3\)$' "$vdir/simple_ng.log" | awk '$3 >= 2000' | wc -l)
-    echo "--- $name over veth: SOEM simple_ng: $iters iterations, $exact with WKC 3, $late late; last: $(grep -E '^Iteration' "$vdir/simple_ng.log" | tail -1)"
-    grep -q 'all slaves are now operational$' "$vdir/simple_ng.log" || fail "SOEM simple_ng: Op not reached"
-    [ "$iters" -eq 10000 ] && [ $((exact + late)) -eq 10000 ] && [ "$late" -le "$late_max" ] ||
-      fail "SOEM simple_ng: $iters iterations, $exact with WKC 3, $late late (at most $late_max)"
+    # As the masters above: a run with iterations neither exact nor late
+    # counts as late only when SOEM itself was (frames not back within its
+    # 2 ms), recovered the slave ("resumed OPERATIONAL": SOES's watchdog
+    # had taken it out, and meanwhile the LRW has the WKC of SafeOp) and
+    # printed no error.
+    local attempt iters exact late odd late_max=${E2E_SOEM_LATE_MAX:-1000}
+    for attempt in $(seq "$live_attempts"); do
+      "${on_m[@]}" "$simple_ng" m0 2>&1 | tr '\r' '\n' > "$vdir/simple_ng.log"
+      iters=$(grep -cE '^Iteration +[0-9]+:' "$vdir/simple_ng.log")
+      exact=$(grep -cE '^Iteration +[0-9]+: +[0-9]+ usec  WKC 3  O:' "$vdir/simple_ng.log")
+      late=$(grep -E '^Iteration +[0-9]+: +[0-9]+ usec  WKC -?[0-9]+ wrong \(expected 3\)$' "$vdir/simple_ng.log" | awk '$3 >= 2000' | wc -l)
+      odd=$((iters - exact - late))
+      echo "--- $name over veth: SOEM simple_ng (attempt $attempt): $iters iterations, $exact with WKC 3, $late late, $odd other; last: $(grep -E '^Iteration' "$vdir/simple_ng.log" | tail -1)"
+      if ! grep -q 'all slaves are now operational$' "$vdir/simple_ng.log"; then
+        fail "SOEM simple_ng: Op not reached"
+        break
+      fi
+      [ "$iters" -eq 10000 ] && [ "$odd" -eq 0 ] && [ "$late" -le "$late_max" ] && break
+      # The iterations neither exact nor late, and what SOEM said around them.
+      grep -vE '^Iteration +[0-9]+: +[0-9]+ usec  WKC 3  O:' "$vdir/simple_ng.log" |
+        grep -vE 'usec  WKC -?[0-9]+ wrong \(expected 3\)$' | head -12 | sed 's/^/  [simple_ng] /'
+      grep -E '^Iteration .* wrong' "$vdir/simple_ng.log" | awk '$3 < 2000' | head -5 | sed 's/^/  [simple_ng] /'
+      if [ "$iters" -eq 10000 ] && [ "$late" -gt 0 ] && [ "$late" -le "$late_max" ] &&
+        grep -q 'resumed OPERATIONAL' "$vdir/simple_ng.log" && ! grep -qiE 'error|not all' "$vdir/simple_ng.log"; then
+        echo "late: SOEM simple_ng: $late frames not back within 2 ms, the slave recovered, $odd iterations with another WKC meanwhile"
+        [ "$attempt" -eq "$live_attempts" ] && echo "NOTE: SOEM simple_ng: all $live_attempts attempts late: nothing shown wrong"
+        continue
+      fi
+      fail "SOEM simple_ng: $iters iterations, $exact with WKC 3, $late late (at most $late_max), $odd other"
+      break
+    done
   fi
   kill -0 "$fw_pid" 2> /dev/null || fail "veth: the firmware died: $(tail -3 "$vdir/firmware.log")"
   kill -0 "$slave_pid" 2> /dev/null || fail "veth: ecat-slave died: $(tail -3 "$vdir/slave.log")"
