@@ -8,6 +8,7 @@
 // mapped back to an Object/SubItem/PDO) said "file:1".
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -200,6 +201,42 @@ TEST(OneLineCorpusPositions, EniWithoutEsiNamesTheSameElementsOnOneLine) {
     }
     expect_same_warnings(pretty, one, want, got, rel);
   }
+}
+
+
+// The same, as exact messages: an Object repair, a refusal at a PDO and an ENI
+// slave's refusal, each at its element's column on line 1.
+TEST(OneLineCorpusPositions, ExactMessagesOfOneLineFiles) {
+  const OneLine s = collapse(slurp(data("esi-mismatch/string-default-bytes.xml")));
+  std::vector<EsiWarning> w;
+  ASSERT_TRUE(read_esi_string(s.text, "s.xml", EsiSelection{}, &w));
+  const std::size_t object = s.text.rfind("<Object>", s.text.find("<Index>#x2003<"));
+  const std::string repair = "s.xml:1:" + std::to_string(object + 1) +
+                             ": warning: Object: the object's name holds the byte 01h at 4, a character XML 1.0 "
+                             "forbids; the twin has 'Name?with a control character'";
+  std::vector<std::string> got;
+  for (const auto& x : w) got.push_back(x.to_string("s.xml"));
+  EXPECT_NE(std::find(got.begin(), got.end(), repair), got.end()) << repair << "\n" << ::testing::PrintToString(got);
+
+  const OneLine p = collapse(slurp(data("esi-vendor/pollen-orbita2d.xml")));
+  auto refused = read_esi_string(p.text, "p.xml");
+  ASSERT_FALSE(refused);
+  const std::size_t pdo = p.text.rfind("<TxPdo", p.text.find("<Index>#x1800<"));
+  EXPECT_EQ(refused.error().to_string(),
+            "p.xml:1:" + std::to_string(pdo + 1) +
+                ": SubItem: 603Fh:00 has type UNSIGNED16 but must be UNSIGNED8 (the twin cannot represent this; the "
+                "import refuses it)");
+
+  const OneLine e = collapse(slurp(data("eni/kpierczy-elmo-wheels.xml")));
+  auto net = read_eni_string(e.text, "net.xml");
+  ASSERT_TRUE(net) << net.error().to_string();
+  auto devs = eni_devices(*net, {});
+  ASSERT_FALSE(devs);
+  // Slave 2's Sm3, where its SM2's three buffers (as the ENI places them) end.
+  const std::size_t sm3 = e.text.find("<Sm3>", e.text.find("WheelRearLeft"));
+  EXPECT_EQ(devs.error().to_string(), "net.xml:1:" + std::to_string(sm3 + 1) +
+                                          ": slave 2 (WheelRearLeft): SyncManager 3 (0x1180..0x134d) overlaps "
+                                          "SyncManager 2 (0x1100..0x12c7)");
 }
 
 }  // namespace
