@@ -108,10 +108,18 @@ BENCHMARK(BM_Cycle_CspFullPass)->Apply(iterations_from_env)->Arg(100)->Arg(1000)
 
 // The same cycle on a tree (issue 30 item 2: within 1.2x of BM_Cycle_Csp):
 // junctions every 10 drives, each with a branch of 9 drives on its port 3
-// (DriveLine's `branch`), skipping on, and off (the port walk).
+// (DriveLine's `branch`), skipping on, and off (the port walk). At 1 drive
+// the tree is one four-port junction, at 10 a junction and its branch
+// (the per-drive rows of scripts/bench-table).
 constexpr std::size_t kTreeBranch = 10;
 void BM_Cycle_CspTree(benchmark::State& state) { run_cycles(state, true, false, kTreeBranch); }
-BENCHMARK(BM_Cycle_CspTree)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Cycle_CspTree)
+    ->Apply(iterations_from_env)
+    ->Arg(1)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(1000)
+    ->Unit(benchmark::kMicrosecond);
 void BM_Cycle_CspTreeFullPass(benchmark::State& state) { run_cycles(state, false, false, kTreeBranch); }
 BENCHMARK(BM_Cycle_CspTreeFullPass)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 

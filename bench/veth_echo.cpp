@@ -1,20 +1,25 @@
-// ecat-bench-echo: the bare user-space echo for scripts/bench-veth. It
-// receives every EtherCAT frame on IFACE through the same raw socket
+// ecat-bench-echo: the bare user-space echo for scripts/bench-veth and
+// scripts/bench-rtt. It receives every EtherCAT frame on IFACE (or, with
+// --udp, every EtherCAT-in-UDP datagram on ADDR:PORT) through the same
 // transport and the same wait as ecat-slave (a blocking wait of at most
 // 50 ms, or polling with --busy-poll), sets the source-MAC bit an ESC sets
 // (ESC datasheet Section I §3.2) and sends the frame straight back, with no
 // emulation at all. The round trip a master sees through it is the floor
-// for ecat-slave on the same veth: socket, scheduler and wake-up costs.
+// for ecat-slave on the same medium: socket, scheduler and wake-up costs.
 //   ecat-bench-echo IFACE [--busy-poll]
+//   ecat-bench-echo --udp PORT|ADDR:PORT [--busy-poll]
+// (PORT alone: 127.0.0.1 and ::1, as ecat-slave --udp PORT.)
 // Runs until SIGINT/SIGTERM. An edge program: it reads no clock.
 #include <array>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "common/frame.hpp"
 #include "transport/raw_socket_transport.hpp"
+#include "transport/udp_transport.hpp"
 
 namespace {
 
@@ -24,19 +29,37 @@ void on_stop(int) { g_stop = 1; }
 // Same longest wait as ecat-slave's live loop (apps/ecat-slave/run_live.cpp).
 constexpr ecat::Nanoseconds kMaxWait = std::chrono::milliseconds(50);
 
+std::unique_ptr<ecat::transport::Transport> open_udp(const std::string& where) {
+  using namespace ecat::transport;
+  const bool port_only = where.find_first_not_of("0123456789") == std::string::npos;
+  auto ep = parse_udp_endpoint(port_only ? "127.0.0.1:" + where : where);
+  if (!ep) return nullptr;
+  auto t = port_only ? UdpTransport::bind_loopback(ep->port) : UdpTransport::bind(*ep);
+  if (!t) return nullptr;
+  return std::make_unique<UdpTransport>(std::move(*t));
+}
+
+std::unique_ptr<ecat::transport::Transport> open_raw(const std::string& iface) {
+  auto t = ecat::transport::RawSocketTransport::open(iface);
+  if (!t) return nullptr;
+  return std::make_unique<ecat::transport::RawSocketTransport>(std::move(*t));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace ecat;
-  const bool busy_poll = argc == 3 && std::strcmp(argv[2], "--busy-poll") == 0;
-  if (argc < 2 || argc > 3 || (argc == 3 && !busy_poll)) {
-    std::fprintf(stderr, "usage: ecat-bench-echo IFACE [--busy-poll]\n");
+  const bool udp = argc >= 3 && std::strcmp(argv[1], "--udp") == 0;
+  const int first = udp ? 2 : 1;  // the interface or the endpoint
+  const bool busy_poll = argc == first + 2 && std::strcmp(argv[first + 1], "--busy-poll") == 0;
+  if (argc < first + 1 || argc > first + 2 || (argc == first + 2 && !busy_poll) || argv[first][0] == '-') {
+    std::fprintf(stderr, "usage: ecat-bench-echo (IFACE | --udp PORT|ADDR:PORT) [--busy-poll]\n");
     return 2;
   }
-  auto t = transport::RawSocketTransport::open(argv[1]);
+  const std::string where = argv[first];
+  auto t = udp ? open_udp(where) : open_raw(where);
   if (!t) {
-    std::fprintf(stderr, "ecat-bench-echo: cannot open %s: %s\n", argv[1],
-                 std::string(transport::describe(t.error())).c_str());
+    std::fprintf(stderr, "ecat-bench-echo: cannot open %s%s\n", udp ? "UDP " : "", where.c_str());
     return 1;
   }
   struct sigaction sa {};
