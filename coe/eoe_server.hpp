@@ -142,6 +142,10 @@ class EoeServer final : public MailboxService {
   static std::size_t result(Bytes reply, eoe::FrameType type, std::uint8_t port, eoe::Result r) noexcept;
   bool passes_filter(ConstBytes frame) const noexcept;
 
+  // First, on the cache line of the object's vtable pointer: has_output()
+  // reads it at every firmware poll of a slave with EoE (the mailbox
+  // server asks its streamers), and the ring's kilobytes lie between.
+  std::size_t tx_count_ = 0;  // frames in the ring toward the master (tx_ below)
   EthernetPort* port_ = nullptr;
   eoe::IpParameters ip_;
   eoe::AddressFilter filter_;
@@ -159,7 +163,6 @@ class EoeServer final : public MailboxService {
   std::array<std::array<std::uint8_t, eoe::kMaxFrame>, eoe::kTxFrames> tx_{};
   std::array<std::size_t, eoe::kTxFrames> tx_length_{};
   std::size_t tx_head_ = 0;
-  std::size_t tx_count_ = 0;
   std::size_t tx_offset_ = 0;       // bytes of the front frame already sent
   std::uint8_t tx_fragment_ = 0;
   std::uint8_t tx_frame_ = 0;       // frame number of the front frame

@@ -52,11 +52,13 @@ class MailboxQueue {
     lengths_[slot] = frame.size();
   }
 
+  // size_ first: MailboxServer::has_output, asked at every firmware poll,
+  // reads only it and finds it on the server's first cache line.
+  std::size_t size_ = 0;
+  std::size_t head_ = 0;
   std::size_t frame_bytes_;
   std::vector<std::uint8_t> storage_;
   std::vector<std::size_t> lengths_;
-  std::size_t head_ = 0;
-  std::size_t size_ = 0;
 };
 
 }  // namespace ecat::coe

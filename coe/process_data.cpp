@@ -30,20 +30,22 @@ void ProcessData::rebuild(const ProcessDataImage& image, Plan& p) noexcept {
   // without a gap or a bit item cover their bytes exactly.
   std::uint32_t covered = 0;
   bool contiguous = true;
-  for (const PdoItem& item : image.items()) {
+  const std::span<const PdoItem> items = image.items();
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const PdoItem& item = items[i];
     if (!item.entry) {  // a gap
       contiguous = false;
       continue;
     }
     Copy c;
     c.value = store_.storage(*item.entry).data();
-    c.byte_offset = item.byte_offset;
     if (item.bit_offset == 0 && item.bits % kBitsPerByte == 0) {
+      c.at = item.byte_offset;
       c.bytes = static_cast<std::uint16_t>(item.bits / kBitsPerByte);
-      contiguous = contiguous && c.byte_offset == covered;
+      contiguous = contiguous && c.at == covered;
       covered += c.bytes;
     } else {
-      c.item = &item;
+      c.at = static_cast<std::uint32_t>(i);  // below the image's capacity, a std::uint32_t
       contiguous = false;
     }
     p.copies.push_back(c);  // within the reserved capacity: the image holds at most that many
@@ -88,9 +90,10 @@ void ProcessData::read_sm(esc::Pdi& pdi, std::size_t k) noexcept {
   const std::uint8_t* buffer = pdi.read_buffer(sm.start, {buffer_.data(), sm.length}).data();
   for (const Copy& c : plan(image, plans_[k]).copies) {
     if (c.bytes != 0) {
-      esc::copy_small(c.value, buffer + c.byte_offset, c.bytes);
+      esc::copy_small(c.value, buffer + c.at, c.bytes);
     } else {
-      get_bits(c.value, buffer, c.item->bit_position(), c.item->bits);
+      const PdoItem& item = image.items()[c.at];
+      get_bits(c.value, buffer, item.bit_position(), item.bits);
     }
   }
 }
@@ -106,9 +109,10 @@ void ProcessData::write_sm(esc::Pdi& pdi, std::size_t k) noexcept {
   if (p.covered != sm.length) std::memset(buffer, 0, place.size());
   for (const Copy& c : p.copies) {
     if (c.bytes != 0) {
-      esc::copy_small(buffer + c.byte_offset, c.value, c.bytes);
+      esc::copy_small(buffer + c.at, c.value, c.bytes);
     } else {
-      put_bits(buffer, c.item->bit_position(), c.value, c.item->bits);
+      const PdoItem& item = image.items()[c.at];
+      put_bits(buffer, item.bit_position(), c.value, item.bits);
     }
   }
   pdi.write_buffer_commit(sm.start, place);

@@ -52,12 +52,15 @@ class ProcessData {
   // such, other items bit by bit from their PdoItem. Rebuilt when the
   // image's generation changes; sized for the image's capacity, so a rebuild
   // does not allocate either.
+  // 16 bytes, four to a cache line: the plans are read every cycle, and at
+  // 1000 slaves every line of them is a last-level miss (docs/performance.md
+  // "Session 14").
   struct Copy {
     std::uint8_t* value = nullptr;
-    std::uint32_t byte_offset = 0;
-    std::uint16_t bytes = 0;            // 0: bit copy of *item
-    const PdoItem* item = nullptr;
+    std::uint32_t at = 0;    // bytes != 0: the byte offset in the SM; else the item's index in the image
+    std::uint16_t bytes = 0;  // 0: bit copy of image.items()[at]
   };
+  static_assert(sizeof(Copy) <= 16);
   struct Plan {
     std::vector<Copy> copies;
     std::uint64_t generation = ~std::uint64_t{0};

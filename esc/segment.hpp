@@ -17,6 +17,7 @@
 #pragma once
 
 #include <array>
+#include <cstring>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -216,7 +217,15 @@ class Segment {
   void materialize(const Route& r, std::size_t at, Nanoseconds now) noexcept;
   void note_entered_route(std::size_t i) noexcept;
   void record_route_pass(unsigned master_port, Nanoseconds start) noexcept;
-  static std::uint32_t port_mask(const Esc& e) noexcept;
+  // The ESC's open ports as one word (the 4 flags' bytes: compared only
+  // with another port_mask), inline: note_entered<true> takes it for every
+  // entered or accessed ESC of a tree or ring.
+  static std::uint32_t port_mask(const Esc& e) noexcept {
+    static_assert(sizeof(e.port_open_) == sizeof(std::uint32_t));
+    std::uint32_t m;
+    std::memcpy(&m, e.port_open_.data(), sizeof m);
+    return m;
+  }
   // Dirty ESCs whose ports opened or closed since the route was built.
   void check_dirty_ports() noexcept;
   // The port walk of carry_ports for frames that are or may become broken

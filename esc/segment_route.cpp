@@ -38,12 +38,6 @@ constexpr Nanoseconds kNoTime = RoutePass::kNoTime;
 Nanoseconds later(Nanoseconds seen, Nanoseconds t) noexcept { return seen == kNoTime || t > seen ? t : seen; }
 }  // namespace
 
-std::uint32_t Segment::port_mask(const Esc& e) noexcept {
-  std::uint32_t m = 0;
-  for (unsigned p = 0; p < kMaxPorts; ++p) m |= static_cast<std::uint32_t>(e.port_open_[p]) << p;
-  return m;
-}
-
 void Segment::check_dirty_ports() noexcept {
   const std::span<std::uint64_t> dirty = index_.dirty_words();
   for (std::size_t w = 0; w < dirty.size(); ++w) {

@@ -74,7 +74,15 @@ Expected<void, std::string> VirtualSlave::power_on() {
   return {};
 }
 
-VirtualSlave::~VirtualSlave() = default;
+VirtualSlave::~VirtualSlave() {
+  // The order the members had before the hot ones moved first: whatever
+  // sits on a PDI goes before the PDI, the PDIs before the ESC.
+  detached_.reset();
+  firmware_.reset();
+  spi_pdi_.reset();
+  chip_.reset();
+  esc_.reset();
+}
 
 std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   std::optional<Nanoseconds> next = esc_->poll(now);
