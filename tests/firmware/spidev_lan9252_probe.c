@@ -5,8 +5,9 @@
  * --pdi-chip lan9252` (docs/firmware-in-the-loop.md).
  *
  * Usage: spidev_lan9252_probe SPIDEV GPIOCHIP IRQ-LINE v2|v1
+ *        spidev_lan9252_probe SPIDEV GPIOCHIP SYNC0-LINE sync
  * (v2: GPIO_V2_GET_LINE_IOCTL and gpio_v2_line_event; v1: the deprecated
- * GPIO_GET_LINEEVENT_IOCTL and gpioevent_data). Prints one "name = value" line per result (checked by the script), then
+ * GPIO_GET_LINEEVENT_IOCTL and gpioevent_data; sync: see sync_test()). Prints one "name = value" line per result (checked by the script), then
  * "waiting for IRQ", and waits up to 20 s for the IRQ's falling edge (the
  * LAN9252's IRQ pin, active low) after a master writes AL control; exit 0
  * when everything came, 1 with the reason otherwise. C99 + POSIX. */
@@ -21,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/ioctl.h>
+#include <time.h>
 #include <unistd.h>
 
 /* LAN9252 data sheet DS00001909: SPI instructions and system registers. */
@@ -44,10 +46,23 @@
 #define ESC_AL_EVENT_MASK 0x0204u
 #define ESC_AL_EVENT_REQUEST 0x0220u
 #define AL_EVENT_AL_CONTROL 0x1u
+#define ESC_CYCLIC_UNIT_CONTROL 0x0980u /* bit 0: the sync unit belongs to the PDI */
+#define ESC_DC_ACTIVATION 0x0981u
+#define ESC_DC_SYNC0_STATUS 0x098Eu
+#define ESC_DC_SYSTEM_TIME 0x0910u
+#define ESC_DC_START_TIME 0x0990u
+#define ESC_DC_SYNC0_CYCLE 0x09A0u
+#define SYNC_OWNER_PDI 0x01u
+#define ACTIVATE_SYNC_UNIT_SYNC0 0x03u
+#define CSR_SIZE1 (1u << 16)
+#define SYNC0_CYCLE_NS 1000000u
+#define SYNC0_START_DELAY_NS 20000000u
+#define SYNC0_PULSES 3
 
 static int spi = -1;
 static int v1;       /* the GPIO v1 uAPI */
 static int line_fd = -1;
+static int rising_only; /* sync: SYNC0 pulses, rising edges only */
 
 static void die(const char *what) {
   fprintf(stderr, "probe: %s: %s\n", what, strerror(errno));
@@ -94,11 +109,13 @@ static uint32_t esc_read(uint16_t address) {
   return reg_read(REG_ECAT_CSR_DATA);
 }
 
-static void esc_write(uint16_t address, uint32_t value) {
+static void esc_write_sized(uint16_t address, uint32_t value, uint32_t size) {
   reg_write(REG_ECAT_CSR_DATA, value);
-  reg_write(REG_ECAT_CSR_CMD, CSR_BUSY | CSR_SIZE4 | address);
+  reg_write(REG_ECAT_CSR_CMD, CSR_BUSY | size | address);
   csr_wait();
 }
+
+static void esc_write(uint16_t address, uint32_t value) { esc_write_sized(address, value, CSR_SIZE4); }
 
 /* The IRQ line as an input with events on both edges. */
 static void request_irq(int chip, unsigned line) {
@@ -116,7 +133,8 @@ static void request_irq(int chip, unsigned line) {
     memset(&r, 0, sizeof r);
     r.offsets[0] = line;
     r.num_lines = 1;
-    r.config.flags = GPIO_V2_LINE_FLAG_INPUT | GPIO_V2_LINE_FLAG_EDGE_FALLING | GPIO_V2_LINE_FLAG_EDGE_RISING;
+    r.config.flags = GPIO_V2_LINE_FLAG_INPUT | GPIO_V2_LINE_FLAG_EDGE_RISING;
+    if (!rising_only) r.config.flags |= GPIO_V2_LINE_FLAG_EDGE_FALLING;
     snprintf(r.consumer, sizeof r.consumer, "lan9252-irq");
     if (ioctl(chip, GPIO_V2_GET_LINE_IOCTL, &r) != 0) die("GPIO_V2_GET_LINE_IOCTL");
     line_fd = r.fd;
@@ -157,17 +175,55 @@ static int wait_edge(int ms) {
   return 1;
 }
 
+/* SYNC0 on a GPIO line: once the master gave the sync unit to the PDI
+ * (0x0980 bit 0, ECAT-writable only), the firmware starts SYNC0 itself
+ * (cycle 1 ms, start 20 ms after the ESC's system time) and reads three
+ * rising edges, acknowledging each through SYNC0 status 0x098E. */
+static int sync_test(void) {
+  uint64_t now;
+  uint32_t control = 0;
+  int i;
+  printf("waiting for the sync unit\n");
+  fflush(stdout);
+  for (i = 0; i < 4000 && ((control = esc_read(ESC_CYCLIC_UNIT_CONTROL)) & SYNC_OWNER_PDI) == 0; ++i) {
+    struct timespec t = {0, 5000000};
+    nanosleep(&t, NULL);
+  }
+  if (i == 4000) {
+    fprintf(stderr, "probe: the sync unit was never assigned to the PDI (0x0980-0x0983 = 0x%08X)\n",
+            (unsigned)control);
+    return 1;
+  }
+  now = (uint64_t)esc_read(ESC_DC_SYSTEM_TIME) | ((uint64_t)esc_read(ESC_DC_SYSTEM_TIME + 4) << 32);
+  now += SYNC0_START_DELAY_NS;
+  esc_write(ESC_DC_SYNC0_CYCLE, SYNC0_CYCLE_NS);
+  esc_write(ESC_DC_START_TIME, (uint32_t)now);
+  esc_write(ESC_DC_START_TIME + 4, (uint32_t)(now >> 32));
+  esc_write_sized(ESC_DC_ACTIVATION, ACTIVATE_SYNC_UNIT_SYNC0, CSR_SIZE1);
+  printf("activation = 0x%02X\n", (unsigned)(esc_read(ESC_CYCLIC_UNIT_CONTROL) >> 8) & 0xFFu);
+  for (i = 0; i < SYNC0_PULSES; ++i) {
+    if (!wait_edge(5000)) {
+      fprintf(stderr, "probe: no SYNC0 edge %d within 5 s\n", i + 1);
+      return 1;
+    }
+    (void)esc_read(ESC_DC_SYNC0_STATUS & ~3u); /* 0x098C..0x098F: reading 0x098E acknowledges */
+  }
+  printf("done\n");
+  return 0;
+}
+
 int main(int argc, char **argv) {
   uint8_t mode = SPI_MODE_0, bits = 8, mode_back = 0xFF, bits_back = 0;
   uint32_t speed = 10000000, speed_back = 0;
   int chip;
   unsigned line;
-  if (argc != 5 || (strcmp(argv[4], "v1") != 0 && strcmp(argv[4], "v2") != 0)) {
-    fprintf(stderr, "usage: %s SPIDEV GPIOCHIP IRQ-LINE v2|v1\n", argv[0]);
+  if (argc != 5 || (strcmp(argv[4], "v1") != 0 && strcmp(argv[4], "v2") != 0 && strcmp(argv[4], "sync") != 0)) {
+    fprintf(stderr, "usage: %s SPIDEV GPIOCHIP LINE v2|v1|sync\n", argv[0]);
     return 2;
   }
   line = (unsigned)strtoul(argv[3], NULL, 10);
   v1 = strcmp(argv[4], "v1") == 0;
+  rising_only = strcmp(argv[4], "sync") == 0;
 
   spi = open(argv[1], O_RDWR);
   if (spi < 0) die(argv[1]);
@@ -183,6 +239,7 @@ int main(int argc, char **argv) {
   if (chip < 0) die(argv[2]);
   request_irq(chip, line);
 
+  if (strcmp(argv[4], "sync") == 0) return sync_test();
   printf("BYTE_TEST = 0x%08X\n", (unsigned)reg_read(REG_BYTE_TEST));
   printf("ID_REV = 0x%08X\n", (unsigned)reg_read(REG_ID_REV));
   {

@@ -9,8 +9,9 @@
 # 0x0000 through the CSR indirect access, the IRQ line's falling edge
 # (gpio_v2_line_event) when ecat-master writes AL control, and the rising
 # edge when the firmware reads AL control. Then the same with the GPIO v1
-# uAPI (GPIO_GET_LINEEVENT_IOCTL, gpioevent_data), and the errors a user
-# meets first (no socket, a host with the direct PDI).
+# uAPI (GPIO_GET_LINEEVENT_IOCTL, gpioevent_data); SYNC0 pulses as rising
+# edges on line 1; and the errors a user meets first (no socket, a host with
+# the direct PDI).
 # Usage: pdi_spidev_shim.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
 src=${1:?srcdir}
@@ -23,6 +24,7 @@ for f in "$slave" "$master" "$shim"; do
 done
 cc=${CC:-cc}
 command -v "$cc" > /dev/null || { echo "skip: no C compiler ($cc)"; exit 77; }
+command -v python3 > /dev/null || { echo "skip: no python3 (the APWR datagram of the SYNC0 check)"; exit 77; }
 
 work=$(mktemp -d /tmp/pdi_spidev_shim.XXXXXX)
 pids=()
@@ -95,6 +97,46 @@ run_probe() {
 
 run_probe gpio-v2 v2
 run_probe gpio-v1 v1
+
+# SYNC0 on GPIO line 1 (the default $ECAT_GPIO_SYNC0_LINE): the "master"
+# (one APWR datagram over UDP, as ecat-master has no raw register write)
+# gives the sync unit to the PDI (0x0980 = 1, ECAT-writable only); the probe
+# starts SYNC0 through the CSR (1 ms cycle) and reads three rising edges.
+sdir="$work/sync"
+mkdir -p "$sdir"
+sport=$((port_base + 40))
+"$slave" --udp "$sport" --device "$dev" --pdi-host "$sdir/pdi.sock" --pdi-chip lan9252 > "$sdir/slave.log" 2>&1 &
+spid=$!
+pids+=("$spid")
+for _ in $(seq 50); do [ -S "$sdir/pdi.sock" ] && break; sleep 0.1; done
+ECAT_PDI_SOCKET="$sdir/pdi.sock" LD_PRELOAD="$shim" timeout -s KILL 60 "$work/probe" /dev/spidev0.0 /dev/gpiochip0 1 sync \
+  > "$sdir/fw.log" 2> "$sdir/fw.err" &
+fpid=$!
+pids+=("$fpid")
+for _ in $(seq 100); do grep -q "waiting for the sync unit" "$sdir/fw.log" && break; sleep 0.1; done
+wkc=$(python3 - "$sport" << 'PY'
+import socket, struct, sys
+# EtherCAT-in-UDP (ETG.1000.4 5.3): frame header (length, type 1), one APWR
+# datagram (cmd 0x02) to the first slave, ADO 0x0980, 1 byte 0x01, WKC 0.
+data = b"\x01"
+dg = struct.pack("<BBHHHH", 0x02, 0, 0x0000, 0x0980, len(data), 0) + data + b"\x00\x00"
+frame = struct.pack("<H", len(dg) | 0x1000) + dg
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.settimeout(5)
+s.sendto(frame, ("127.0.0.1", int(sys.argv[1])))
+print(struct.unpack("<H", s.recv(1500)[-2:])[0])
+PY
+)
+[ "$wkc" = 1 ] || fail "sync: APWR 0x0980 WKC '$wkc', expected 1"
+wait "$fpid"
+rc=$?
+echo "--- sync: probe (exit $rc)"; cat "$sdir/fw.log" "$sdir/fw.err"
+[ "$rc" -eq 0 ] || { fail "sync: the probe exited $rc"; cat "$sdir/slave.log"; }
+for want in "activation = 0x03" "event id = 1 offset = 1 seqno = 1 line_seqno = 1" \
+  "event id = 1 offset = 1 seqno = 2 line_seqno = 2" "event id = 1 offset = 1 seqno = 3 line_seqno = 3" "done"; do
+  grep -qxF -- "$want" "$sdir/fw.log" || fail "sync: no line '$want'"
+done
+kill "$spid" 2> /dev/null
 
 # Bad set-up: a clear reason and ENODEV, never a hang.
 out=$(env -u ECAT_PDI_SOCKET LD_PRELOAD="$shim" timeout -s KILL 10 "$work/probe" /dev/spidev0.0 /dev/gpiochip0 0 v2 2>&1)
