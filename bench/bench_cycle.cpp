@@ -134,13 +134,17 @@ void run_http(benchmark::State& state, bool page) {
     state.SkipWithError(http.error.c_str());
     return;
   }
-  http.wait_connected([&] { line->cycle(); http.server->service(line->now()); });
+  const std::size_t connect_cycles = http.wait_connected([&] {
+    line->cycle();
+    http.server->service(line->now());
+  });
   for (auto _ : state) {
     line->cycle();
     http.server->service(line->now());
   }
   if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) state.SkipWithError("drive dropped out");
   state.counters["stream_bytes"] = static_cast<double>(http.bytes());
+  state.counters["connect_cycles"] = static_cast<double>(connect_cycles);
 }
 void BM_Cycle_CspHttpIdle(benchmark::State& state) { run_http(state, false); }
 BENCHMARK(BM_Cycle_CspHttpIdle)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Unit(benchmark::kMicrosecond);

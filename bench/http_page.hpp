@@ -50,15 +50,20 @@ struct HttpPage {
     server.reset();  // closes the stream: the reader's Get returns
     if (reader.joinable()) reader.join();
   }
-  // Runs `cycle` until the page's stream is connected and has data (not measured).
+  // Runs `cycle` until the page's stream is connected and has data (not
+  // measured); returns how many cycles that took (it depends on the threads'
+  // timing: a count of instructions over the whole run must subtract them).
   template <typename F>
-  void wait_connected(F cycle) {
-    if (!client) return;
+  std::size_t wait_connected(F cycle) {
+    if (!client) return 0;
+    std::size_t cycles = 0;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (received.load() == 0 && std::chrono::steady_clock::now() < deadline) {
       cycle();
+      ++cycles;
       std::this_thread::sleep_for(std::chrono::microseconds(100));
     }
+    return cycles;
   }
   std::size_t bytes() const { return received.load(); }
 };

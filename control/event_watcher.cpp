@@ -72,6 +72,7 @@ void EventWatcher::sample(Nanoseconds now, EventQueue& queue) {
   for (std::size_t i = 0; i < seen_.size(); ++i) {
     const Seen now_seen = read(i);
     Seen& was = seen_[i];
+    if (now_seen == was) continue;  // the usual sample: nothing changed
     if (now_seen.al_control != was.al_control) {
       json e = event("al_control", i, now);
       e["requested"] = state_name(now_seen.al_control);

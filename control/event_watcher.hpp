@@ -37,6 +37,7 @@ class EventWatcher {
     std::uint16_t dl_status = 0;
     std::uint64_t sdo_writes = 0;
     std::uint64_t emergencies = 0;
+    bool operator==(const Seen&) const = default;
   };
   Seen read(std::size_t i) const;
 

@@ -24,8 +24,10 @@ constexpr std::uint16_t kDeviceType = 0x1000, kHardwareVersion = 0x1009, kSoftwa
 constexpr std::uint16_t kOutputsSyncParameter = 0x1C32, kInputsSyncParameter = 0x1C33;
 constexpr std::uint8_t kSyncModesSub = 4, kMinCycleSub = 5;
 constexpr std::uint32_t kSyncFreeRun = 1u << 0, kSyncSm = 1u << 1;
-constexpr unsigned kSyncDcShift = 2;
-constexpr std::uint32_t kSyncDcMask = 0x3, kSyncDc = 0x1;
+// 1C32h/1C33h:04 bits 4:2 say which DC modes the device supports, each bit one mode
+// (bit 2 SYNC0, bit 3 SYNC1, bit 4 subordinated; KickCAT's EVS-NET-01 says 0x401F,
+// all of them): SYNC0 is supported when bit 2 is set, whatever the others say.
+constexpr std::uint32_t kSyncDcSync0 = 1u << 2;
 constexpr std::uint16_t kAssignActivateSync1 = 0x0400;
 constexpr std::uint32_t kProfileMask = 0xFFFF, kProfileDrive = 402;
 constexpr std::uint16_t kSupportedModes = 0x6502, kHomingMethods = 0x60E3;
@@ -44,13 +46,15 @@ bool structured(od::DataType t) {
   }
 }
 
+std::string generic_entry_name(std::uint8_t sub) { return fmt::format("SubIndex {:03}", sub); }
+
 std::string where(std::uint16_t index, std::uint8_t sub) { return fmt::format("{:04X}h:{:02X}", index, sub); }
 
 // One entry of the model; std::nullopt (with a note) when it cannot be represented.
 std::optional<od::Entry> make_entry(std::uint16_t index, const CapturedEntry& c, std::vector<std::string>& notes) {
   od::Entry e;
   e.subindex = c.subindex;
-  e.name = c.name.empty() ? fmt::format("SubIndex {:03}", c.subindex) : c.name;
+  e.name = c.name.empty() ? generic_entry_name(c.subindex) : c.name;
   e.access.bits = static_cast<std::uint16_t>(c.access & (od::Access::kRw | od::Access::kRxPdoMappable |
                                                           od::Access::kTxPdoMappable | od::Access::kBackup |
                                                           od::Access::kSetting));
@@ -68,6 +72,14 @@ std::optional<od::Entry> make_entry(std::uint16_t index, const CapturedEntry& c,
     }
     notes.push_back(fmt::format("{}: data type {:04X}h unknown; captured as {} ({} bits)", where(index, c.subindex),
                                 c.data_type, od::canopen_name(e.type), c.bit_length));
+  }
+  // An array of bytes described by its element type (KickCAT: BYTE with 4096 bits for
+  // an ESI "ARRAY [0..511] OF BYTE" member) keeps its bytes as an OCTET_STRING.
+  if ((e.type == od::DataType::Byte || e.type == od::DataType::Unsigned8) && c.bit_length > kBitsPerByte &&
+      c.bit_length % kBitsPerByte == 0) {
+    notes.push_back(fmt::format("{}: {} of {} bits; captured as OCTET_STRING", where(index, c.subindex),
+                                od::canopen_name(e.type), c.bit_length));
+    e.type = od::DataType::OctetString;
   }
   std::vector<std::uint8_t> value = c.value.value_or(std::vector<std::uint8_t>{});
   if (od::is_string(e.type)) {
@@ -139,6 +151,12 @@ std::optional<od::Object> make_object(const CapturedObject& c, std::vector<std::
   if (code == kCodeVar) {
     o.code = od::ObjectCode::Var;
     o.type = o.entries.front().type;
+    // The device file has one name per VAR: the object description's, unless that
+    // is the generic "SubIndex 000" and the entry's is not. KickCAT answers both
+    // ways: "Device Type" with an entry "SubIndex 000" for the VARs of its EEPROM
+    // examples, "SubIndex 000" with an entry "Status Word" for some of its
+    // ESI-built drive's.
+    if (!c.name.empty() && c.name != generic_entry_name(0)) o.entries.front().name = c.name;
   } else if (code == kCodeArray) {
     o.code = od::ObjectCode::Array;
   } else {
@@ -235,7 +253,7 @@ void apply_identity_objects(od::DeviceDescription& d) {
     if (!modes) continue;
     d.sync.free_run = (*modes & kSyncFreeRun) != 0;
     d.sync.sm_synchronous = (*modes & kSyncSm) != 0;
-    d.sync.dc_sync0 = ((*modes >> kSyncDcShift) & kSyncDcMask) == kSyncDc;
+    d.sync.dc_sync0 = (*modes & kSyncDcSync0) != 0;
     d.sync.dc_sync1 = std::any_of(d.dc_op_modes.begin(), d.dc_op_modes.end(), [](const od::DcOpMode& m) {
       return (m.assign_activate & kAssignActivateSync1) != 0;
     });

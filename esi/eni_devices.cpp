@@ -172,6 +172,30 @@ std::vector<const EsiCandidate*> esi_candidates_for(const std::vector<EsiCandida
   return exact;
 }
 
+// The device loaded from an ENI slave's synthesised device file keeps, per
+// object, entry and PDO, where it stands in that file; the file the user has is
+// the ENI (the device's source_file), so each is moved to the ENI element the
+// line was written from (a column in a one-line export).
+void to_eni_positions(od::DeviceDescription& d, const std::vector<SourcePos>& eni_lines) {
+  auto map = [&](SourcePos& p) {
+    if (p.line > 0 && static_cast<std::size_t>(p.line) <= eni_lines.size()) {
+      p = eni_lines[static_cast<std::size_t>(p.line - 1)];
+    } else {
+      p = SourcePos{};
+    }
+  };
+  std::vector<std::uint16_t> indices;
+  for (const od::Object& o : d.dictionary.objects()) indices.push_back(o.index);
+  for (std::uint16_t index : indices) {
+    od::Object& o = *d.dictionary.find(index);
+    map(o.source_line);
+    for (od::Entry& e : o.entries) map(e.source_line);
+  }
+  for (auto* list : {&d.rx_pdos, &d.tx_pdos}) {
+    for (od::Pdo& p : *list) map(p.source_line);
+  }
+}
+
 }  // namespace
 
 Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, const fs::path& esi_dir,
@@ -238,6 +262,7 @@ Expected<std::vector<EniDevice>, LoadError> eni_devices(const EniNetwork& net, c
       }
       dev.device = std::move(*d);
       dev.device.source_file = net.file;
+      to_eni_positions(dev.device, x.eni_lines);
     }
     out.push_back(std::move(dev));
   }

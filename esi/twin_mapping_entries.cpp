@@ -37,12 +37,16 @@ void repair_mapping_entry_types(const EsiContext& ctx, od::DeviceDescription& d)
     od::Object& o = *d.dictionary.find(index);
     std::string retyped;
     SourcePos line = o.source_line;
+    bool at_entry = false;  // line is the first retyped entry's (a position, not a line: one-line files)
     for (od::Entry& e : o.entries) {
       if (e.subindex == 0) continue;
       if (e.type == od::DataType::Unsigned32 && e.bit_length == kMappingEntryBits) continue;
       retyped += fmt::format("{}{:02X} ({}, {} bits)", retyped.empty() ? "" : ", ", e.subindex,
                              od::canopen_name(e.type), e.bit_length);
-      if (line == o.source_line && e.source_line) line = e.source_line;
+      if (!at_entry && e.source_line) {
+        line = e.source_line;
+        at_entry = true;
+      }
       e.type = od::DataType::Unsigned32;
       e.bit_length = kMappingEntryBits;
       // The value as written, zero-extended: the mapping repair that follows

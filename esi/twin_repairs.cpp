@@ -72,6 +72,7 @@ class Repairer {
     repair_process_sm_sizes();
     repair_mailbox_sm_sizes();
     adopt_dictionary_assignment();
+    shrink_fixed_process_sms();
     create_missing_pdo_objects();
     repair_identity();
     repair_sm_types();
@@ -317,6 +318,34 @@ class Repairer {
     }
   }
 
+  // Fixed process data (no CoE PDO assignment or configuration: what the SII
+  // assigns is all there is) on an SM whose DefaultSize is longer than its
+  // PDOs (Trinamic TMC8462-BOB: SM0 and SM1 of 8 bytes for 6 and 2 bytes of
+  // PDOs). ETG.2000 gives the Sm's DefaultSize as the default PDOs' length;
+  // masters size SM2/SM3 from the PDOs they assign (SOEM from the SII's PDO
+  // categories, TwinCAT and IgH from the ESI's), so the real ESC runs with the
+  // PDOs' length whatever the SII says; the twin's SM and SII say that length.
+  // Fixed: no mailbox at all, or CoE without either. A device with mailbox
+  // SMs but no CoE is left as written (no file of that shape needs it; the
+  // shapes tests write mailbox SMs without a Mailbox element for other rules).
+  void shrink_fixed_process_sms() {
+    const bool fixed = !od::has_mailbox_sm(d_) ||
+                       (d_.mailbox.coe && !d_.mailbox.pdo_assign && !d_.mailbox.pdo_config);
+    if (!fixed) return;
+    for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
+      auto& sm = d_.sync_managers[i];
+      if (sm.type != od::SmType::Outputs && sm.type != od::SmType::Inputs) continue;
+      const std::uint32_t assigned = assigned_bytes(i);
+      if (assigned == 0 || sm.default_size <= assigned) continue;
+      ctx_.warn_at("Sm", sm_line(i),
+                   fmt::format("SM{} DefaultSize {} is longer than the PDOs assigned to it ({} bytes) and the process "
+                               "data is fixed (no PDO assignment or configuration); masters size the SM from the PDOs, "
+                               "so does the twin: DefaultSize {}",
+                               i, sm.default_size, assigned, assigned));
+      sm.default_size = static_cast<std::uint16_t>(assigned);
+    }
+  }
+
   // A process-data SM whose text says one direction while its ControlByte
   // and the PDOs assigned to it say the other (SMC EX250-SEN1: SM1
   // "Outputs", ControlByte 00h, TxPdo 1A00h Sm="1"). The master writes the
@@ -388,16 +417,42 @@ class Repairer {
     return device_line_;
   }
 
+  // The module type's PDO that is placed at `index` (slot 0 first), if any.
+  od::Pdo* module_type_pdo(std::uint16_t index) {
+    if (!d_.modular) return nullptr;
+    od::ModularDevice& m = *d_.modular;
+    for (std::size_t slot = 0; slot < m.configured.size(); ++slot) {
+      for (od::ModuleType& t : m.types) {
+        if (t.ident != m.configured[slot]) continue;
+        for (auto* list : {&t.rx_pdos, &t.tx_pdos}) {
+          for (od::Pdo& q : *list) {
+            if (m.pdo_at(q.index, slot) == index) return &q;
+          }
+        }
+      }
+    }
+    return nullptr;
+  }
+
   // No PDO of a direction carries Sm, but the dictionary assigns PDOs of the
   // file: the dictionary's assignment is the only one the file gives, so the
   // SII takes it (masters that read the SII and those that read 1C12h/1C13h
   // then see the same).
+  // The PDOs of the modules placed in the slots (a modular device: an IO-Link
+  // master's ports) likewise: a module's PDO often carries no Sm, since where
+  // it goes depends on the configuration, while the device's 1C12h/1C13h give
+  // the default assignment with the default modules plugged, the one its
+  // firmware serves. So a placed PDO the dictionary assigns takes that Sm even
+  // where the device's own PDOs carry theirs (docs/twins.md "Import policy").
   void adopt_dictionary_assignment() {
     for (bool rx : {true, false}) {
       auto& pdos = rx ? d_.rx_pdos : d_.tx_pdos;
-      if (pdos.empty() || std::any_of(pdos.begin(), pdos.end(), [](const od::Pdo& p) { return p.sm.has_value(); })) {
-        continue;
-      }
+      const bool none_has_sm =
+          std::none_of(pdos.begin(), pdos.end(), [](const od::Pdo& p) { return p.sm.has_value(); });
+      const bool placed_without_sm = d_.modular && std::any_of(pdos.begin(), pdos.end(), [&](const od::Pdo& p) {
+        return !p.sm && d_.modular->placed_pdo(p.index);
+      });
+      if (pdos.empty() || (!none_has_sm && !placed_without_sm)) continue;
       for (std::size_t sm : process_sms(rx ? od::SmType::Outputs : od::SmType::Inputs)) {
         const od::Object* o = d_.dictionary.find(static_cast<std::uint16_t>(kSmAssignFirst + sm));
         if (!o || !o->find(0)) continue;
@@ -407,8 +462,12 @@ class Repairer {
           if (!e) continue;
           const auto index = static_cast<std::uint16_t>(value_of(e->default_value));
           for (auto& p : pdos) {
-            if (p.index == index && !p.sm) {
+            if (p.index == index && !p.sm && (none_has_sm || d_.modular->placed_pdo(p.index))) {
               p.sm = static_cast<std::uint8_t>(sm);
+              // The device file and the ESI describe a placed PDO by its
+              // module type: the type's PDO says the Sm, so the twin loaded
+              // from them assigns it as the import does.
+              if (od::Pdo* t = module_type_pdo(p.index); t && !t->sm) t->sm = p.sm;
               ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
                            fmt::format("PDO {:04X}h has no Sm; assigned to SM{} as {:04X}h:{:02X} assigns it", p.index,
                                        sm, o->index, k));

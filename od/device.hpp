@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/source_pos.hpp"
 #include "od/axis_layout.hpp"
 #include "od/dictionary.hpp"
 #include "od/modular_device.hpp"
@@ -107,7 +108,7 @@ struct Pdo {
   std::optional<std::uint8_t> sm;  // assigned by default to this SM, if any
   std::vector<PdoEntry> entries;
   std::vector<std::uint16_t> excludes;  // PDOs that cannot be assigned together with this one
-  int source_line = 0;
+  SourcePos source_line;  // as Entry::source_line
 
   bool is_rx() const noexcept { return index >= 0x1600 && index < 0x1800; }
   std::uint32_t bit_length() const noexcept {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/source_pos.hpp"
 #include "od/access.hpp"
 #include "od/data_type.hpp"
 
@@ -31,9 +32,10 @@ struct Entry {
   Value max_value;
   std::string unit;
   std::string description;
-  // The source line of the element that declared this entry (0 if built in code),
-  // so later checks can still point at the device file.
-  int source_line = 0;
+  // Where the element that declared this entry is (line 0 if built in code),
+  // so later checks can still point at the vendor or device file; the column
+  // too where the line alone does not say (a one-line configurator export).
+  SourcePos source_line;
 
   bool has_min() const noexcept { return !min_value.empty(); }
   bool has_max() const noexcept { return !max_value.empty(); }
@@ -54,7 +56,7 @@ struct Object {
   // gaps are allowed in a RECORD.
   std::vector<Entry> entries;
   std::string description;
-  int source_line = 0;
+  SourcePos source_line;  // as Entry::source_line
 
   const Entry* find(std::uint8_t subindex) const noexcept;
   Entry* find(std::uint8_t subindex) noexcept;

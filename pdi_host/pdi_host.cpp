@@ -111,6 +111,11 @@ bool PdiHost::read_firmware() {
     }
     if (errno == EAGAIN || errno == EWOULDBLOCK) return true;
     if (errno == EINTR) continue;
+    // A Unix socket closed with data unread in it resets the connection.
+    if (errno == ECONNRESET) {
+      drop("the firmware closed its socket with replies unread");
+      return false;
+    }
     drop(fmt::format("read: {}", errno_text()));
     return false;
   }

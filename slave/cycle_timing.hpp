@@ -7,8 +7,9 @@
 // The frame path only notes the start times in a ring (no allocation, no
 // division); settle(), on the loop thread at the page's or the control
 // interface's rate, takes the period as the median of the recent intervals
-// (again once kMedianWindow new ones have come: a master keeps its cycle
-// time, and the selection is most of a snapshot's cost at one drive) and
+// (again once kMedianWindow new ones have come of which at least one was
+// not on time: a master keeps its cycle time, and the selection was most of
+// a snapshot's cost at one drive) and
 // sorts the intervals since the last settle() into lateness buckets
 // relative to it. Only frames that came back are counted (Chain::count_returned):
 // a cycle whose frame was lost shows as a late interval.
@@ -57,7 +58,9 @@ class CycleTiming {
   std::uint64_t cycles() const noexcept { return cycles_; }
   // Median of the last kMedianWindow intervals (0: none yet), taken at a
   // settle() while fewer than kMedianWindow intervals had been noted, or
-  // when kMedianWindow new ones have come since it was last taken.
+  // when kMedianWindow new ones have come since it was last taken and at
+  // least one of those sorted since then fell outside OnTime (a master
+  // whose every interval is within +-10 % of the period keeps it).
   Nanoseconds period() const noexcept { return period_; }
   const std::array<std::uint64_t, kBuckets>& buckets() const noexcept { return buckets_; }
   // Intervals that came faster than settle() ran (more than kRing between two calls).
@@ -75,6 +78,7 @@ class CycleTiming {
   bool seen_ = false;
   Nanoseconds period_{0};
   std::uint64_t median_at_ = 0;  // written_ when period_ was taken
+  std::uint64_t off_time_since_median_ = 0;  // intervals sorted since then outside OnTime
   std::array<std::uint64_t, kBuckets> buckets_{};
   std::uint64_t unsorted_ = 0;
 };

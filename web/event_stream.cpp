@@ -41,20 +41,25 @@ std::shared_ptr<EventStream> StreamSet::open() {
   std::erase_if(streams_, [](const auto& s) { return s->closed(); });
   if (streams_.size() >= kMaxStreams) return nullptr;
   streams_.push_back(std::make_shared<EventStream>());
+  version_.fetch_add(1, std::memory_order_release);
   return streams_.back();
 }
 
-void StreamSet::live(std::vector<std::shared_ptr<EventStream>>& out) {
+void StreamSet::live(std::vector<std::shared_ptr<EventStream>>& out, std::uint64_t& version) {
+  const auto closed = [](const auto& s) { return s->closed(); };
+  if (version == version_.load(std::memory_order_acquire) && std::none_of(out.begin(), out.end(), closed)) return;
   out.clear();
   const std::lock_guard lock(mutex_);
-  std::erase_if(streams_, [](const auto& s) { return s->closed(); });
+  std::erase_if(streams_, closed);
   out.assign(streams_.begin(), streams_.end());
+  version = version_.load(std::memory_order_relaxed);
 }
 
 void StreamSet::close_all() {
   const std::lock_guard lock(mutex_);
   for (auto& s : streams_) s->close();
   streams_.clear();
+  version_.fetch_add(1, std::memory_order_release);
 }
 
 std::size_t StreamSet::size() const {

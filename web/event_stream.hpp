@@ -54,7 +54,10 @@ class StreamSet {
   std::shared_ptr<EventStream> open();
   // The loop's copy of the open streams (closed ones are dropped), into
   // `out`, whose capacity the loop keeps: no allocation per tick.
-  void live(std::vector<std::shared_ptr<EventStream>>& out);
+  // `version` is the caller's: when no page has connected since its last
+  // copy and none of `out` has closed, `out` stays as it is, without the
+  // lock or the reference counts (the loop asks every 10 ms).
+  void live(std::vector<std::shared_ptr<EventStream>>& out, std::uint64_t& version);
   void close_all();
   // Cheap for the loop's idle test: how many are open.
   std::size_t size() const;
@@ -62,6 +65,9 @@ class StreamSet {
  private:
   mutable std::mutex mutex_;
   std::vector<std::shared_ptr<EventStream>> streams_;
+  // Bumped under mutex_ by open() and close_all(); starts at 1 so that a
+  // caller's 0 is never current.
+  std::atomic<std::uint64_t> version_{1};
 };
 
 }  // namespace ecat::web

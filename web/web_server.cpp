@@ -55,6 +55,7 @@ struct WebServer::Impl {
   RequestQueue queue;
   StreamSet streams;
   std::vector<std::shared_ptr<EventStream>> live;  // the loop's, kept between ticks
+  std::uint64_t live_version = 0;                   // ... as StreamSet::live last gave it
   std::string www;
   bool sample_events;
   bool watching = false;
@@ -190,7 +191,7 @@ void WebServer::tick(Nanoseconds now) {
   Impl& m = *impl_;
   m.queue.serve(m.handler);
   std::vector<std::shared_ptr<EventStream>>& live = m.live;
-  m.streams.live(live);
+  m.streams.live(live, m.live_version);
   if (live.empty()) {
     m.watching = false;
     return;

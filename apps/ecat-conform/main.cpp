@@ -85,6 +85,26 @@ int main(int argc, char** argv) {
   }
 
   try {
+    // Output files are opened before the target: a raw socket target drops root
+    // once its socket is open, and a file in a directory only root may write
+    // could not be created after that (seen with --pcap in /tmp/kickcat).
+    std::optional<transport::PcapWriter> writer;
+    if (!pcap.empty()) {
+      auto w = transport::PcapWriter::create(pcap);
+      if (!w) {
+        fmt::print(stderr, "ecat-conform: {}: cannot create\n", pcap);
+        return kExitUsage;
+      }
+      writer.emplace(std::move(*w));
+    }
+    std::ofstream junit_out;
+    if (!junit.empty()) {
+      junit_out.open(junit);
+      if (!junit_out) {
+        fmt::print(stderr, "ecat-conform: {}: cannot create\n", junit);
+        return kExitUsage;
+      }
+    }
     auto target = !device.empty() ? conform::make_in_process_target(device, pdi)
                   : !iface.empty() ? conform::make_raw_socket_target(iface)
                                    : conform::make_udp_target(udp);
@@ -94,15 +114,8 @@ int main(int argc, char** argv) {
     }
     conform::Target& t = **target;
     transport::Transport* bus = &t.transport();
-    std::optional<transport::PcapWriter> writer;
     std::optional<transport::RecordingTransport> recorder;
-    if (!pcap.empty()) {
-      auto w = transport::PcapWriter::create(pcap);
-      if (!w) {
-        fmt::print(stderr, "ecat-conform: {}: cannot create\n", pcap);
-        return kExitUsage;
-      }
-      writer.emplace(std::move(*w));
+    if (writer) {
       recorder.emplace(*bus, *writer, t.clock());
       bus = &*recorder;
     }
@@ -126,9 +139,9 @@ int main(int argc, char** argv) {
     const auto reports = master::conformance::run_suite(m, options, extra);
     fmt::print("{}", master::conformance::format_table(reports));
     if (!junit.empty()) {
-      std::ofstream out(junit);
-      out << master::conformance::junit_xml(reports, "ecat-conform");
-      if (!out) {
+      junit_out << master::conformance::junit_xml(reports, "ecat-conform");
+      junit_out.flush();
+      if (!junit_out) {
         fmt::print(stderr, "ecat-conform: {}: cannot write\n", junit);
         return kExitUsage;
       }

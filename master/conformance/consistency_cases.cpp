@@ -3,6 +3,7 @@
 // information, §5.6.7 PDO mapping/assignment; ETG.2010; sii-eeprom.md §5,
 // masters.md §6).
 #include <algorithm>
+#include <string>
 
 #include "master/conformance/od_walk.hpp"
 #include "master/conformance/suite.hpp"
@@ -271,8 +272,17 @@ std::vector<Case> consistency_cases() {
                      if (auto r = ctx.go_to(AlState::SafeOp); !r) return CaseResult::failed("reach SafeOp", r.error());
                      if (!ctx.info().sii.has_coe()) return CaseResult::skip("no CoE");
                      CoeClient coe = ctx.coe();
+                     const auto before = coe.upload_value(coe::kRxPdoAssign, 0);
                      auto r = coe.download_value(coe::kRxPdoAssign, 0, 0, 1);
-                     if (r) return CaseResult::failed("SDO abort", "accepted");
+                     if (r) {
+                       // A slave that wrongly took the write would run every later case
+                       // without outputs (KickCAT did: its CiA 402 cases then skipped with
+                       // "607Ah is not in the process data"): put the count back.
+                       const bool restored = before && coe.download_value(coe::kRxPdoAssign, 0, *before, 1);
+                       return CaseResult::failed("SDO abort", restored ? "accepted (1C12h:00 restored to " +
+                                                                             std::to_string(*before) + ")"
+                                                                       : "accepted (1C12h:00 not restored)");
+                     }
                      return r.error().from_slave ? CaseResult::pass("SDO abort", describe_sdo(r.error()))
                                                  : CaseResult::failed("SDO abort", describe_sdo(r.error()));
                    }});

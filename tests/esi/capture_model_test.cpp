@@ -301,6 +301,57 @@ TEST(CaptureModel, DictionaryFromSdoInformation) {
   expect_reloads_identically(d);
 }
 
+// What KickCAT's simulated devices answer (docs/twins.md "Capturing KickCAT's
+// simulated devices"): VARs named "SubIndex 000" by their entry description or by
+// their object description (the other name is the real one), a 512-byte entry
+// described as BYTE with 4096 bits, and 1C32h:04 = 401Fh (bits 4:2 all set: SYNC0,
+// SYNC1 and subordinated modes supported).
+TEST(CaptureModel, KickcatShapedRepliesKeepNamesAndDcSync0) {
+  CaptureInput in;
+  in.sii = encode(servo_image());
+  in.esc_info = et1100_registers();
+  in.objects = servo_objects();
+  for (CapturedObject& o : in.objects) {
+    if (o.index == 0x6041) o.entries.front().name = "SubIndex 000";
+    if (o.index == 0x6064) o.name = "SubIndex 000";  // the other way round
+  }
+  CapturedObject sync{0x1C32, 0x0051, 5, 9, "SM output parameter", {}};
+  sync.entries.push_back({0, kUsint, 8, kRo, "SM output parameter", Bytes{5}});
+  sync.entries.push_back({1, kUint, 16, kRw, "Synchronization Type", Bytes{0, 0}});
+  sync.entries.push_back({4, kUint, 16, kRo, "Synchronization Types supported", Bytes{0x1F, 0x40}});
+  sync.entries.push_back({5, kUdint, 32, kRo, "Minimum Cycle Time", Bytes{0xA0, 0x86, 0x01, 0x00}});
+  in.objects.push_back(sync);
+  CapturedObject bytes{0x58B2, 0x0051, 1, 9, "DT58B2", {}};
+  bytes.entries.push_back({0, kUsint, 8, kRw, "SubIndex 000", Bytes{1}});
+  bytes.entries.push_back({1, 0x001E, 4096, kRo, "Data1", Bytes(512, 0xA5)});  // BYTE, 512 bytes
+  in.objects.push_back(bytes);
+  in.dictionary_read = true;
+  auto r = device_from_capture(in);
+  ASSERT_TRUE(r) << r.error();
+  const od::DeviceDescription& d = r->device;
+  ASSERT_NE(d.dictionary.find(0x6041, 0), nullptr);
+  EXPECT_EQ(d.dictionary.find(0x6041, 0)->name, "Statusword");
+  EXPECT_EQ(d.dictionary.find(0x6064, 0)->name, "Position actual value");
+  EXPECT_TRUE(d.sync.free_run);
+  EXPECT_TRUE(d.sync.sm_synchronous);
+  EXPECT_TRUE(d.sync.dc_sync0);
+  EXPECT_EQ(d.sync.min_cycle_time_ns, 100000u);
+  ASSERT_NE(d.dictionary.find(0x58B2, 1), nullptr);
+  EXPECT_EQ(d.dictionary.find(0x58B2, 1)->type, od::DataType::OctetString);
+  EXPECT_EQ(d.dictionary.find(0x58B2, 1)->bit_length, 4096);
+  EXPECT_EQ(d.dictionary.find(0x58B2, 1)->default_value, Bytes(512, 0xA5));
+  ASSERT_EQ(r->notes.size(), 1u) << all_notes(r->notes);
+  EXPECT_EQ(r->notes[0], "58B2h:01: BYTE of 4096 bits; captured as OCTET_STRING");
+  // Bit 2 clear (only SYNC1, 0x0008): no SYNC0.
+  for (CapturedObject& o : in.objects) {
+    if (o.index == 0x1C32) o.entries[2].value = Bytes{0x0B, 0x00};
+  }
+  auto sync1_only = device_from_capture(in);
+  ASSERT_TRUE(sync1_only) << sync1_only.error();
+  EXPECT_FALSE(sync1_only->device.sync.dc_sync0);
+  expect_reloads_identically(d);
+}
+
 TEST(CaptureModel, CoeSlaveWithoutDictionaryGetsANote) {
   SiiImage img = servo_image();
   SiiPdo p;

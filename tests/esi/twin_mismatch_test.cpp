@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "esi/device_loader.hpp"
@@ -141,6 +142,63 @@ TEST(TwinMismatch, StringDefaultsGivenAsBytes) {
                    "Object: the object's name holds the byte 01h at 4, a character XML 1.0 forbids; the twin has "
                    "'Name?with a control character'"),
             }));
+}
+
+// A modular device in an IO-Link master's shape: the ports' module PDOs carry
+// no Sm (where they go depends on the configuration) while the device's own
+// status PDO does, and 1C12h/1C13h give the default assignment with the
+// default modules plugged. Before, the outputs were adopted (no RxPDO had an
+// Sm) and the inputs dropped from 1C13h; now each placed PDO the dictionary
+// assigns takes that Sm, and the twin's SII and 1C12h/1C13h list the same
+// PDOs in the same order (ecat-conform's od.default_pdos_match_sii), the
+// loaded device file too.
+TEST(TwinMismatch, ModulePdosTakeTheDictionarysDefaultAssignment) {
+  const Read r = read("module-assignment.xml");
+  auto sms = [](const std::vector<od::Pdo>& pdos) {
+    std::vector<std::pair<std::uint16_t, int>> out;
+    for (const auto& p : pdos) out.emplace_back(p.index, p.sm ? *p.sm : -1);
+    return out;
+  };
+  using List = std::vector<std::pair<std::uint16_t, int>>;
+  EXPECT_EQ(sms(r.d.rx_pdos), (List{{0x1600, 2}, {0x1601, 2}}));
+  EXPECT_EQ(sms(r.d.tx_pdos), (List{{0x1A00, 3}, {0x1A01, 3}, {0x1A80, 3}}));
+  const int module_rx = line_of(r.text, "<Index DependOnSlot=\"true\">#x1600") - 1;
+  const int module_tx = line_of(r.text, "<Index DependOnSlot=\"true\">#x1A00") - 1;
+  const int assign_tx = line_of(r.text, "<Index>#x1C13<") - 1;
+  EXPECT_EQ(r.warnings,
+            (std::vector<std::string>{
+                at(r, module_rx, "RxPdo: PDO 1600h has no Sm; assigned to SM2 as 1C12h:01 assigns it"),
+                at(r, module_rx, "RxPdo: PDO 1601h has no Sm; assigned to SM2 as 1C12h:02 assigns it"),
+                at(r, module_tx, "TxPdo: PDO 1A00h has no Sm; assigned to SM3 as 1C13h:02 assigns it"),
+                at(r, module_tx, "TxPdo: PDO 1A01h has no Sm; assigned to SM3 as 1C13h:03 assigns it"),
+                at(r, assign_tx,
+                   "Object: 1C13h default (SI0 3 0x1a80 0x1a00 0x1a01) differs from the PDOs with Sm=\"3\" (SI0 3 "
+                   "0x1a00 0x1a01 0x1a80); the SII's is used"),
+            }));
+  // The dictionary's assignment equals the SII's (the PDOs with that SM, in
+  // the order the SII lists them), in the import and in the loaded file.
+  auto agree = [](const od::DeviceDescription& d) {
+    for (const auto& [assign, list, sm] : {std::tuple{std::uint16_t{0x1C12}, &d.rx_pdos, 2},
+                                           std::tuple{std::uint16_t{0x1C13}, &d.tx_pdos, 3}}) {
+      std::vector<std::uint64_t> sii, od;
+      for (const auto& p : *list) {
+        if (p.sm && *p.sm == sm) sii.push_back(p.index);
+      }
+      const od::Object* o = d.dictionary.find(assign);
+      if (!o) return false;
+      const auto n = o->find(0)->default_value.at(0);
+      for (std::uint8_t k = 1; k <= n; ++k) {
+        const auto& v = o->find(k)->default_value;
+        od.push_back(static_cast<std::uint64_t>(v.at(0) | (v.at(1) << 8)));
+      }
+      if (sii != od) return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(agree(r.d));
+  auto loaded = load_device_string(write_device_xml(r.d), "module-assignment.device.xml");
+  ASSERT_TRUE(loaded) << loaded.error().to_string();
+  EXPECT_TRUE(agree(*loaded));
 }
 
 // Item 1 (c): whatever a description holds, neither writer emits a character

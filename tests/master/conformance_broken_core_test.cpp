@@ -410,7 +410,7 @@ std::vector<Breakage> breakages() {
            store_le<std::uint32_t>(r.data() + kSdoData, 0);
          }
        }),
-       "accepted"},
+       "accepted (1C12h:00 restored to 1)"},
   };
   return b;
 }

@@ -6,76 +6,18 @@
 // firmware may attach.
 #include <gtest/gtest.h>
 
-#include <sys/socket.h>
 #include <sys/stat.h>
-#include <sys/un.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "esc/register_bits.hpp"
 #include "esc/registers.hpp"
-#include "pdi_host/pdi_host.hpp"
-#include "tests/slave/inprocess_fixture.hpp"
+#include "tests/pdi_host/host_bench.hpp"
 
 namespace ecat::test {
 namespace {
-
-using Bytes8 = std::vector<std::uint8_t>;
-
-struct HostBench {
-  HostBench() {
-    char templ[] = "/tmp/pdi_host_test.XXXXXX";
-    dir = ::mkdtemp(templ);
-    path = dir + "/pdi.sock";
-    auto d = esi::load_default_device();
-    if (!d) throw std::runtime_error("default device");
-    slave::SlaveOptions o;
-    o.external_firmware = true;
-    p.add(*d, o);
-    auto h = pdi_host::PdiHost::open(path, p.chain[0].esc(), pdi_host::PdiChip::Direct, p.clock,
-                                     [this](const std::string& line) { log.push_back(line); });
-    if (!h) throw std::runtime_error(h.error());
-    host = std::move(*h);
-  }
-  ~HostBench() {
-    host.reset();
-    ::rmdir(dir.c_str());
-  }
-  int connect_firmware() {
-    const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
-    sockaddr_un a{};
-    a.sun_family = AF_UNIX;
-    std::snprintf(a.sun_path, sizeof(a.sun_path), "%s", path.c_str());
-    EXPECT_EQ(::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof(a)), 0);
-    timeval tv{1, 0};
-    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-    return fd;
-  }
-  // Reads exactly n bytes (the host has been serviced before).
-  static Bytes8 take(int fd, std::size_t n) {
-    Bytes8 b(n);
-    std::size_t got = 0;
-    while (got < n) {
-      const ssize_t r = ::recv(fd, b.data() + got, n - got, 0);
-      if (r <= 0) break;
-      got += static_cast<std::size_t>(r);
-    }
-    b.resize(got);
-    return b;
-  }
-  static void send(int fd, const Bytes8& b) { ASSERT_EQ(::send(fd, b.data(), b.size(), 0), static_cast<ssize_t>(b.size())); }
-
-  std::string dir;
-  std::string path;
-  InProcess p;
-  std::vector<std::string> log;
-  std::unique_ptr<pdi_host::PdiHost> host;
-};
-
-constexpr std::size_t kGreeting = 8 + 24;  // HELLO + the lines
 
 TEST(PdiHost, SocketIsTheOwnersOnlyAndAFirmwareIsGreetedAndAnswered) {
   HostBench b;

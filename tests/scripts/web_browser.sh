@@ -4,8 +4,11 @@
 # against 5 drives served over UDP on loopback and ecat-master bringing them
 # to Op. The page shows 5 slaves in Op; a click cuts a cable, the slaves
 # behind it lose their link on the page and ecat-master counts WKC errors; a
-# click restores it. The screenshot goes to $ECAT_WEBVIEW_SCREENSHOT
-# (default: the build tree; docs/webview.png is made so).
+# drive fault engaged from the fault form shows that drive in Fault with its
+# EMCY; clicks clear it and restore the cable. The screenshot goes to
+# $ECAT_WEBVIEW_SCREENSHOT (default: the build tree; docs/webview.png is made
+# so); $ECAT_WEBVIEW_ARGS adds options of lib/web_browser.py (the 20-drive
+# walkthrough: "--slaves 20 --cut 7 --drive-fault 3 --window 1100,2600 --describe").
 # Usage: web_browser.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
 src=${1:?srcdir}
@@ -21,5 +24,6 @@ for p in python3 /usr/bin/python3; do
 done
 [ -n "$python" ] || { echo "skip: python3-selenium not installed (scripts/install-deps)"; exit 77; }
 export PYTHONDONTWRITEBYTECODE=1
-exec timeout 120 "$python" "$src/tests/scripts/lib/web_browser.py" --slave "$build/bin/ecat-slave" \
-  --master "$build/bin/ecat-master" --screenshot "${ECAT_WEBVIEW_SCREENSHOT:-$build/webview.png}"
+# shellcheck disable=SC2086 # ECAT_WEBVIEW_ARGS is a list of options
+exec timeout 180 "$python" "$src/tests/scripts/lib/web_browser.py" --slave "$build/bin/ecat-slave" \
+  --master "$build/bin/ecat-master" --screenshot "${ECAT_WEBVIEW_SCREENSHOT:-$build/webview.png}" ${ECAT_WEBVIEW_ARGS:-}

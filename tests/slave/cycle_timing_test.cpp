@@ -109,6 +109,48 @@ TEST(CycleTiming, ThePeriodIsTakenAgainOnceTheWindowIsRenewed) {
   EXPECT_EQ(t.buckets()[CycleTiming::OnTime], CycleTiming::kMedianWindow + CycleTiming::kMedianWindow - 200);
 }
 
+// A master whose every interval stays within +-10 % of the period keeps
+// the period: no new median (its selection was the page's cost); one
+// interval outside that band and a renewed window take it again.
+TEST(CycleTiming, AWindowWhollyOnTimeKeepsThePeriod) {
+  CycleTiming t;
+  Nanoseconds at{0};
+  const auto add = [&](std::size_t n, Nanoseconds d) {
+    for (std::size_t k = 0; k < n; ++k) t.on_frame(at += d, 0);
+  };
+  t.on_frame(at, 0);
+  add(CycleTiming::kMedianWindow, milliseconds(1));
+  t.settle();
+  ASSERT_EQ(t.period(), milliseconds(1));
+  add(CycleTiming::kMedianWindow, microseconds(1'080));  // +8 %: on time
+  t.settle();
+  EXPECT_EQ(t.period(), milliseconds(1));
+  EXPECT_EQ(t.buckets()[CycleTiming::OnTime], 2 * CycleTiming::kMedianWindow);
+  add(1, microseconds(1'200));  // late
+  add(CycleTiming::kMedianWindow - 1, microseconds(1'080));
+  t.settle();  // the late one came in a window that is not yet renewed: sorted, period kept
+  EXPECT_EQ(t.period(), milliseconds(1));
+  EXPECT_EQ(t.buckets()[CycleTiming::Late10], 1u);
+  add(CycleTiming::kMedianWindow, microseconds(1'080));
+  t.settle();  // renewed, and not every interval was on time: the median again
+  EXPECT_EQ(t.period(), microseconds(1'080));
+  EXPECT_EQ(t.buckets()[CycleTiming::OnTime], 4 * CycleTiming::kMedianWindow - 1);
+}
+
+// The edges in nanoseconds give what interval * 100 against period * (100
+// + percent) gives, for a period that 100 does not divide.
+TEST(CycleTiming, BucketEdgesAreExactForAnyPeriod) {
+  constexpr std::int64_t kOdd = 1'000'003;  // 90 % = 900002.7, 110 % = 1100003.3, 125 % = 1250003.75
+  EXPECT_EQ(CycleTiming::bucket_of(900'002, kOdd), CycleTiming::Early);
+  EXPECT_EQ(CycleTiming::bucket_of(900'003, kOdd), CycleTiming::OnTime);
+  EXPECT_EQ(CycleTiming::bucket_of(1'100'003, kOdd), CycleTiming::OnTime);
+  EXPECT_EQ(CycleTiming::bucket_of(1'100'004, kOdd), CycleTiming::Late10);
+  EXPECT_EQ(CycleTiming::bucket_of(1'250'003, kOdd), CycleTiming::Late10);
+  EXPECT_EQ(CycleTiming::bucket_of(1'250'004, kOdd), CycleTiming::Late25);
+  EXPECT_EQ(CycleTiming::bucket_of(2'500'007, kOdd), CycleTiming::Missed1);  // 250 % = 2500007.5
+  EXPECT_EQ(CycleTiming::bucket_of(2'500'008, kOdd), CycleTiming::Missed2);
+}
+
 TEST(CycleTiming, IntervalsOverwrittenBeforeASettleAreCountedUnsorted) {
   CycleTiming t;
   const std::size_t extra = 10;

@@ -3,9 +3,15 @@
 
 5 drives over UDP on loopback, ecat-master bringing them to Op and cycling;
 the page must show 5 slaves in Op, cut the cable between slave #2 and #3 at a
-click, show both ends' link down, restore it at a click and show it up again;
-ecat-master must have counted WKC errors meanwhile. Every wait polls with a
-generous deadline; no sleep decides an outcome.
+click, show both ends' link down, engage a drive fault on slave #1 from the
+fault form and show that drive in Fault with its emergency, clear it and
+restore the cable at a click and show the link up again; ecat-master must
+have counted WKC errors meanwhile. Every wait polls with a generous
+deadline; no sleep decides an outcome.
+
+--slaves, --cut and --drive-fault make the same run on another network (the
+20-drive walkthrough of docs/webview.md: --slaves 20 --cut 7 --drive-fault 3);
+--describe prints what the page shows in words at the screenshot.
 """
 import argparse
 import json
@@ -21,10 +27,9 @@ from selenium.common.exceptions import StaleElementReferenceException, WebDriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 
-SLAVES = 5
-CUT_SLAVE, CUT_PORT = 2, 1      # its port 1 goes on to slave #3's port 0
-PEER_SLAVE, PEER_PORT = 3, 0
-MASTER_CYCLES = 15000           # 1 ms each: the master runs while the page acts
+CUT_PORT, PEER_PORT = 1, 0     # the cut slave's port 1 goes on to the next slave's port 0
+DRIVE_FAULT_CODE = 0x2310       # over-current (CiA 402 603Fh, the EMCY's error code)
+MASTER_CYCLES = 20000           # 1 ms each: the master runs while the page acts
 
 
 OUTPUT = {}  # what ecat-slave and ecat-master printed, shown on failure
@@ -77,12 +82,35 @@ def link(driver, slave, port):
         "const e = document.querySelector(arguments[0]); return e ? e.getAttribute('data-link') : null;", css)
 
 
+def cia402_state(driver):
+    return driver.execute_script(
+        "const s = document.querySelector('#detail [data-axis] [data-cia402]'); return s ? s.dataset.cia402 : null;")
+
+
+def describe(driver):
+    """What a person reads on the page, panel by panel (--describe)."""
+    return driver.execute_script(r"""
+        const text = (sel) => { const e = document.querySelector(sel); return e ? e.innerText.trim() : '(none)'; };
+        const states = {};
+        for (const c of document.querySelectorAll('#slaves .card')) states[c.dataset.state] = (states[c.dataset.state] || 0) + 1;
+        return 'slave cards by state: ' + JSON.stringify(states) + '\n--- topology:\n' + text('#topology') +
+               '\n--- selected slave:\n' + text('#detail') + '\n--- frames:\n' + text('#frames') +
+               '\n--- faults engaged:\n' + text('#faults-engaged') + '\n--- events:\n' + text('#events');""")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--slave", required=True)
     ap.add_argument("--master", required=True)
     ap.add_argument("--screenshot", required=True)
+    ap.add_argument("--slaves", type=int, default=5)
+    ap.add_argument("--cut", type=int, default=2, help="the slave whose port 1 is cut")
+    ap.add_argument("--drive-fault", type=int, default=1, help="the slave whose drive faults")
+    ap.add_argument("--window", default="1100,1500")
+    ap.add_argument("--describe", action="store_true")
     a = ap.parse_args()
+    SLAVES, CUT_SLAVE, PEER_SLAVE, FAULT_SLAVE = a.slaves, a.cut, a.cut + 1, a.drive_fault
+    assert 0 <= FAULT_SLAVE < SLAVES and 0 <= CUT_SLAVE < SLAVES - 1, "--cut/--drive-fault outside the network"
     started = time.monotonic()
     udp, http = free_port(socket.SOCK_DGRAM), free_port(socket.SOCK_STREAM)
     url = f"http://127.0.0.1:{http}/"
@@ -96,12 +124,12 @@ def main():
         options = webdriver.ChromeOptions()
         options.binary_location = "/usr/bin/chromium"
         for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                    "--window-size=1100,1500"):
+                    f"--window-size={a.window}"):
             options.add_argument(arg)
         driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
         driver.set_page_load_timeout(30)
         driver.get(url)
-        wait_until("5 slaves in OP on the page", lambda: len(driver.find_elements(
+        wait_until(f"{SLAVES} slaves in OP on the page", lambda: len(driver.find_elements(
             By.CSS_SELECTOR, '#slaves .card[data-state="OP"]')) == SLAVES, 40)
         print(f"page: {SLAVES} slaves in OP after {time.monotonic() - started:.1f} s")
         # The master's cycles as the slaves see them, with their lateness histogram.
@@ -130,9 +158,46 @@ def main():
             "if (a.length !== 1 || a[0].dataset.axis !== '1') return false;"
             "const s = a[0].querySelector('[data-cia402]');"
             "return !!s && s.dataset.cia402 !== 'unknown' && a[0].querySelectorAll('canvas').length === 3;"), 20)
+
+        # A drive fault from the page's fault form (item 3): the drive shows
+        # Fault in words, its emergency arrives, the engaged list has it.
+        click(driver, f'#slaves .card[data-slave="{FAULT_SLAVE}"]', "the card of the slave to fault")
+        # Whatever state the master left it in (it may be recovering the slaves behind the cut), not Fault.
+        wait_until("the selected drive's CiA 402 state, not Fault", lambda: cia402_state(driver) not in
+                   (None, "unknown", "Fault"), 20)
+        driver.execute_script(
+            "const k = document.getElementById('fault-kind'); k.value = 'drive_fault';"
+            "k.dispatchEvent(new Event('change'));")
+        driver.execute_script(
+            "const f = document.getElementById('fault-kind').form;"
+            "f.querySelector('select[name=slave]').value = arguments[0];"
+            "f.querySelector('input[name=param-code]').value = arguments[1];", str(FAULT_SLAVE), hex(DRIVE_FAULT_CODE))
+        click(driver, "#fault-engage", "Engage")
+        wait_until("the faulted drive in Fault on the page", lambda: cia402_state(driver) == "Fault", 20)
+        emcy = f"0x{DRIVE_FAULT_CODE:04X}"
+        wait_until(f"the EMCY {emcy} listed for the slave", lambda: emcy in driver.execute_script(
+            "return document.getElementById('detail').innerText;"), 20)
+        wait_until("the drive fault in the engaged list", lambda: f"drive_fault slave #{FAULT_SLAVE}" in
+                   driver.execute_script("return document.getElementById('faults-engaged').innerText;"), 20)
+        print(f"page: drive fault {emcy} on #{FAULT_SLAVE} shown (Fault, EMCY, engaged list)")
         time.sleep(1.0)  # only for the picture: a few plot samples
+        driver.execute_script("window.scrollTo(0, 0);")  # the form's click scrolled down
         driver.save_screenshot(a.screenshot)
         print(f"screenshot: {a.screenshot}")
+        if a.describe:
+            print(describe(driver))
+        def clear_drive_fault():
+            found = driver.find_elements(By.XPATH, "//ul[@id='faults-engaged']/li[contains(., 'drive_fault')]/button")
+            if not found:
+                return False
+            try:
+                found[0].click()
+            except WebDriverException:
+                return False
+            return True
+        wait_until("Clear of the drive fault to be clickable", clear_drive_fault, 20)
+        wait_until("the drive fault cleared", lambda: not [f for f in api(url, {"cmd": "faults"})["faults"]
+                                                          if f["kind"] == "drive_fault"], 20)
 
         click(driver, f'#topology button.restore[data-slave="{CUT_SLAVE}"][data-port="{CUT_PORT}"]',
               "Restore cable")

@@ -25,17 +25,25 @@ export function slaveLabel(s) {
           s.al_status_code ? el('span', { class: 'code bad' }, ` ${s.al_status_code_text}`) : null];
 }
 
-// Returns {tree: <li> elements, ring: text}.
+// Returns {tree: <li> elements, ring: text}. A line reads as a list, not a
+// staircase: the cable a slave passes frames on last (in processing order)
+// continues at the same level; the branches before it (a junction's port 3,
+// ...) are indented under the slave.
 export function buildTopology(net, faults, actions) {
   const slaves = net.slaves;
   const visited = new Set();
   let ring = 'line: no cable back to the master (no ring)';
+  // The slave and what follows it at its level: a list of <li>.
   const node = (i, inPort) => {
     visited.add(i);
     const s = slaves[i];
     const ports = s.ports.filter((p) => p.present);
     const li = el('li', { 'data-slave': i }, slaveLabel(s), el('div', { class: 'ports' }, ports.map(portBadge)));
+    const onward = PORT_ORDER.filter((port) => port !== inPort && s.ports[port].peer &&
+                                     s.ports[port].peer.slave !== undefined);
+    const flatPort = onward.length ? onward[onward.length - 1] : -1;
     const kids = [];
+    let continuation = [];
     for (const port of PORT_ORDER) {
       const p = s.ports[port];
       if (port === inPort || !p.peer) continue;
@@ -51,22 +59,23 @@ export function buildTopology(net, faults, actions) {
       const button = cableButton(faults, i, port, p.peer, actions);
       if (visited.has(p.peer.slave)) {
         kids.push(el('li', {}, via, state, button, el('span', { class: 'via' }, ' (closes a loop)')));
-      } else {
-        const child = node(p.peer.slave, p.peer.port);
-        child.prepend(el('div', {}, via, state, button));
-        kids.push(child);
+        continue;
       }
+      const chain = node(p.peer.slave, p.peer.port);
+      chain[0].prepend(el('div', {}, via, state, button));
+      if (port === flatPort) continuation = chain;
+      else kids.push(...chain);
     }
     if (kids.length) li.append(el('ul', {}, kids));
-    return li;
+    return [li, ...continuation];
   };
   const first = slaves.findIndex((s) => s.ports.some((p) => p.peer && p.peer.master === 0));
   const tree = [];
   if (first >= 0) {
-    const root = node(first, slaves[first].ports.findIndex((p) => p.peer && p.peer.master === 0));
-    root.prepend(el('div', { class: 'via' }, 'master port 0 \u2192'));
-    tree.push(root);
+    const chain = node(first, slaves[first].ports.findIndex((p) => p.peer && p.peer.master === 0));
+    chain[0].prepend(el('div', { class: 'via' }, 'master port 0 \u2192'));
+    tree.push(...chain);
   }
-  slaves.forEach((s, i) => { if (!visited.has(i)) tree.push(node(i, -1)); });
+  slaves.forEach((s, i) => { if (!visited.has(i)) tree.push(...node(i, -1)); });
   return { tree, ring };
 }
