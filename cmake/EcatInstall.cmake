@@ -165,7 +165,7 @@ ecat_install_library(pdi_host pdi_host HEADERS
 
 # --- firmware in the loop (docs/pdi-host.md): the C library a firmware links and the SOES HAL
 #   <prefix>/<libdir>/libecat_pdi.a, <prefix>/include/ecatslave/ecat_pdi{,_protocol}.h,
-#   <prefix>/share/ecatslave/soes-hal/esc_hw.{c,h}, <prefix>/<libdir>/ecatslave/libecat_lan9252_shim.so
+#   <prefix>/share/ecatslave/soes-hal/esc_hw.{c,h}, <prefix>/<libdir>/ecatslave/libecat_{lan9252,spidev}_shim.so
 set_target_properties(ecat_pdi PROPERTIES EXPORT_NAME ecat_pdi VERSION ${PROJECT_VERSION} SOVERSION ${ECAT_SOVERSION})
 add_library(ecatslave::ecat_pdi ALIAS ecat_pdi)
 install(TARGETS ecat_pdi EXPORT ecatslaveTargets
@@ -174,6 +174,7 @@ install(TARGETS ecat_pdi EXPORT ecatslaveTargets
 install(FILES ${PROJECT_SOURCE_DIR}/pdi_client/ecat_pdi.h ${PROJECT_SOURCE_DIR}/pdi_client/ecat_pdi_protocol.h
         DESTINATION ${ECAT_INSTALL_INCLUDEDIR})
 install(TARGETS ecat_lan9252_shim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ecatslave)
+install(TARGETS ecat_spidev_shim LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ecatslave)
 install(FILES ${PROJECT_SOURCE_DIR}/pdi_client/soes-hal/esc_hw.c ${PROJECT_SOURCE_DIR}/pdi_client/soes-hal/esc_hw.h
         DESTINATION ${ECAT_INSTALL_DATADIR}/soes-hal)
 
