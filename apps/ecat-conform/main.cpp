@@ -52,6 +52,8 @@ int main(int argc, char** argv) {
   std::string foe_denied;
   app.add_option("--foe-password", foe_password, "FoE: the password the device's files need (sent in every read/write request; runs foe.wrong_password)");
   app.add_option("--foe-denied", foe_denied, "FoE: a file name the device denies access to (runs foe.access_denied)");
+  bool foe_busy = false;
+  app.add_flag("--foe-busy", foe_busy, "FoE: the device answers read/write requests BUSY before it serves them (runs foe.busy_then_complete)");
   app.add_option("--foe-capacity", foe_capacity, "FoE: bytes the device can store (runs foe.write_disk_full with a longer file)");
   std::string esi_file;
   app.add_option("--esi", esi_file,
@@ -133,6 +135,7 @@ int main(int argc, char** argv) {
     options.foe_password = foe_password;
     options.foe_denied_file = foe_denied;
     options.foe_capacity = foe_capacity;
+    options.foe_busy = foe_busy;
     fmt::print("ecat-conform: {}\n", t.description());
     std::vector<master::conformance::Case> extra;
     if (esi_description) extra = conform::device_file_cases(*esi_description);
