@@ -68,7 +68,10 @@ class CoeServer {
   CoeServer& operator=(const CoeServer&) = delete;
 
   // Mailbox work (requests, replies, repeats). Call after esc::Esm::poll.
-  void poll(Nanoseconds now) noexcept { mailbox_.poll(now); }
+  void poll(Nanoseconds now) noexcept {
+    diagnosis_.set_time(now);  // 10F8h, the diagnosis messages' time base
+    mailbox_.poll(now);
+  }
 
   ObjectStore& objects() noexcept { return store_; }
   const ObjectStore& objects() const noexcept { return store_; }
