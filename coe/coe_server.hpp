@@ -48,6 +48,7 @@ struct CoeOptions {
   std::uint32_t variable_capacity = 65536;  // bytes for strings/domains of unbounded length
   std::size_t max_foe_file_bytes = 16u << 20;
   std::uint32_t foe_password = 0;  // FoE RRQ/WRQ password (0: none; FoeServer::Options::password)
+  std::uint16_t foe_busy = 0;      // FoE BUSY replies before each RRQ/WRQ (FoeServer::Options::busy_replies)
   // Budget of the state directory, shared by the slaves that write there
   // (FoE files + parameter file); null: unbounded. Must outlive the server.
   StorageQuota* state_quota = nullptr;
@@ -67,7 +68,10 @@ class CoeServer {
   CoeServer& operator=(const CoeServer&) = delete;
 
   // Mailbox work (requests, replies, repeats). Call after esc::Esm::poll.
-  void poll(Nanoseconds now) noexcept { mailbox_.poll(now); }
+  void poll(Nanoseconds now) noexcept {
+    diagnosis_.set_time(now);  // 10F8h, the diagnosis messages' time base
+    mailbox_.poll(now);
+  }
 
   ObjectStore& objects() noexcept { return store_; }
   const ObjectStore& objects() const noexcept { return store_; }

@@ -26,7 +26,8 @@ std::size_t DiagnosisHistory::encode(const Message& m, Nanoseconds time_stamp, B
   ByteWriter w(out);
   const std::size_t params = std::min(m.parameter_count, kMaxParameters);
   w.u32(m.diag_code);
-  w.u16(static_cast<std::uint16_t>(static_cast<unsigned>(m.type) | (params << kParameterCountShift)));
+  w.u16(static_cast<std::uint16_t>(static_cast<unsigned>(m.type) | kMessageLocalTimeStamp |
+                                   (params << kParameterCountShift)));
   w.u16(m.text_id);
   w.u64(static_cast<std::uint64_t>(std::max(time_stamp, Nanoseconds{0}).count()));
   for (std::size_t i = 0; i < params; ++i) {
@@ -51,6 +52,7 @@ DiagnosisHistory::DiagnosisHistory(ObjectStore& store) noexcept : store_(store) 
   if (capacity_ == 0) return;
   seq_.assign(capacity_, 0);
   (void)store.set_hooks(kIndex, this);
+  if (store.slot(kActualTimeStampIndex, 0) != nullptr) (void)store.set_hooks(kActualTimeStampIndex, this);
   clear_all();
 }
 
@@ -116,7 +118,10 @@ bool DiagnosisHistory::add(const Message& m, Nanoseconds now, bool* emergency) n
 }
 
 void DiagnosisHistory::on_read(ObjectStore& store, std::uint16_t index, std::uint8_t subindex) noexcept {
-  (void)store;
+  if (index == kActualTimeStampIndex) {
+    (void)store.set<std::uint64_t>(kActualTimeStampIndex, 0, static_cast<std::uint64_t>(std::max(now_, Nanoseconds{0}).count()));
+    return;
+  }
   if (index != kIndex || newest_seq_ == 0 || subindex != subindex_of(newest_)) return;
   if (!newest_read_) {
     newest_read_ = true;

@@ -9,7 +9,10 @@
 // disable info/warning/error messages, bit 4 acknowledge mode instead of
 // overwrite mode, bit 5 overflow, read-only). The CoE side adds messages
 // (from emergencies, AL errors); the master reads, acknowledges and clears
-// through the SDO server, whose writes and reads come here as hooks.
+// through the SDO server, whose writes and reads come here as hooks. The
+// time stamps are the slave's local time (message flags bit 4), which
+// 10F8h "Actual Time Stamp" shows now, so a master can tell a message's age
+// (WAGO 765-1205 manual; docs/coe.md "Diagnosis history" names the sources).
 // docs/coe.md "Diagnosis history" has the decisions where the material at
 // hand is silent.
 #pragma once
@@ -49,6 +52,9 @@ class DiagnosisHistory final : public ObjectHooks {
   // the AL status code in bits 16-31 (docs/coe.md).
   static constexpr std::uint32_t kDiagCodeAlStatus = 0xE001;
   // Message flags: bits 0-3 type, bit 4 local time stamp, bits 8-15 parameters.
+  static constexpr std::uint16_t kMessageLocalTimeStamp = 0x0010;
+  // 10F8h Actual Time Stamp (UINT64, ns): the local time the stamps count in.
+  static constexpr std::uint16_t kActualTimeStampIndex = 0x10F8;
   static constexpr unsigned kParameterCountShift = 8;
   // Parameter flags: the CoE data type index of the value.
   static constexpr std::uint16_t kTypeUnsigned8 = 0x0005;
@@ -82,6 +88,9 @@ class DiagnosisHistory final : public ObjectHooks {
   // itself as the object's hooks.
   explicit DiagnosisHistory(ObjectStore& store) noexcept;
   bool present() const noexcept { return capacity_ > 0; }
+  // The slave's local time now (CoeServer::poll, before requests are
+  // served): what a read of 10F8h returns.
+  void set_time(Nanoseconds now) noexcept { now_ = now; }
 
   // Stores a message unless its type is disabled (10F3h:05 bits 1-3) or, in
   // acknowledge mode, the ring is full of unacknowledged messages (then the
@@ -89,8 +98,8 @@ class DiagnosisHistory final : public ObjectHooks {
   // given, is told whether 10F3h:05 bit 0 asks for an emergency as well.
   bool add(const Message& m, Nanoseconds now, bool* emergency = nullptr) noexcept;
 
-  // ObjectHooks: 10F3h:03 (acknowledge, 0 clears), 10F3h:05 (flags), and a
-  // read of the newest message (overwrite mode: no longer new).
+  // ObjectHooks: 10F3h:03 (acknowledge, 0 clears), 10F3h:05 (flags), a read
+  // of the newest message (overwrite mode: no longer new), a read of 10F8h.
   void on_read(ObjectStore& store, std::uint16_t index, std::uint8_t subindex) noexcept override;
   Expected<void, SdoAbort> on_write(ObjectStore& store, const WriteRequest& request) noexcept override;
   void after_write(ObjectStore& store, std::uint16_t index, std::uint8_t subindex) noexcept override;
@@ -112,6 +121,7 @@ class DiagnosisHistory final : public ObjectHooks {
   bool newest_read_ = false;           // overwrite mode: the newest message was read
   bool overwritten_ack_ = false;       // overwrite mode: the acknowledged one was overwritten (SI3 reads 0)
   bool overflow_ = false;              // 10F3h:05 bit 5
+  Nanoseconds now_{0};                 // for 10F8h
 };
 
 }  // namespace ecat::coe

@@ -69,10 +69,21 @@ Expected<std::size_t, MailboxError> FoeServer::handle(ConstBytes request, Bytes 
   }
 }
 
+std::size_t FoeServer::busy(Bytes reply) noexcept {
+  if (busy_given_ >= options_.busy_replies) {
+    busy_given_ = 0;
+    return 0;
+  }
+  const std::uint32_t progress = busy_given_ | (std::uint32_t{options_.busy_replies} << foe::kBusyEntireShift);
+  ++busy_given_;
+  return header(reply, foe::kBusy, progress);
+}
+
 std::size_t FoeServer::read_request(std::uint32_t password, std::string_view name, Bytes reply) noexcept {
   reset();
   if (options_.directory.empty() || !safe_name(name)) return error(reply, foe::FoeError::AccessDenied);
   if (password != options_.password) return error(reply, foe::FoeError::NoRights);
+  if (const std::size_t n = busy(reply)) return n;
   try {
     path_ = options_.directory + "/" + std::string(name);
   } catch (...) {
@@ -109,6 +120,7 @@ std::size_t FoeServer::write_request(std::uint32_t password, std::string_view na
   reset();
   if (options_.directory.empty() || !safe_name(name)) return error(reply, foe::FoeError::AccessDenied);
   if (password != options_.password) return error(reply, foe::FoeError::NoRights);
+  if (const std::size_t n = busy(reply)) return n;
   try {
     path_ = options_.directory + "/" + std::string(name);
     temp_path_ = path_ + ".part";

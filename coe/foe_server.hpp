@@ -10,6 +10,10 @@
 // beyond it the write ends with ERR 0x8003 "disk full" (ETG.1000.5 FoE error
 // codes), the partial `<name>.part` is removed and any earlier `<name>` stays.
 // With Options::password, a request with another password gets ERR 0x800A.
+// With Options::busy_replies = N, a slave whose file is not ready at once:
+// each read/write request (past the name and password checks) is answered
+// BUSY N times, Done = 0..N-1 of Entire = N (ETG.1000.6 §5.3.2 FoE Busy,
+// coe-mailbox.md §10), and served when the master sends it the N+1st time.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +34,8 @@ inline constexpr std::uint8_t kAck = 4;
 inline constexpr std::uint8_t kError = 5;
 inline constexpr std::uint8_t kBusy = 6;
 inline constexpr std::size_t kHeaderSize = 6;  // opcode, reserved, UINT32
+// BUSY: the UINT32 field is Done (UINT16, bytes 2-3) then Entire (UINT16, bytes 4-5).
+inline constexpr unsigned kBusyEntireShift = 16;
 
 enum class FoeError : std::uint32_t {
   NotDefined = 0x8000,
@@ -59,6 +65,8 @@ class FoeServer final : public MailboxService {
     // "no rights", as SOES answers a file's wrong password (ETG.1000.6 gives
     // RRQ/WRQ a password field but, in what is at hand, no code for it).
     std::uint32_t password = 0;
+    // BUSY replies before each RRQ/WRQ is served (0: never busy).
+    std::uint16_t busy_replies = 0;
   };
 
   explicit FoeServer(Options options) : options_(std::move(options)) {}
@@ -89,6 +97,8 @@ class FoeServer final : public MailboxService {
   std::size_t ack(std::uint32_t packet, Bytes reply) noexcept;
   std::size_t send_data(Bytes reply) noexcept;
   std::size_t error(Bytes reply, foe::FoeError code) noexcept;
+  // A BUSY reply while busy_replies are due, else 0 (serve the request).
+  std::size_t busy(Bytes reply) noexcept;
   static std::size_t header(Bytes reply, std::uint8_t opcode, std::uint32_t value) noexcept;
 
   Options options_;
@@ -101,6 +111,7 @@ class FoeServer final : public MailboxService {
   bool temp_charged_ = false;  // the .part file is charged to the quota, with size_ bytes
   bool last_short_ = false;
   std::size_t request_payload_ = 0;
+  std::uint16_t busy_given_ = 0;  // BUSY replies since a request was last served
 };
 
 }  // namespace ecat::coe

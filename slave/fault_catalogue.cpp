@@ -513,9 +513,6 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
     if (auto other = same_place(Impl::Where::Unplug)) {
       return fail(fmt::format("{}: slave {} is unplugged (fault {}): plug it back first", k, rec.slave, *other));
     }
-    if (chain_[rec.slave].spi_pdi() != nullptr) {
-      return fail(fmt::format("{}: slave {} has an SPI PDI: its power-up is not emulated", k, rec.slave));
-    }
     esc::Segment& seg = chain_.segment();
     for (unsigned p = 0; p < esc::kMaxPorts; ++p) {
       if (seg.peer(rec.slave, p) && seg.link_up(rec.slave, p)) rec.ports_cut.push_back(p);

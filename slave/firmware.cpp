@@ -21,6 +21,7 @@ coe::CoeOptions coe_options(const SlaveOptions& o, coe::StorageQuota* quota) {
   coe::CoeOptions c;
   c.eoe_defaults = o.eoe;
   c.foe_password = o.foe_password;
+  c.foe_busy = o.foe_busy;
   if (!o.state_dir.empty()) {
     c.parameter_file = (o.state_dir / (o.name + ".par")).string();
     c.foe_dir = (o.state_dir / (o.name + "-foe")).string();

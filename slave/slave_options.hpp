@@ -37,6 +37,9 @@ struct SlaveOptions {
   std::string name = "slave";
   // Password FoE read/write requests must carry (0: none; coe::FoeServer).
   std::uint32_t foe_password = 0;
+  // BUSY replies to each FoE read/write request before it is served, as a
+  // slave whose file is not ready at once (0: never; coe::FoeServer).
+  std::uint16_t foe_busy = 0;
   // Oscillator error of the DC local clock and its value at time 0.
   double clock_ppm = 0.0;
   std::uint64_t clock_start = 0;

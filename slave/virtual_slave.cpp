@@ -47,26 +47,41 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
     s->has_firmware_ = false;
     s->detached_ = std::make_unique<DetachedPdi>();
     pdi = s->detached_.get();
-  } else if (options.pdi == PdiKind::Lan9252) {
-    s->chip_ = std::make_unique<pdi_spi::EmulatedLan9252>(*s->esc_);
-    auto backend = std::make_unique<pdi_spi::Lan9252Pdi>(*s->chip_, options.lan9252);
-    if (!backend->init()) return fail(fmt::format("LAN9252 bring-up: {}", backend->error()));
-    s->spi_pdi_ = std::move(backend);
-  } else if (options.pdi == PdiKind::Et1100Spi) {
-    s->chip_ = std::make_unique<pdi_spi::EmulatedEt1100Spi>(*s->esc_);
-    s->spi_pdi_ = std::make_unique<pdi_spi::Et1100SpiPdi>(*s->chip_);
   }
-  if (s->spi_pdi_) pdi = s->spi_pdi_.get();
-  s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
   s->options_ = options;
+  if (options.pdi != PdiKind::Direct && !options.external_firmware) {
+    if (auto ok = s->make_spi_pdi(); !ok) return fail(ok.error());
+    pdi = s->spi_pdi_.get();
+  }
+  s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
   return s;
 }
 
+Expected<void, std::string> VirtualSlave::make_spi_pdi() {
+  if (options_.pdi == PdiKind::Lan9252) {
+    chip_ = std::make_unique<pdi_spi::EmulatedLan9252>(*esc_);
+    auto backend = std::make_unique<pdi_spi::Lan9252Pdi>(*chip_, options_.lan9252);
+    if (!backend->init()) return fail(fmt::format("LAN9252 bring-up: {}", backend->error()));
+    spi_pdi_ = std::move(backend);
+  } else {
+    chip_ = std::make_unique<pdi_spi::EmulatedEt1100Spi>(*esc_);
+    spi_pdi_ = std::make_unique<pdi_spi::Et1100SpiPdi>(*chip_);
+  }
+  return {};
+}
+
 Expected<void, std::string> VirtualSlave::power_on() {
-  if (spi_pdi_) return fail(std::string("power-on is not emulated for a slave with an SPI PDI"));
   esc_->reset();  // power-up register values, EEPROM loaded (Section II 0x0000-0x0F00 reset values)
   firmware_.reset();  // the µC starts from scratch: its parameter store is opened again
   esc::Pdi* pdi = detached_ ? static_cast<esc::Pdi*>(detached_.get()) : esc_.get();
+  if (spi_pdi_) {
+    // The SPI chip loses power too: a new one, and the firmware's bring-up
+    // over SPI (LAN9252: byte test, ready bit) as at start-up.
+    spi_pdi_.reset();
+    chip_.reset();
+    if (auto ok = make_spi_pdi(); !ok) return fail(ok.error());
+    pdi = spi_pdi_.get();
+  }
   firmware_ = std::make_unique<Firmware>(*pdi, *device_, options_);
   if (probe_) firmware_->attach_trace(*probe_);
   esc_next_.reset();

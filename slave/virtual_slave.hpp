@@ -87,8 +87,9 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   // the ESC back to its power-up register values with the SII loaded from
   // its EEPROM, the firmware started afresh (Init, the dictionary's
   // defaults and the stored parameters, as at start-up). Invalidates the
-  // Firmware, its ESM and application handed out before. Refused for an SPI
-  // PDI (the emulated chip would need its own power-up).
+  // Firmware, its ESM and application handed out before. With an SPI PDI the
+  // emulated chip powers up too (a new LAN9252 / ET1100 SPI slave, the
+  // firmware's bring-up over SPI again), and spi_pdi()/spi_chip() change.
   Expected<void, std::string> power_on();
 
   // Clean shutdown: nothing is lost (stored parameters are already on disk;
@@ -97,6 +98,9 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
 
  private:
   VirtualSlave() = default;
+  // The emulated SPI chip on esc_ and the firmware's SPI backend to it
+  // (options_.pdi Lan9252/Et1100Spi), brought up as at power-on.
+  Expected<void, std::string> make_spi_pdi();
 
   // What the chain reads after every frame and in every poll first, on one
   // cache line (the object is 16-byte aligned and these are 48 bytes): at

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "apps/ecat-conform/target.hpp"
+#include "esi/device_loader.hpp"
 #include "master/conformance/suite.hpp"
 #include "master/master.hpp"
 #include "pdi_spi/pdi_spec.hpp"
@@ -51,18 +52,32 @@ int main(int argc, char** argv) {
   std::string foe_denied;
   app.add_option("--foe-password", foe_password, "FoE: the password the device's files need (sent in every read/write request; runs foe.wrong_password)");
   app.add_option("--foe-denied", foe_denied, "FoE: a file name the device denies access to (runs foe.access_denied)");
+  bool foe_busy = false;
+  app.add_flag("--foe-busy", foe_busy, "FoE: the device answers read/write requests BUSY before it serves them (runs foe.busy_then_complete)");
   app.add_option("--foe-capacity", foe_capacity, "FoE: bytes the device can store (runs foe.write_disk_full with a longer file)");
+  std::string esi_file;
+  app.add_option("--esi", esi_file,
+                 "device file the esi.* cases compare the slave with (default: the --device file; "
+                 "with --iface/--udp it adds them)");
   app.add_flag("--list", list, "list the tests and the clauses they check, then exit");
   CLI11_PARSE(app, argc, argv);
 
+  // The device file the esi.* cases compare with: --esi, else --device's own.
+  std::optional<od::DeviceDescription> esi_description;
+  if (const std::string& file = !esi_file.empty() ? esi_file : device; !file.empty()) {
+    auto loaded = esi::load_device_file(file);
+    if (!loaded) {
+      fmt::print(stderr, "ecat-conform: {}\n", loaded.error().to_string());
+      return kExitUsage;
+    }
+    esi_description = std::move(*loaded);
+  }
+
   if (list) {
     auto cases = master::conformance::all_cases();
-    if (!device.empty()) {
-      auto target = conform::make_in_process_target(device);
-      if (target && (*target)->device()) {
-        auto extra = conform::device_file_cases(*(*target)->device());
-        cases.insert(cases.end(), extra.begin(), extra.end());
-      }
+    if (esi_description) {
+      auto extra = conform::device_file_cases(*esi_description);
+      cases.insert(cases.end(), extra.begin(), extra.end());
     }
     for (const auto& c : cases) {
       if (master::conformance::matches_filter(c.name, filter)) fmt::print("{:<40} {}\n", c.name, c.clause);
@@ -124,15 +139,20 @@ int main(int argc, char** argv) {
     options.filter = filter;
     options.slave = slave;
     options.identity = t.identity();
+    if (!options.identity && esi_description) {
+      const auto& id = esi_description->identity;
+      options.identity = master::conformance::ExpectedIdentity{id.vendor_id, id.product_code, id.revision};
+    }
     options.wait = [&t](Nanoseconds d) { t.wait(d); };
     options.power_cycle = [&t]() { return t.power_cycle(); };
     options.foe_password = foe_password;
     options.foe_denied_file = foe_denied;
     options.foe_capacity = foe_capacity;
+    options.foe_busy = foe_busy;
     fmt::print("ecat-conform: {}\n", t.description());
     std::vector<master::conformance::Case> extra;
+    if (esi_description) extra = conform::device_file_cases(*esi_description);
     if (const od::DeviceDescription* d = t.device()) {
-      extra = conform::device_file_cases(*d);
       if (!free_run) options.dc = conform::dc_only_mode(*d, kMasterCycleNs);
       if (options.dc) fmt::print("ecat-conform: DC Sync0 mode: {}\n", options.dc->why);
     }

@@ -43,6 +43,8 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
     }
     so.state_dir = options.state_dir;
     so.state_quota = quota;
+    so.foe_password = options.foe_password;
+    so.foe_busy = options.foe_busy;
     so.name = fmt::format("slave-{}", i + 1);
     if (i < options.ppm.size()) so.clock_ppm = options.ppm[i];
     so.motion_trace = i == 0 && !options.plot_svg.empty();

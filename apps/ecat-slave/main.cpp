@@ -124,6 +124,13 @@ int main(int argc, char** argv) {
                  "Bridge the first EoE slave's Ethernet side to this Linux TAP interface (created if missing; "
                  "needs CAP_NET_ADMIN)");
   cli.add_option("--state-dir", o.state_dir, "Directory for stored parameters (1010h) and FoE files");
+  cli.add_option("--foe-password", o.foe_password,
+                 "FoE: password every file read/write request must carry (0x... or decimal; another one gets "
+                 "ERR 0x800A no rights; default 0 = none)");
+  cli.add_option("--foe-busy", o.foe_busy,
+                 "FoE: answer each file read/write request BUSY this many times before serving it, as a slave "
+                 "whose file is not ready at once (default 0)")
+      ->check(CLI::Range(0, 0xFFFF));
   cli.add_option("--state-quota", o.state_quota_bytes,
                  "Most bytes all files in --state-dir may hold (FoE files + stored parameters; "
                  "suffixes k/M/G = 1024^n; default 64M)")

@@ -87,6 +87,11 @@ struct SlaveProgramOptions {
   std::vector<std::vector<slave::EoeInitExpectation>> eoe_init;
   std::string eoe_tap;
   std::string state_dir;  // stored parameters and FoE files
+  // --foe-password N: FoE read/write requests must carry it (ERR 0x800A
+  // otherwise); --foe-busy N: each is answered BUSY N times before it is
+  // served (coe::FoeServer; docs/conformance.md FoE). Every slave of the chain.
+  std::uint32_t foe_password = 0;
+  std::uint16_t foe_busy = 0;
   std::uint64_t state_quota_bytes = kDefaultStateQuotaBytes;  // all files in state_dir together
   std::uint64_t state_max_files = kDefaultStateMaxFiles;
   double stats_seconds = 0;

@@ -26,11 +26,14 @@ constexpr std::uint32_t kDiskFull = 0x8003;
 constexpr std::uint32_t kPacketNumber = 0x8005;
 constexpr std::uint32_t kNoRights = 0x800A;
 constexpr unsigned kBusyRetries = 100;
+// BUSY: the UINT32 field is Done (UINT16) then Entire (UINT16) (coe-mailbox.md §10).
+constexpr unsigned kBusyEntireShift = 16;
 constexpr char kFileName[] = "ecat-conform.bin";
 constexpr char kAbsentName[] = "ecat-conform-absent.bin";
 
 struct Reply {
   std::uint8_t opcode = 0;
+  std::uint8_t reserved = 0;
   std::uint32_t value = 0;  // password / packet / error code
   std::vector<std::uint8_t> data;
 };
@@ -40,7 +43,8 @@ std::string describe(const Reply& r) {
     case kData: return "DATA(" + std::to_string(r.value) + ")";
     case kAck: return "ACK(" + std::to_string(r.value) + ")";
     case kErr: return "ERR " + hex(r.value, 4);
-    case kBusy: return "BUSY";
+    case kBusy:
+      return "BUSY(" + std::to_string(r.value & 0xFFFF) + "/" + std::to_string(r.value >> kBusyEntireShift) + ")";
     default: return "opcode " + std::to_string(r.opcode);
   }
 }
@@ -68,6 +72,7 @@ Expected<Reply, std::string> foe_exchange(Context& ctx, const std::vector<std::u
     if (msg->payload.size() < kHeader) return fail("FoE reply of " + std::to_string(msg->payload.size()) + " bytes");
     Reply r;
     r.opcode = msg->payload[0];
+    r.reserved = msg->payload[1];
     r.value = load_le<std::uint32_t>(msg->payload.data() + 2);
     r.data.assign(msg->payload.begin() + kHeader, msg->payload.end());
     return r;
@@ -88,20 +93,27 @@ std::uint32_t password(const Context& ctx) { return ctx.options().foe_password.v
 
 std::size_t write_room(Context& ctx) { return ctx.info().sii.rx_mailbox_size - kMailboxHeader - kHeader; }
 
-// WRQ and its ACK(0), retrying on BUSY; a skip when the device refuses.
-std::optional<CaseResult> open_write(Context& ctx, const char* name) {
+// An RRQ/WRQ sent again while the device answers BUSY (ETG.1000.6 §5.3.2:
+// the master repeats the request); the first other reply. The BUSY replies
+// go to `busy` when given.
+Expected<Reply, std::string> open_request(Context& ctx, std::uint8_t opcode, std::uint32_t pw, const char* name,
+                                          std::vector<Reply>* busy = nullptr) {
   for (unsigned i = 0; i < kBusyRetries; ++i) {
-    auto r = foe_exchange(ctx, request(kWrq, password(ctx), name_bytes(name)));
-    if (!r) return CaseResult::failed("ACK(0) to WRQ", r.error());
-    if (r->opcode == kBusy) {
-      ctx.wait(std::chrono::milliseconds(1));
-      continue;
-    }
-    if (r->opcode == kErr) return CaseResult::skip("the device refuses to store a file: " + describe(*r));
-    if (r->opcode != kAck || r->value != 0) return CaseResult::failed("ACK(0) to WRQ", describe(*r));
-    return std::nullopt;
+    auto r = foe_exchange(ctx, request(opcode, pw, name_bytes(name)));
+    if (!r || r->opcode != kBusy) return r;
+    if (busy) busy->push_back(*r);
+    ctx.wait(std::chrono::milliseconds(1));
   }
-  return CaseResult::failed("ACK(0) to WRQ", "BUSY " + std::to_string(kBusyRetries) + " times");
+  return fail("BUSY " + std::to_string(kBusyRetries) + " times");
+}
+
+// WRQ and its ACK(0), retrying on BUSY; a skip when the device refuses.
+std::optional<CaseResult> open_write(Context& ctx, const char* name, std::vector<Reply>* busy = nullptr) {
+  auto r = open_request(ctx, kWrq, password(ctx), name, busy);
+  if (!r) return CaseResult::failed("ACK(0) to WRQ", r.error());
+  if (r->opcode == kErr) return CaseResult::skip("the device refuses to store a file: " + describe(*r));
+  if (r->opcode != kAck || r->value != 0) return CaseResult::failed("ACK(0) to WRQ", describe(*r));
+  return std::nullopt;
 }
 
 // A file of 2.5 write packets: the last packet short ends it.
@@ -112,8 +124,9 @@ std::vector<std::uint8_t> test_file(Context& ctx) {
 }
 
 // Writes the file; the ACK packet numbers seen, or a case result.
-Expected<std::string, CaseResult> write_file(Context& ctx, const std::vector<std::uint8_t>& file) {
-  if (auto c = open_write(ctx, kFileName)) return fail(*c);
+Expected<std::string, CaseResult> write_file(Context& ctx, const std::vector<std::uint8_t>& file,
+                                             std::vector<Reply>* busy = nullptr) {
+  if (auto c = open_write(ctx, kFileName, busy)) return fail(*c);
   const std::size_t room = write_room(ctx);
   std::string acks;
   std::uint32_t packet = 1;
@@ -129,10 +142,11 @@ Expected<std::string, CaseResult> write_file(Context& ctx, const std::vector<std
 }
 
 // Reads the file; the DATA packet numbers and the bytes.
-Expected<std::pair<std::string, std::vector<std::uint8_t>>, std::string> read_file(Context& ctx, const char* name) {
+Expected<std::pair<std::string, std::vector<std::uint8_t>>, std::string> read_file(Context& ctx, const char* name,
+                                                                                   std::vector<Reply>* busy = nullptr) {
   std::string packets;
   std::vector<std::uint8_t> bytes;
-  auto r = foe_exchange(ctx, request(kRrq, password(ctx), name_bytes(name)));
+  auto r = open_request(ctx, kRrq, password(ctx), name, busy);
   const std::size_t room = ctx.info().sii.tx_mailbox_size - kMailboxHeader - kHeader;
   for (unsigned guard = 0; guard < 1000; ++guard) {
     if (!r) return fail(r.error());
@@ -194,7 +208,7 @@ std::vector<Case> foe_cases() {
   cases.push_back({"foe.read_not_found", "ETG.1000.6 §5.3.2 FoE (shared/spec/coe-mailbox.md §10): RRQ of a file that does not exist -> ERR 0x8001 not found",
                    [](Context& ctx) {
                      if (auto c = need_foe(ctx)) return *c;
-                     auto r = foe_exchange(ctx, request(kRrq, password(ctx), name_bytes(kAbsentName)));
+                     auto r = open_request(ctx, kRrq, password(ctx), kAbsentName);
                      // A device without a file store denies every access (a twin
                      // without --state-dir): it has no file to be found or not.
                      if (r && r->opcode == kErr && r->value == kAccessDenied) {
@@ -215,7 +229,7 @@ std::vector<Case> foe_cases() {
                      if (auto c = need_foe(ctx)) return *c;
                      const std::string& name = ctx.options().foe_denied_file;
                      if (name.empty()) return CaseResult::skip("which file a device denies is not in its ESI: give --foe-denied NAME");
-                     auto r = foe_exchange(ctx, request(kRrq, password(ctx), name_bytes(name.c_str())));
+                     auto r = open_request(ctx, kRrq, password(ctx), name.c_str());
                      return CaseResult::compare("ERR " + hex(kAccessDenied, 4), r ? describe(*r) : r.error());
                    }});
   cases.push_back({"foe.wrong_password", "ETG.1000.6 §5.3.2 FoE RRQ/WRQ password (shared/spec/coe-mailbox.md §10): WRQ with another password than the device's (--foe-password) -> ERR 0x800A no rights (SOES) or 0x8002 access denied, nothing written",
@@ -223,7 +237,7 @@ std::vector<Case> foe_cases() {
                      if (auto c = need_foe(ctx)) return *c;
                      if (!ctx.options().foe_password) return CaseResult::skip("whether a device's files need a password is not in its ESI: give --foe-password N");
                      const std::uint32_t wrong = *ctx.options().foe_password + 1;
-                     auto r = foe_exchange(ctx, request(kWrq, wrong, name_bytes(kFileName)));
+                     auto r = open_request(ctx, kWrq, wrong, kFileName);
                      const std::string want = "ERR " + hex(kNoRights, 4) + " (or " + hex(kAccessDenied, 4) + ")";
                      if (!r) return CaseResult::failed(want, r.error());
                      if (r->opcode == kAck) {
@@ -252,6 +266,27 @@ std::vector<Case> foe_cases() {
                        at += n;
                      }
                      return CaseResult::failed(want, "all " + std::to_string(size) + " bytes taken (ACK(" + std::to_string(number - 1) + "))");
+                   }});
+  cases.push_back({"foe.busy_then_complete", "ETG.1000.6 §5.3.2 FoE Busy (opcode 6; shared/spec/coe-mailbox.md §10): a device that is busy (--foe-busy) answers BUSY with reserved 0 and Done (UINT16) <= Entire (UINT16), and serves the request when the master sends it again: the file written and read back whole",
+                   [](Context& ctx) {
+                     if (auto c = need_foe(ctx)) return *c;
+                     if (!ctx.options().foe_busy) return CaseResult::skip("whether a device answers BUSY is not in its ESI: give --foe-busy");
+                     const auto file = test_file(ctx);
+                     std::vector<Reply> busy;
+                     if (auto acks = write_file(ctx, file, &busy); !acks) return acks.error();
+                     auto r = read_file(ctx, kFileName, &busy);
+                     const std::string whole = std::to_string(file.size()) + " bytes, same";
+                     const std::string want = "BUSY (reserved 0, Done <= Entire), then " + whole;
+                     if (!r) return CaseResult::failed(want, r.error());
+                     std::string seen = busy.empty() ? "no BUSY" : "BUSY (reserved 0, Done <= Entire)";
+                     for (const Reply& b : busy) {
+                       if (b.reserved != 0 || (b.value & 0xFFFF) > (b.value >> kBusyEntireShift)) {
+                         seen = describe(b) + " reserved " + hex(b.reserved, 2);
+                         break;
+                       }
+                     }
+                     seen += ", then " + std::to_string(r->second.size()) + " bytes, " + (r->second == file ? "same" : "different");
+                     return CaseResult::compare(want, seen);
                    }});
   return cases;
 }

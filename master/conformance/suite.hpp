@@ -72,6 +72,10 @@ struct SuiteOptions {
   std::optional<std::uint32_t> foe_password;
   std::string foe_denied_file;
   std::optional<std::size_t> foe_capacity;
+  // The device answers FoE read/write requests with BUSY before it serves
+  // them (a file that is not ready at once; ecat-conform --foe-busy): runs
+  // foe.busy_then_complete, which skips otherwise.
+  bool foe_busy = false;
 };
 
 // Registers 0x0000-0x0FFF as the ESC shows them right after power-up, read by

@@ -118,9 +118,10 @@ TEST(Emergency, DiagnosisHistory) {
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 6);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 4), 1);
   const auto m = rig.store.value(0x10F3, 6);
-  // Diag Code E800h | 2310h << 16, error, no parameters, text ID 0, time stamp.
+  // Diag Code E800h | 2310h << 16, error with a local time stamp (flags bit
+  // 4), no parameters, text ID 0, time stamp.
   EXPECT_EQ(Frame(m.begin(), m.end()),
-            (Frame{0x00, 0xE8, 0x10, 0x23, 0x02, 0x00, 0, 0, 0x05, 0x04, 0x03, 0x02, 0x01, 0, 0, 0}));
+            (Frame{0x00, 0xE8, 0x10, 0x23, 0x12, 0x00, 0, 0, 0x05, 0x04, 0x03, 0x02, 0x01, 0, 0, 0}));
   (void)emcy.raise(0x2311, 0x03);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x10F3, 2), 7);
   (void)emcy.raise(0x2312, 0x03);

@@ -240,5 +240,38 @@ TEST_F(FoePasswordTest, WrongPasswordIsNoRights) {
   EXPECT_EQ(error_code(request(foe_frame(1, 0, name(".hidden")))), 0x8002u);
 }
 
+// Options::busy_replies: each RRQ/WRQ is answered BUSY N times - opcode 6,
+// reserved 0, Done 0..N-1 (bytes 2-3), Entire N (bytes 4-5), no text - and
+// served the N+1st time; errors found before (name, password) come at once.
+class FoeBusyTest : public FoeTest {
+ protected:
+  FoeServer::Options options() override {
+    FoeServer::Options o{dir.string(), 200, 16};
+    o.busy_replies = 2;
+    return o;
+  }
+};
+
+TEST_F(FoeBusyTest, EachRequestIsBusyTwiceThenServed) {
+  const Frame busy0{6, 0, 0, 0, 2, 0};
+  const Frame busy1{6, 0, 1, 0, 2, 0};
+  EXPECT_EQ(request(foe_frame(2, 0, name("b.bin"))), busy0);
+  EXPECT_EQ(request(foe_frame(2, 0, name("b.bin"))), busy1);
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.bin.part"));
+  EXPECT_EQ(request(foe_frame(2, 0, name("b.bin"))), foe_frame(4, 0));
+  EXPECT_EQ(request(foe_frame(3, 1, pattern(10))), foe_frame(4, 1));
+  // The read request is busy again, from Done 0.
+  EXPECT_EQ(request(foe_frame(1, 0, name("b.bin"))), busy0);
+  EXPECT_EQ(request(foe_frame(1, 0, name("b.bin"))), busy1);
+  EXPECT_EQ(request(foe_frame(1, 0, name("b.bin"))), foe_frame(3, 1, pattern(10)));
+  EXPECT_EQ(request(foe_frame(4, 1)), Frame{});  // the short packet ended it: no reply
+  // A missing file is known only once the request is served.
+  EXPECT_EQ(request(foe_frame(1, 0, name("none.bin"))), busy0);
+  EXPECT_EQ(request(foe_frame(1, 0, name("none.bin"))), busy1);
+  EXPECT_EQ(error_code(request(foe_frame(1, 0, name("none.bin")))), 0x8001u);
+  // An unsafe name is refused at once.
+  EXPECT_EQ(error_code(request(foe_frame(1, 0, name(".hidden")))), 0x8002u);
+}
+
 }  // namespace
 }  // namespace ecat::coe

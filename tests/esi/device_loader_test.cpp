@@ -3,6 +3,8 @@
 // Drive (docs/device-format.md "Derived objects").
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "esi/device_loader.hpp"
 
 namespace ecat::esi {
@@ -221,6 +223,25 @@ TEST(DeviceLoader, MissingFileIsAnError) {
   auto dev = load_device_file("/nonexistent/dir/device.xml");
   ASSERT_FALSE(dev.has_value());
   EXPECT_EQ(dev.error().to_string(), "/nonexistent/dir/device.xml: cannot open the device file");
+}
+
+// Every shipped device whose DC OpMode activates SYNC0 (AssignActivate
+// 0x0980/0x0981 bits 8/9) enables the DC SYNC out unit in SII word 0 (0x0140
+// bit 10, ESC Section I p.82): without it an ESC never generates SYNC0.
+TEST(ShippedDevices, SyncOutUnitEnabledWhereSync0IsActivated) {
+  constexpr std::uint16_t kSyncActivate = 0x0300;
+  constexpr std::uint16_t kSyncOutUnit = 0x0400;
+  std::size_t dc_devices = 0;
+  for (const auto& f : std::filesystem::directory_iterator(std::string(ECAT_SOURCE_DIR) + "/xml/devices")) {
+    auto d = load_device_file(f.path());
+    ASSERT_TRUE(d) << f.path() << ": " << d.error().to_string();
+    bool sync0 = false;
+    for (const auto& m : d->dc_op_modes) sync0 = sync0 || (m.assign_activate & kSyncActivate) != 0;
+    if (!sync0) continue;
+    ++dc_devices;
+    EXPECT_NE(d->esc.pdi_control & kSyncOutUnit, 0) << f.path().filename() << ": 0x" << std::hex << d->esc.pdi_control;
+  }
+  EXPECT_GE(dc_devices, 5u);  // generic servo, simtach, welcon x2, yaskawa
 }
 
 }  // namespace

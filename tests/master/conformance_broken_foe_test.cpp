@@ -25,7 +25,7 @@ namespace {
 
 using conformance::Verdict;
 
-constexpr std::uint8_t kData = 3, kAck = 4, kErr = 5;
+constexpr std::uint8_t kData = 3, kAck = 4, kErr = 5, kBusy = 6;
 
 // The real FoE service, each reply rewritten by `rewrite` (its bytes from the
 // FoE header on).
@@ -93,6 +93,10 @@ std::vector<FoeBreakage> foe_breakages() {
       {"foe.write_disk_full", [](Bytes r) {
          if (r[0] == kErr && value_of(r) == 0x8003) set_value(r, 0x8000);
        }},
+      // Done beyond Entire (3 of 2).
+      {"foe.busy_then_complete", [](Bytes r) {
+         if (r[0] == kBusy) store_le<std::uint16_t>(r.data() + 2, 3);
+       }},
   };
 }
 
@@ -108,7 +112,7 @@ class ElmoFoe : public testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  std::vector<conformance::Report> run(InProcessBus& bus, const std::string& filter) {
+  std::vector<conformance::Report> run(InProcessBus& bus, const std::string& filter, bool busy = true) {
     Master master(bus.transport, bus.clock);
     conformance::SuiteOptions options;
     options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
@@ -116,19 +120,23 @@ class ElmoFoe : public testing::Test {
     options.foe_password = kPassword;
     options.foe_denied_file = ".denied";  // coe::FoeServer denies names starting with '.'
     options.foe_capacity = kCapacity;
+    options.foe_busy = busy;
     return conformance::run_suite(master, options);
   }
-  // The twin's files need kPassword; its state directory holds kCapacity bytes.
-  slave::SlaveOptions options() const {
+  // The twin's files need kPassword; its state directory holds kCapacity
+  // bytes; each read/write request is answered BUSY twice (every case copes).
+  slave::SlaveOptions options(std::uint16_t busy = kBusyReplies) const {
     slave::SlaveOptions o;
     o.state_dir = dir_ / "state";
     std::filesystem::create_directories(o.state_dir);
     o.foe_password = kPassword;
+    o.foe_busy = busy;
     o.state_quota = std::make_shared<ecat::coe::StorageQuota>(ecat::coe::StorageQuota::Limits{kCapacity, 64});
     return o;
   }
   static constexpr std::uint32_t kPassword = 0x00C0FFEE;
   static constexpr std::size_t kCapacity = 4096;
+  static constexpr std::uint16_t kBusyReplies = 2;
 
   std::filesystem::path dir_;
   std::string file_;
@@ -142,6 +150,20 @@ TEST_F(ElmoFoe, EveryFoeCasePasses) {
   for (const auto& r : reports) {
     EXPECT_EQ(r.result.verdict, Verdict::Pass) << r.name << ": expected " << r.result.expected << ", seen " << r.result.seen;
   }
+}
+
+// A slave that never answers BUSY fails the case when the suite is told it does.
+TEST_F(ElmoFoe, BusyCaseFailsWithoutBusy) {
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(file_, 1, slave::PdiKind::Direct, options(0)));
+  const auto reports = run(bus, "foe.busy_then_complete");
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].result.verdict, Verdict::Fail);
+  EXPECT_EQ(reports[0].result.seen.rfind("no BUSY, then ", 0), 0u) << reports[0].result.seen;
+  // And it skips when the suite is not told, whatever the slave does.
+  const auto skipped = run(bus, "foe.busy_then_complete", false);
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_EQ(skipped[0].result.verdict, Verdict::Skip);
 }
 
 // Without FoE (generic servo: foe="false") each case skips with the SII's answer.

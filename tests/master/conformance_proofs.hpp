@@ -1,7 +1,8 @@
 // The conformance cases each failing-slave test file proves (issue 31 item
 // 3): conformance_proofs_test.cpp checks that together they name every case
 // of the suite (conformance::all_cases(), the list `ecat-conform --list`
-// prints), so a new case cannot be added without a breakage.
+// prints, and the device-file cases esi.* it adds with --device/--esi), so a
+// new case cannot be added without a breakage.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -19,6 +20,7 @@ std::vector<std::string> proven_history_cases();  // conformance_broken_drive_te
 std::vector<std::string> proven_foe_cases();      // conformance_broken_foe_test.cpp
 std::vector<std::string> proven_eoe_cases();      // conformance_broken_eoe_test.cpp
 std::vector<std::string> proven_error_field_cases();  // conformance_broken_drive_test.cpp (1003h)
+std::vector<std::string> proven_esi_cases();      // conformance_broken_esi_test.cpp (ecat-conform's esi.*)
 
 // The case names a file's breakage table proves (its proven_*_cases()).
 template <typename Breakages>

@@ -72,10 +72,10 @@ TEST(DiagnosisHistory, AlErrorAndDriveFaultBecomeMessages) {
   r.advance(std::chrono::milliseconds(1));
   EXPECT_EQ(r.u(kNewest), kFirst);
   EXPECT_EQ(r.u(kNew), 1u);
-  // Diag Code E001h | 001Ah << 16, flags: error, 1 parameter; text ID 0;
-  // the parameter: UINT16 (type 0006h) 001Ah.
+  // Diag Code E001h | 001Ah << 16, flags: error, local time stamp (bit 4),
+  // 1 parameter; text ID 0; the parameter: UINT16 (type 0006h) 001Ah.
   EXPECT_EQ(without_time(r.message(kFirst), r.clock.now()),
-            (Bytes8{0x01, 0xE0, 0x1A, 0x00, 0x02, 0x01, 0x00, 0x00, 0x06, 0x00, 0x1A, 0x00}));
+            (Bytes8{0x01, 0xE0, 0x1A, 0x00, 0x12, 0x01, 0x00, 0x00, 0x06, 0x00, 0x1A, 0x00}));
   EXPECT_EQ(r.u(kNew), 0u);  // overwrite mode: the newest message was read
   r.faults.clear_all();
   ASSERT_TRUE(r.master.request_state(0, master::AlState::PreOp, true));
@@ -86,9 +86,39 @@ TEST(DiagnosisHistory, AlErrorAndDriveFaultBecomeMessages) {
   for (int c = 0; c < 3; ++c) (void)r.cycle_once(std::chrono::milliseconds(1));
   EXPECT_EQ(r.u(kNewest), kFirst + 1u);
   EXPECT_EQ(r.u(kNew), 1u);
-  // Diag Code E800h with the emergency's error code 2310h above it; error, no parameters.
+  // Diag Code E800h with the emergency's error code 2310h above it; error,
+  // local time stamp, no parameters.
   EXPECT_EQ(without_time(r.message(kFirst + 1), r.clock.now()),
-            (Bytes8{0x00, 0xE8, 0x10, 0x23, 0x02, 0x00, 0x00, 0x00}));
+            (Bytes8{0x00, 0xE8, 0x10, 0x23, 0x12, 0x00, 0x00, 0x00}));
+}
+
+// 10F8h Actual Time Stamp: the slave's local time now, in the ns the
+// messages' (local, flags bit 4) time stamps count in - never before a
+// message's stamp, and it advances with the slave's time.
+TEST(DiagnosisHistory, ActualTimeStampIsTheMessagesTimeBase) {
+  DiagRig r;
+  r.engage("al_error", 0, {{"code", 0x001A}});
+  r.advance(std::chrono::milliseconds(1));
+  const Bytes8 m = r.message(kFirst);
+  ASSERT_GE(m.size(), DiagnosisHistory::kHeaderBytes);
+  const auto stamp = load_le<std::uint64_t>(m.data() + kTimeStampAt);
+  auto now_at = [&r]() -> std::uint64_t {
+    auto v = r.coe.upload(0x10F8, 0);
+    EXPECT_TRUE(v);
+    EXPECT_EQ(v ? v->size() : 0u, 8u);
+    return v && v->size() == 8 ? load_le<std::uint64_t>(v->data()) : 0;
+  };
+  const std::uint64_t first = now_at();
+  EXPECT_GE(first, stamp);
+  EXPECT_LE(first, static_cast<std::uint64_t>(r.clock.now().count()));
+  r.advance(std::chrono::milliseconds(20));
+  const std::uint64_t later = now_at();
+  EXPECT_GE(later - first, 20'000'000u);
+  EXPECT_LE(later, static_cast<std::uint64_t>(r.clock.now().count()));
+  const std::uint8_t zero[8]{};
+  auto w = r.coe.download(0x10F8, 0, zero);
+  ASSERT_FALSE(w);
+  EXPECT_EQ(w.error().code, master::SdoAbortCode::ReadOnly);
 }
 
 TEST(DiagnosisHistory, AcknowledgeAndClear) {
