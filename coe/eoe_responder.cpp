@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <new>
 
 namespace ecat::coe {
 
@@ -56,6 +57,12 @@ void EoeResponder::receive(ConstBytes frame) noexcept {
   }
 }
 
+std::uint8_t* EoeResponder::reply_buffer() noexcept {
+  if (!reply_) reply_.reset(new (std::nothrow) std::array<std::uint8_t, eoe::kMaxFrame>);
+  if (!reply_) return ++stats_.no_memory, nullptr;
+  return reply_->data();
+}
+
 void EoeResponder::arp(ConstBytes frame) noexcept {
   const auto& ip = server_.ip_parameters();
   const std::uint8_t* a = frame.data() + kHeaderSize;
@@ -65,7 +72,8 @@ void EoeResponder::arp(ConstBytes frame) noexcept {
     return (void)++stats_.ignored;
   }
   // Same length as the request (a minimum-size frame keeps its padding).
-  std::uint8_t* r = reply_.data();
+  std::uint8_t* r = reply_buffer();
+  if (r == nullptr) return;
   std::memcpy(r, frame.data(), frame.size());
   std::memcpy(r + kEthDestination, a + kArpSha, eoe::kMacSize);
   std::memcpy(r + kEthSource, ip.mac.data(), eoe::kMacSize);
@@ -92,7 +100,8 @@ void EoeResponder::icmp(ConstBytes frame) noexcept {
     return (void)++stats_.bad_checksum;
   }
   if (h[ihl + kIcmpType] != kIcmpEchoRequest || h[ihl + kIcmpCode] != 0) return (void)++stats_.ignored;
-  std::uint8_t* r = reply_.data();
+  std::uint8_t* r = reply_buffer();
+  if (r == nullptr) return;
   std::memcpy(r, frame.data(), frame.size());
   std::memcpy(r + kEthDestination, frame.data() + kEthSource, eoe::kMacSize);
   std::memcpy(r + kEthSource, ip.mac.data(), eoe::kMacSize);

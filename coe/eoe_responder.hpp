@@ -4,11 +4,13 @@
 // (RFC 826) and ICMP echo requests to it (RFC 792) with checksums as
 // RFC 1071 computes them, so a master's EoE path can be pinged with no
 // set-up. Everything else is counted and ignored. Replies go back through
-// EoeServer::transmit; the reply is built in one fixed buffer.
+// EoeServer::transmit; the reply is built in one buffer, allocated on the
+// first reply (a slave nobody pings does not carry it).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
 
 #include "coe/eoe_server.hpp"
 
@@ -41,6 +43,7 @@ class EoeResponder final : public EthernetPort {
     std::uint64_t echo_replies = 0;
     std::uint64_t ignored = 0;      // other traffic, other addresses
     std::uint64_t bad_checksum = 0;
+    std::uint64_t no_memory = 0;    // the reply buffer could not be allocated
   };
 
   explicit EoeResponder(EoeServer& server) : server_(server) {}
@@ -50,10 +53,12 @@ class EoeResponder final : public EthernetPort {
  private:
   void arp(ConstBytes frame) noexcept;
   void icmp(ConstBytes frame) noexcept;
+  // The reply buffer, allocated on first use; nullptr (counted) when that failed.
+  std::uint8_t* reply_buffer() noexcept;
 
   EoeServer& server_;
   Stats stats_;
-  std::array<std::uint8_t, eoe::kMaxFrame> reply_{};
+  std::unique_ptr<std::array<std::uint8_t, eoe::kMaxFrame>> reply_;
 };
 
 }  // namespace ecat::coe

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <new>
 
 namespace ecat::coe {
 
@@ -57,7 +58,8 @@ void EoeServer::fragment(const Header& h, ConstBytes data) noexcept {
     // A new frame: one still in progress lost its later fragments.
     if (rx_active_) drop_frame(stats_.dropped_sequence);
     rx_capacity_ = static_cast<std::size_t>(h.offset) * eoe::kBlock;
-    if (rx_capacity_ == 0 || rx_capacity_ > rx_.size()) return (void)++stats_.dropped_oversize;
+    if (rx_capacity_ == 0 || rx_capacity_ > eoe::kMaxFrame) return (void)++stats_.dropped_oversize;
+    if (!has_buffers()) return (void)++stats_.dropped_no_memory;
     rx_active_ = true;
     rx_size_ = 0;
     rx_frame_ = h.frame;
@@ -74,14 +76,14 @@ void EoeServer::fragment(const Header& h, ConstBytes data) noexcept {
     data = data.first(data.size() - eoe::kTimestampSize);
   }
   if (rx_size_ + data.size() > rx_capacity_) return drop_frame(stats_.dropped_oversize);
-  if (!data.empty()) std::memcpy(rx_.data() + rx_size_, data.data(), data.size());
+  if (!data.empty()) std::memcpy(buffers_->rx.data() + rx_size_, data.data(), data.size());
   rx_size_ += data.size();
   rx_fragment_ = static_cast<std::uint8_t>((rx_fragment_ + 1) & kFragmentNumberMask);
   if (!h.last_fragment) return;
   rx_active_ = false;
   if (rx_size_ < eoe::kMinFrame) return (void)++stats_.dropped_short;
   ++stats_.frames_received;
-  if (port_) port_->receive({rx_.data(), rx_size_});
+  if (port_) port_->receive({buffers_->rx.data(), rx_size_});
 }
 
 std::size_t EoeServer::result(Bytes reply, FrameType type, std::uint8_t port, Result r) noexcept {
@@ -223,13 +225,21 @@ bool EoeServer::passes_filter(ConstBytes frame) const noexcept {
   return false;
 }
 
+// Default-initialised (not zeroed): only the bytes a frame wrote are read,
+// so the pages stay untouched until a frame comes.
+bool EoeServer::has_buffers() noexcept {
+  if (!buffers_) buffers_.reset(new (std::nothrow) Buffers);
+  return buffers_ != nullptr;
+}
+
 bool EoeServer::transmit(ConstBytes frame) noexcept {
   if (frame.size() < eoe::kMinFrame) return ++stats_.dropped_short, false;
   if (frame.size() > eoe::kMaxFrame) return ++stats_.dropped_oversize, false;
   if (!passes_filter(frame)) return ++stats_.dropped_filtered, false;
-  if (tx_count_ == tx_.size()) return ++stats_.dropped_tx_full, false;
-  const std::size_t slot = (tx_head_ + tx_count_) % tx_.size();
-  std::memcpy(tx_[slot].data(), frame.data(), frame.size());
+  if (tx_count_ == eoe::kTxFrames) return ++stats_.dropped_tx_full, false;
+  if (!has_buffers()) return ++stats_.dropped_no_memory, false;
+  const std::size_t slot = (tx_head_ + tx_count_) % eoe::kTxFrames;
+  std::memcpy(buffers_->tx[slot].data(), frame.data(), frame.size());
   tx_length_[slot] = frame.size();
   ++tx_count_;
   return true;
@@ -249,11 +259,11 @@ std::size_t EoeServer::next_output(Bytes out) noexcept {
   ByteWriter w(out);
   w.u16(Header::word0(type_of(FrameType::FragmentData), 0, last));
   w.u16(Header::word1(tx_fragment_, static_cast<std::uint8_t>(offset), tx_frame_));
-  w.bytes({tx_[tx_head_].data() + tx_offset_, n});
+  w.bytes({buffers_->tx[tx_head_].data() + tx_offset_, n});
   ++stats_.fragments_sent;
   if (last) {
     ++stats_.frames_sent;
-    tx_head_ = (tx_head_ + 1) % tx_.size();
+    tx_head_ = (tx_head_ + 1) % eoe::kTxFrames;
     --tx_count_;
     tx_offset_ = 0;
     tx_fragment_ = 0;

@@ -17,11 +17,15 @@
 //    that is set; Set Address Filter (4) answers 5; Get Address Filter (8)
 //    answers 9. Other request types: type 3 with "unsupported frame type"
 //    (0x0002), as SSC answers them.
-// No allocation after construction: every buffer is a member array.
+// The frame buffers (one for reassembly, kTxFrames toward the master, about
+// 7.5 KiB) are allocated once, on the first fragment or transmit(): a slave
+// whose master never uses EoE does not carry them (docs/performance.md,
+// "Session 14: memory per servo"). No allocation after that first one.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
 
 #include "coe/eoe_header.hpp"
 #include "coe/mailbox_service.hpp"
@@ -96,6 +100,7 @@ struct Stats {
   std::uint64_t dropped_tx_full = 0;    // transmit() while every frame buffer waited
   std::uint64_t dropped_filtered = 0;   // transmit() refused by the address filter
   std::uint64_t bad_requests = 0;       // too short for their type, unknown types
+  std::uint64_t dropped_no_memory = 0;  // the frame buffers could not be allocated
 };
 }  // namespace eoe
 
@@ -141,6 +146,8 @@ class EoeServer final : public MailboxService {
   std::size_t get_filter(const eoe::Header& h, Bytes reply) noexcept;
   static std::size_t result(Bytes reply, eoe::FrameType type, std::uint8_t port, eoe::Result r) noexcept;
   bool passes_filter(ConstBytes frame) const noexcept;
+  // The frame buffers, allocated on first use; false when that failed.
+  bool has_buffers() noexcept;
 
   // First, on the cache line of the object's vtable pointer: has_output()
   // reads it at every firmware poll of a slave with EoE (the mailbox
@@ -151,16 +158,20 @@ class EoeServer final : public MailboxService {
   eoe::AddressFilter filter_;
   eoe::Stats stats_;
 
-  // Reassembly of the frame coming from the master.
-  std::array<std::uint8_t, eoe::kMaxFrame> rx_{};
+  struct Buffers {
+    std::array<std::uint8_t, eoe::kMaxFrame> rx;  // reassembly of the frame coming from the master
+    std::array<std::array<std::uint8_t, eoe::kMaxFrame>, eoe::kTxFrames> tx;  // frames toward the master
+  };
+  std::unique_ptr<Buffers> buffers_;
+
+  // Reassembly of the frame coming from the master (in buffers_->rx).
   bool rx_active_ = false;
   std::size_t rx_size_ = 0;      // bytes received so far
   std::size_t rx_capacity_ = 0;  // announced complete size, rounded to 32
   std::uint8_t rx_fragment_ = 0; // next fragment number expected
   std::uint8_t rx_frame_ = 0;
 
-  // Frames toward the master: a ring; the front one is being fragmented.
-  std::array<std::array<std::uint8_t, eoe::kMaxFrame>, eoe::kTxFrames> tx_{};
+  // Frames toward the master: a ring in buffers_->tx; the front one is being fragmented.
   std::array<std::size_t, eoe::kTxFrames> tx_length_{};
   std::size_t tx_head_ = 0;
   std::size_t tx_offset_ = 0;       // bytes of the front frame already sent

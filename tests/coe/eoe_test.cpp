@@ -8,6 +8,7 @@
 #include "coe/coe_server.hpp"
 #include "coe/eoe_responder.hpp"
 #include "tests/coe/rig.hpp"
+#include "tests/support/alloc_counter.hpp"
 
 namespace ecat::coe {
 namespace {
@@ -282,6 +283,29 @@ TEST_F(EoeTest, SetAddressFilterThenGetItAndItFiltersFramesToTheMaster) {
   EXPECT_EQ(eoe.stats().dropped_filtered, 2u);
 }
 
+// The frame buffers come with the first frame, once: a slave whose master
+// never uses EoE does not carry them (docs/performance.md, "Session 14").
+TEST_F(EoeTest, FrameBuffersAreAllocatedOnceOnTheFirstFrame) {
+  const Frame f = pattern(60);
+  std::size_t first = 0;
+  std::size_t later = 0;
+  {
+    ecat::test::AllocCounter allocs;
+    EXPECT_TRUE(eoe.transmit(f));
+    first = allocs.count();
+  }
+  {
+    ecat::test::AllocCounter allocs;
+    EXPECT_TRUE(eoe.transmit(f));
+    EXPECT_TRUE(eoe.transmit(f));
+    later = allocs.count();
+  }
+  EXPECT_EQ(first, 1u);
+  EXPECT_EQ(later, 0u);
+  EXPECT_EQ(eoe.tx_waiting(), 3u);
+  EXPECT_EQ(eoe.stats().dropped_no_memory, 0u);
+}
+
 // Responder: 192.168.10.2 at 02:00:00:00:00:01; the master 192.168.10.1 at 02:AA:BB:CC:DD:EE.
 class ResponderTest : public EoeTest {
  protected:
@@ -324,6 +348,33 @@ TEST_F(ResponderTest, AnswersArpForItsAddress) {
   arp[41] = 0x03;
   EXPECT_FALSE(exchange(arp));
   EXPECT_EQ(responder.stats().ignored, 1u);
+}
+
+// The reply buffer comes with the first reply, once; the frame from the
+// master is already in the server's buffers (given directly here).
+TEST_F(ResponderTest, ReplyBufferIsAllocatedOnceOnTheFirstReply) {
+  Frame arp{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x02, 0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0x08, 0x06,
+            0x00, 0x01, 0x08, 0x00, 0x06, 0x04, 0x00, 0x01,
+            0x02, 0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0xC0, 0xA8, 0x0A, 0x01,
+            0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xC0, 0xA8, 0x0A, 0x02};
+  arp.resize(60, 0);
+  std::size_t first = 0;
+  std::size_t later = 0;
+  {
+    ecat::test::AllocCounter allocs;
+    responder.receive(arp);
+    first = allocs.count();
+  }
+  {
+    ecat::test::AllocCounter allocs;
+    responder.receive(arp);
+    later = allocs.count();
+  }
+  EXPECT_EQ(first, 2u);  // the responder's reply buffer and the server's frame buffers
+  EXPECT_EQ(later, 0u);
+  EXPECT_EQ(responder.stats().arp_replies, 2u);
+  EXPECT_EQ(responder.stats().no_memory, 0u);
+  EXPECT_EQ(eoe.tx_waiting(), 2u);
 }
 
 TEST_F(ResponderTest, AnswersPingWithCorrectChecksums) {
