@@ -120,7 +120,7 @@ struct Pdo {
 
 // Properties of the (emulated) ESC silicon that a device file may set.
 struct EscProperties {
-  std::uint8_t esc_type = 0x02;  // 0x0000: ET1100
+  std::uint8_t esc_type = 0x02;  // 0x0000 Type: the default reported since the start (ET1100 silicon reports 0x11, ET1200 0x12)
   std::uint8_t revision = 0x00;
   std::uint16_t build = 0x0000;
   std::uint8_t fmmu_count = 8;
