@@ -17,6 +17,10 @@ constexpr std::uint16_t kEscInfoRegister = 0x0000;
 constexpr std::size_t kSiiReadBuffer = 8;  // one SII read delivers 4 or 8 bytes
 constexpr std::size_t kBytesPerWord = 2;
 constexpr std::size_t kSizeWordByte = esi::sii::kWordSize * kBytesPerWord;
+// ETG.1020 10F8h Actual Time Stamp: the slave's current time, read by a
+// master to age the diagnosis messages of 10F3h.
+constexpr std::uint16_t kActualTimeStamp = 0x10F8;
+
 // Ask for no unit/default/min/max with Get Entry Description: the values
 // come from uploads (the current ones, which a twin takes as its defaults).
 constexpr std::uint8_t kValueInfoNone = 0x00;
@@ -86,7 +90,11 @@ void read_dictionary(master::Master& master, std::size_t slave, esi::CaptureInpu
         continue;
       }
       esi::CapturedEntry e{si, ed->data_type, ed->bit_length, ed->access, ed->name, std::nullopt};
-      if ((ed->access & od::Access::kReadPreOp) != 0) {
+      if (index == kActualTimeStamp) {
+        // The slave's clock (ETG.1020): a value read now is no default, and a
+        // twin of the twin would differ from its original in it. Default 0,
+        // no note: every device with 10F3h has it (docs/twins.md).
+      } else if ((ed->access & od::Access::kReadPreOp) != 0) {
         auto v = coe.upload(index, si);
         if (v) {
           e.value = std::move(*v);
