@@ -7,24 +7,7 @@
 #include <new>
 
 #include "esc_fixture.hpp"
-
-// Counts heap allocations while armed (replaces the global operator new for
-// this test program; everything else is passed to malloc/free).
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/alloc_counter.hpp"
 
 namespace ecat::esc::test {
 namespace {
@@ -187,21 +170,21 @@ TEST(SegmentFrames, NoHeapAllocationPerFrame) {
   Bytes frame = b.finish();
   ASSERT_TRUE(line.segment.process_frame(frame, 0ns));  // warm-up
   // The counter itself works...
-  g_allocations = 0;
-  g_counting = true;
-  auto probe = std::make_unique<int>(1);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 1);
-  // ...and the frame path does not allocate.
-  g_allocations = 0;
-  g_counting = true;
-  for (int i = 0; i < 100; ++i) {
-    (void)line.segment.process_frame(frame, Nanoseconds{i * 1000});
-    line[1].write(0x1200, std::span(buf).first(4));
-    (void)line.segment.poll(Nanoseconds{i * 1000 + 500});
+  {
+    const ecat::test::AllocCounter counter;
+    auto probe = std::make_unique<int>(1);
+    EXPECT_EQ(counter.count(), 1u);
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  // ...and the frame path does not allocate.
+  {
+    const ecat::test::AllocCounter counter;
+    for (int i = 0; i < 100; ++i) {
+      (void)line.segment.process_frame(frame, Nanoseconds{i * 1000});
+      line[1].write(0x1200, std::span(buf).first(4));
+      (void)line.segment.poll(Nanoseconds{i * 1000 + 500});
+    }
+    EXPECT_EQ(counter.count(), 0u);
+  }
 }
 
 // The same for frames that pass ESCs by (issue 16 item 5): LRW, FPRD and
@@ -221,15 +204,15 @@ TEST(SegmentFrames, NoHeapAllocationPerSkippingFrame) {
   (void)b.append_zeros(Command::Aprd, 2, device_address(auto_increment_adp(65), reg::kAlStatus), 2);
   Bytes frame = b.finish();
   ASSERT_TRUE(line.segment.process_frame(frame, 0ns));  // warm-up
-  g_allocations = 0;
-  g_counting = true;
-  for (int i = 0; i < 100; ++i) {
-    const Nanoseconds t{i == 50 ? 10 : i * 100'000};
-    (void)line.segment.process_frame(frame, t);
-    line[5].write(0x1100, std::span(buf).first(4));
+  {
+    const ecat::test::AllocCounter counter;
+    for (int i = 0; i < 100; ++i) {
+      const Nanoseconds t{i == 50 ? 10 : i * 100'000};
+      (void)line.segment.process_frame(frame, t);
+      line[5].write(0x1100, std::span(buf).first(4));
+    }
+    EXPECT_EQ(counter.count(), 0u);
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
   EXPECT_EQ(line[30].last_time(), Nanoseconds{99 * 100'000} + Segment::kDefaultHopDelay * 30);
 }
 

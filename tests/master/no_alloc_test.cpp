@@ -10,19 +10,7 @@
 #include "fake_esc.hpp"
 #include "master/master.hpp"
 #include "test_sii_image.hpp"
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<std::size_t> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  if (g_counting) ++g_allocations;
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/alloc_counter.hpp"
 
 namespace ecat::master::test {
 namespace {
@@ -62,15 +50,15 @@ TEST(CyclicExchange, DoesNotAllocate) {
   master.slave(0).pd.input_bytes = 8;
   ASSERT_TRUE(master.configure_process_data().has_value());
   ASSERT_TRUE(master.exchange_process_data().has_value());  // warm-up
-  g_allocations = 0;
-  g_counting = true;
-  for (int i = 0; i < 1000; ++i) {
-    master.outputs(0)[0] = static_cast<std::uint8_t>(i);
-    auto r = master.exchange_process_data();
-    if (!r || !r->ok()) break;
+  {
+    const ecat::test::AllocCounter counter;
+    for (int i = 0; i < 1000; ++i) {
+      master.outputs(0)[0] = static_cast<std::uint8_t>(i);
+      auto r = master.exchange_process_data();
+      if (!r || !r->ok()) break;
+    }
+    EXPECT_EQ(counter.count(), 0u);
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0u);
   EXPECT_EQ(master.cyclic_stats().cycles, 1001u);
   EXPECT_EQ(master.cyclic_stats().wkc_errors, 0u);
 }
@@ -91,17 +79,17 @@ TEST(CyclicExchange, SeveralFramesDoNotAllocate) {
   ASSERT_GE(master.process_data_frames(), 3u);
   ASSERT_GE(master.process_data_plan().size(), 5u);
   ASSERT_TRUE(master.exchange_process_data().has_value());  // warm-up
-  g_allocations = 0;
-  g_counting = true;
   std::size_t frames = 0;
-  for (int i = 0; i < 100; ++i) {
-    master.outputs(0)[1999] = static_cast<std::uint8_t>(i);
-    auto r = master.exchange_process_data();
-    if (!r) break;
-    frames += r->frames;
+  {
+    const ecat::test::AllocCounter counter;
+    for (int i = 0; i < 100; ++i) {
+      master.outputs(0)[1999] = static_cast<std::uint8_t>(i);
+      auto r = master.exchange_process_data();
+      if (!r) break;
+      frames += r->frames;
+    }
+    EXPECT_EQ(counter.count(), 0u);
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0u);
   EXPECT_EQ(frames, 100 * master.process_data_frames());
   EXPECT_EQ(master.cyclic_stats().cycles, 101u);
 }
