@@ -220,11 +220,49 @@ std::size_t failures(const std::vector<Report>& reports) {
                                                 [](const Report& r) { return r.result.verdict == Verdict::Fail; }));
 }
 
+namespace {
+
+// The table stays readable on a terminal: a value longer than its column
+// (a register dump of every FMMU, say) is wrapped at spaces onto the lines
+// below, in its own column, instead of widening the column for every row.
+constexpr std::size_t kExpectedColumnMax = 40;
+constexpr std::size_t kSeenColumnMax = 64;
+
+std::vector<std::string> wrap(const std::string& text, std::size_t width) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    std::size_t end = text.find(' ', i);
+    if (end == std::string::npos) end = text.size();
+    std::string word = text.substr(i, end - i);
+    i = end + 1;
+    if (word.empty()) continue;
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      lines.push_back(line);
+      line.clear();
+    }
+    while (word.size() > width) {  // one word longer than the column: cut it
+      if (!line.empty()) {
+        lines.push_back(line);
+        line.clear();
+      }
+      lines.push_back(word.substr(0, width));
+      word.erase(0, width);
+    }
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
 std::string format_table(const std::vector<Report>& reports) {
   std::size_t wname = 4, wexp = 8;
   for (const auto& r : reports) {
     wname = std::max(wname, r.name.size());
-    wexp = std::max(wexp, r.result.expected.size());
+    wexp = std::max(wexp, std::min(r.result.expected.size(), kExpectedColumnMax));
   }
   auto pad = [](std::string s, std::size_t w) {
     s.resize(std::max(s.size(), w), ' ');
@@ -232,9 +270,17 @@ std::string format_table(const std::vector<Report>& reports) {
   };
   std::string out = pad("test", wname) + "  result  " + pad("expected", wexp) + "  seen\n";
   out += std::string(wname + wexp + 20, '-') + "\n";
+  const std::string indent(wname + 2 + 6 + 2, ' ');
   for (const auto& r : reports) {
     const char* v = r.result.verdict == Verdict::Pass ? "PASS" : r.result.verdict == Verdict::Fail ? "FAIL" : "SKIP";
-    out += pad(r.name, wname) + "  " + pad(v, 6) + "  " + pad(r.result.expected, wexp) + "  " + r.result.seen + "\n";
+    const auto expected = wrap(r.result.expected, wexp);
+    const auto seen = wrap(r.result.seen, kSeenColumnMax);
+    for (std::size_t i = 0; i < std::max(expected.size(), seen.size()); ++i) {
+      std::string line = i == 0 ? pad(r.name, wname) + "  " + pad(v, 6) + "  " : indent;
+      line += pad(i < expected.size() ? expected[i] : "", wexp) + "  " + (i < seen.size() ? seen[i] : "");
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      out += line + "\n";
+    }
   }
   std::size_t skipped = 0;
   for (const auto& r : reports) skipped += r.result.verdict == Verdict::Skip ? 1 : 0;

@@ -190,6 +190,29 @@ TEST_F(PermissiveSlave, ForbiddenTransitionsAreReportedAsFailures) {
   EXPECT_NE(xml.find("name=\"clause\" value=\"ETG.1000.6 §6.4.1, Table 11"), std::string::npos);
 }
 
+// A value longer than its column (reg.powerup_fmmus lists 32 registers) is
+// wrapped at spaces under its own column; the other rows keep a narrow table.
+TEST(ConformanceSuite, LongValuesWrapInTheirOwnColumns) {
+  std::string dump;
+  for (int i = 0; i < 6; ++i) dump += (i ? " 0x06" : "0x06") + std::to_string(i) + "0=0x0000000000000000";
+  std::vector<conformance::Report> reports{
+      {"reg.short", "", conformance::CaseResult::pass("PreOp", "PreOp")},
+      {"reg.long", "", conformance::CaseResult::failed(dump, "0x0600=0x0000000000000001")},
+  };
+  const std::string table = conformance::format_table(reports);
+  EXPECT_EQ(table,
+            "test       result  expected                                  seen\n"
+            "---------------------------------------------------------------------\n"
+            "reg.short  PASS    PreOp                                     PreOp\n"
+            "reg.long   FAIL    0x0600=0x0000000000000000                 0x0600=0x0000000000000001\n"
+            "                   0x0610=0x0000000000000000\n"
+            "                   0x0620=0x0000000000000000\n"
+            "                   0x0630=0x0000000000000000\n"
+            "                   0x0640=0x0000000000000000\n"
+            "                   0x0650=0x0000000000000000\n"
+            "2 tests, 1 failed, 0 skipped\n");
+}
+
 TEST(ConformanceSuite, NoSlaveIsOneFailedScanCase) {
   transport::InMemoryTransport empty([](Bytes) {});
   ManualClock clock;
