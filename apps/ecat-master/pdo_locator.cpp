@@ -15,6 +15,10 @@ constexpr std::uint32_t kBitsPerByte = 8;
 Expected<std::vector<MappedObject>, std::string> read_side(master::CoeClient& coe, std::uint16_t assign) {
   std::vector<MappedObject> out;
   auto pdos = coe.read_pdo_assignment(assign);
+  // A device without process data on this side need not have the assignment
+  // object (1C12h/1C13h) at all: its abort "object does not exist" means no
+  // PDOs on this side, not a failure of the device.
+  if (!pdos && pdos.error().from_slave && pdos.error().code == master::SdoAbortCode::ObjectNotFound) return out;
   if (!pdos) return fail(fmt::format("reading {:04X}h: {}", assign, error_text(pdos.error())));
   std::uint32_t offset = 0;
   for (std::uint16_t pdo : *pdos) {
