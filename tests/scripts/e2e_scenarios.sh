@@ -18,6 +18,13 @@ build=${2:?builddir}
 slave=$build/bin/ecat-slave
 master=$build/bin/ecat-master
 [ -x "$slave" ] && [ -x "$master" ] || { echo "skip: ecat-slave/ecat-master not built"; exit 77; }
+# SCHED_FIFO where the kernel allows it, as every live script (lib/netns.sh,
+# docs/e2e.md): without it, on a host busy with builds, the slave took a
+# scan's four frames each later than --max-frame-age, dropped them as lost on
+# the wire, and the master gave up ("scan: no reply") before the first step.
+# shellcheck source-path=SCRIPTDIR source=lib/netns.sh
+. "$src/tests/scripts/lib/netns.sh"
+e2e_use_realtime
 work=$(mktemp -d /tmp/e2e_scenarios.XXXXXX)
 trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
 port=$((40000 + $$ % 20000))
@@ -32,10 +39,10 @@ run() {
   local name=$1 file=$2
   shift 2
   port=$((port + 1))
-  "$slave" --udp "$port" "${slave_args[@]}" --scenario "$file" --junit "$work/$name.xml" > "$work/$name.log" 2>&1 &
+  "$slave" --udp "$port" "${E2E_SLAVE_RT[@]}" "${slave_args[@]}" --scenario "$file" --junit "$work/$name.xml" > "$work/$name.log" 2>&1 &
   local spid=$!
   sleep 0.3
-  timeout 120 "$master" --udp "127.0.0.1:$port" -q "$@" > "$work/$name.master.log" 2>&1 &
+  timeout 120 "${E2E_MASTER_RT[@]}" "$master" --udp "127.0.0.1:$port" -q "$@" > "$work/$name.master.log" 2>&1 &
   local mpid=$!
   wait "$spid"
   rc=$?
