@@ -125,6 +125,30 @@ TEST(ConformanceSuite, DcOnlyDeviceRunsInDcSync0Mode) {
   std::remove(file.c_str());
 }
 
+// A device without process-data SMs (tests/data/esi-mismatch/placeholder-entry.xml:
+// one entry-less TxPDO, no Sm) has no 1C12h/1C13h: the SDO aborts 06020000
+// are "no PDOs", equal to the SII's none. With an inputs SM in the SII the
+// missing 1C13h would be a failure, as before.
+TEST(ConformanceSuite, NoAssignmentObjectsWithoutProcessDataSms) {
+  auto twin = esi::import_twin(std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-mismatch/placeholder-entry.xml", {});
+  ASSERT_TRUE(twin) << twin.error().to_string();
+  ASSERT_EQ(twin->sync_managers.size(), 2u);
+  ASSERT_EQ(twin->dictionary.find(0x1C13), nullptr);
+  const std::string file = ::testing::TempDir() + "placeholder-" + std::to_string(::getpid()) + ".device.xml";
+  std::ofstream(file) << esi::write_device_xml(*twin);
+  InProcessBus bus;
+  ASSERT_TRUE(bus.add(file));
+  Master master(bus.transport, bus.clock);
+  conformance::SuiteOptions options;
+  options.wait = [&bus](Nanoseconds d) { bus.wait(d); };
+  options.filter = "od.default_pdos_match_sii";
+  const auto reports = conformance::run_suite(master, options);
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].result.verdict, Verdict::Pass);
+  EXPECT_EQ(reports[0].result.seen, "0x1C12: none; 0x1C13: none; ");
+  std::remove(file.c_str());
+}
+
 // Issue 18: the same suite with the firmware reaching the ESC over SPI
 // framing to an emulated LAN9252 / ET1100 SPI slave (pdi_spi/), every
 // transaction within the chip's framing rules.
