@@ -32,12 +32,42 @@ std::string show(const RegisterValue& r, std::uint64_t v) {
 }
 
 // "0x0400=0x09c2 ..." for the table and for what the slave shows.
+// A run of at least this many adjacent registers of one size that all hold
+// the same expected value is shown as one range, so that a whole FMMU or SM
+// block reads as one line; a register that differs keeps its own
+// "address=value" on both sides.
+constexpr std::size_t kRangeRunMin = 3;
+
+bool holds(const std::vector<std::uint8_t>& regs, const RegisterValue& r) {
+  return (load(regs, r.address, r.size) & r.mask) == (r.value & r.mask);
+}
+
 CaseResult compare_table(const std::vector<std::uint8_t>& regs, const std::vector<RegisterValue>& table) {
   std::string want, seen;
-  for (const auto& r : table) {
+  auto add = [&](const std::string& w, const std::string& s) {
     if (!want.empty()) want += ' ', seen += ' ';
-    want += show(r, r.value);
-    seen += show(r, load(regs, r.address, r.size));
+    want += w;
+    seen += s;
+  };
+  for (std::size_t i = 0; i < table.size();) {
+    const RegisterValue& r = table[i];
+    std::size_t j = i + 1;
+    if (holds(regs, r)) {
+      while (j < table.size() && table[j].size == r.size && (table[j].value & table[j].mask) == (r.value & r.mask) &&
+             table[j].address == table[j - 1].address + table[j - 1].size && holds(regs, table[j])) {
+        ++j;
+      }
+    }
+    if (j - i >= kRangeRunMin) {
+      // "0x0800..0x0838=0x0000000000000000": every register of that size from
+      // the first to the last address (each compared under its own mask).
+      const std::string range =
+          fmt::format("{:#06x}..{:#06x}={:#0{}x}", r.address, table[j - 1].address, r.value & r.mask, 2 + 2 * r.size);
+      add(range, range);
+    } else {
+      for (std::size_t k = i; k < j; ++k) add(show(table[k], table[k].value), show(table[k], load(regs, table[k].address, table[k].size)));
+    }
+    i = j;
   }
   return CaseResult::compare(want, seen);
 }
