@@ -22,27 +22,11 @@ namespace {
 
 using test::line_of;
 
-struct Read {
-  std::string file, text;
-  od::DeviceDescription d;
-  std::vector<std::string> warnings;
-};
+using Read = test::FileRead;
 
 Read read(const std::string& name) {
-  Read r;
-  r.file = std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-vendor/" + name;
-  std::ifstream in(r.file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  r.text = s.str();
-  std::vector<EsiWarning> w;
-  auto d = read_esi(r.file, EsiSelection{}, &w);
-  EXPECT_TRUE(d) << d.error().to_string();
-  if (d) r.d = *d;
-  for (const auto& x : w) r.warnings.push_back(x.to_string(name));
-  auto judged = judge_twin(r.d);
-  EXPECT_TRUE(judged) << judged.error();
-  return r;
+  const std::string path = std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-vendor/" + name;
+  return test::read_judged(path, name);
 }
 
 // The 1-based line of the last `needle` in `text`.

@@ -7,10 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "esi/esi_reader.hpp"
+#include "esi/twin_judge.hpp"
 
 namespace ecat::esi::test {
 
@@ -49,6 +52,33 @@ inline Read read(const std::string& text) {
   auto d = read_esi_string(text, "t.xml", {}, &r.warnings);
   EXPECT_TRUE(d) << d.error().to_string();
   if (d) r.d = *d;
+  return r;
+}
+
+// A corpus file read and judged as a twin: its path and text, the
+// description, and its warnings as "SHOWN:line: warning: ..." text.
+struct FileRead {
+  std::string file, text;
+  od::DeviceDescription d;
+  std::vector<std::string> warnings;
+};
+
+// Reads the ESI at `path` (the warnings name it `shown`); a read or a judge
+// that fails fails the test.
+inline FileRead read_judged(const std::string& path, const std::string& shown) {
+  FileRead r;
+  r.file = path;
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  r.text = s.str();
+  std::vector<EsiWarning> w;
+  auto d = read_esi(path, EsiSelection{}, &w);
+  EXPECT_TRUE(d) << d.error().to_string();
+  if (d) r.d = *d;
+  for (const auto& x : w) r.warnings.push_back(x.to_string(shown));
+  auto judged = judge_twin(r.d);
+  EXPECT_TRUE(judged) << judged.error();
   return r;
 }
 
