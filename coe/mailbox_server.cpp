@@ -40,6 +40,7 @@ bool MailboxServer::add_service(MailboxService& service) noexcept {
   if (service_count_ == services_.size()) return false;
   services_[service_count_++] = &service;
   if (service.starts_messages()) streamers_[streamer_count_++] = &service;
+  note_idle();
   return true;
 }
 
@@ -93,6 +94,11 @@ void MailboxServer::close() noexcept {
 
 void MailboxServer::poll(Nanoseconds now) noexcept {
   (void)now;
+  poll_once();
+  note_idle();
+}
+
+void MailboxServer::poll_once() noexcept {
   const std::uint8_t al = pdi_.read_u8(esc::reg::kAlStatus) & bits::kAlStateMask;
   if (!mailbox_state(al)) {
     state_ = od::EsmState::Init;
@@ -331,6 +337,7 @@ Expected<void, MailboxError> MailboxServer::send(MailboxType type, ConstBytes pa
   std::memcpy(sm1_image_.data(), header, MailboxHeader::kSize);
   if (!payload.empty()) std::memcpy(sm1_image_.data() + MailboxHeader::kSize, payload.data(), payload.size());
   (void)unsolicited_.push_back({sm1_image_.data(), MailboxHeader::kSize + payload.size()});
+  note_idle();
   return {};
 }
 
@@ -340,6 +347,7 @@ bool MailboxServer::set_unsolicited_storm(MailboxType type, ConstBytes payload, 
   std::copy(payload.begin(), payload.end(), storm_payload_.begin());
   storm_size_ = payload.size();
   storm_left_ = count;
+  note_idle();
   return true;
 }
 

@@ -200,6 +200,7 @@ void Esc::load_eeprom(bool power_on) noexcept {
   store_le(m + reg::kExtendedPdiConfiguration, sii_word(sii, kSiiWordExtPdiConfig));
   if (power_on) {
     store_le(m + reg::kConfiguredStationAlias, sii_word(sii, kSiiWordAlias));
+    ++address_epoch_;
     dc_.reset(sii_word(sii, kSiiWordSyncPulse));
   }
 }
@@ -492,6 +493,7 @@ void Esc::loop_control_written() noexcept {
 // link; Auto-close too, except in "closed wait"; open/closed are forced.
 // A port that does not exist is closed.
 void Esc::update_ports() noexcept {
+  ++address_epoch_;
   for (unsigned p = 0; p < kMaxPorts; ++p) {
     bool open = false;
     if (present_[p]) {

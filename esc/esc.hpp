@@ -362,16 +362,27 @@ class Esc final : public Pdi {
     std::size_t size;  // no initializer: default-constructible inside the incomplete Esc
     void operator()(std::uint8_t* p) const noexcept;
   };
+  // What esc::Segment's skip index reads of an ESC accessed since the last
+  // frame (Segment::note_entered), first: with the DC unit's last members
+  // (receive_latch_armed_) one line, where the ESC was read over three or
+  // four (issue 30 item 1, docs/performance.md "Session 15").
+  Nanoseconds next_timer_ = Nanoseconds::max();
+  std::uint32_t fmmu_epoch_ = 0;  // +1 at every update_fmmus (esc::Segment re-reads the spans)
+  // +1 whenever something esc::Segment's skip index keeps of this ESC's
+  // addressing, ports and reset may have changed: a write to the station
+  // address 0x0010, the alias 0x0012, DL control 0x0100-0x0103 (loop bits,
+  // alias enable) or the ECAT event mask 0x0200; the ports (update_ports:
+  // link, loop, reset); an ESC reset requested (0x0040/0x0041); an EEPROM
+  // load; poke_registers. The segment reads those registers again only
+  // when it moved.
+  std::uint32_t address_epoch_ = 0;
   std::unique_ptr<std::uint8_t[], MemoryUnmap> mem_;
   static std::unique_ptr<std::uint8_t[], MemoryUnmap> map_memory(std::size_t size);
-  bool memory_fresh_ = true;  // still all zero as mapped: the power-on reset need not clear it
-  Nanoseconds next_timer_ = Nanoseconds::max();
   Nanoseconds now_{0};
   // Logical bytes [logical_first_, logical_end_) span every active FMMU:
   // a logical datagram outside it passes this ESC untouched.
   std::uint64_t logical_first_ = 0;
   std::uint64_t logical_end_ = 0;
-  std::uint32_t fmmu_epoch_ = 0;  // +1 at every update_fmmus (esc::Segment re-reads the spans)
   std::array<bool, kMaxPorts> link_{};
   std::array<bool, kMaxPorts> port_open_{};
   // What a line of ESCs (esc::Segment's line path) does after the processing
@@ -382,6 +393,7 @@ class Esc final : public Pdi {
   LineRoute line_route_ = LineRoute::Back;
   std::array<bool, kMaxPorts> present_{};      // the port exists (0x0007)
   std::array<bool, kMaxPorts> closed_wait_{};  // Auto-close port closed after a link loss
+  bool memory_fresh_ = true;  // still all zero as mapped: the power-on reset need not clear it
   // pdi_in_place_sm's last answers: [0] reads, [1] writes; sm -1 = none kept.
   struct PdiBufferHint {
     std::uint32_t address = 0;

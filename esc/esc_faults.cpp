@@ -27,6 +27,7 @@ namespace ecat::esc {
 
 void Esc::poke_registers(std::uint16_t address, std::span<const std::uint8_t> bytes) noexcept {
   touch();
+  ++address_epoch_;  // any register, the addressing ones too
   const std::size_t end = std::min<std::size_t>(std::size_t{address} + bytes.size(), kRegisterEnd);
   for (std::size_t a = address; a < end; ++a) mem_[a] = bytes[a - address];
 }

@@ -235,11 +235,12 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
     if (step == std::size(bits::kResetSequence)) {
       step = 0;
       reset_requested_ = true;
+      ++address_epoch_;  // the skip index keeps it (Segment::note_entered)
     }
     m[a] = step;  // reads show the progress of the sequence
   } else if (in(a, reg::kDlControl, reg::kDlControl + 4)) {
     if (a == reg::kDlControl + 1) loop_control_written();
-    update_ports();
+    update_ports();  // advances the address epoch (the alias enable bit too)
     update_dl_status();
   } else if (ecat && a == reg::kAlControl) {
     al_control_pending_ = true;
@@ -301,6 +302,9 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
       status = kMiiCommandError;
     }
     m[a] = status;
+  } else if (in(a, reg::kConfiguredStationAddress, reg::kConfiguredStationAlias + 2) ||
+             in(a, reg::kEcatEventMask, reg::kEcatEventMask + 2)) {
+    ++address_epoch_;  // what esc::Segment's skip index keeps of the addressing
   }
 }
 

@@ -62,11 +62,15 @@ constexpr bool read_effect(std::uint16_t a, Side side) noexcept {
 }
 
 // Writes that do more than store the value (write enables, reset sequence,
-// DL control, AL control/status, counters cleared by any write, MII command).
+// DL control, AL control/status, counters cleared by any write, MII command;
+// the station address, alias and ECAT event mask advance the ESC's address
+// epoch, Esc::address_epoch_).
 constexpr bool write_effect(std::uint16_t a, Side side) noexcept {
   if (special_block(a)) return true;
   if (a == reg::kEscResetEcat || a == reg::kEscResetPdi) return true;
   if (in(a, reg::kDlControl, reg::kDlControl + 4)) return true;
+  if (in(a, reg::kConfiguredStationAddress, reg::kConfiguredStationAlias + 2)) return true;
+  if (in(a, reg::kEcatEventMask, reg::kEcatEventMask + 2)) return true;
   if (side == Side::Pdi) return a == reg::kAlStatus;
   return a == reg::kRegisterWriteEnable || a == reg::kEscWriteEnable || a == reg::kAlControl ||
          a == reg::kAlControl + 1 || in(a, reg::kRxErrorCounter, bits::kLostLinkCountersEnd) ||

@@ -32,7 +32,10 @@ std::size_t Segment::append(Esc& esc) {
   touched_.push_back(0);
   touched_.push_back(0);  // two words per slave: touched, processed
   visited_.push_back(0);
-  fmmu_epochs_.push_back(esc.fmmu_epoch_ - 1);  // not read yet
+  EscView view;
+  view.address_epoch = esc.address_epoch_ - 1;  // not read yet
+  view.fmmu_epoch = esc.fmmu_epoch_ - 1;
+  views_.push_back(view);
   port_masks_.push_back(0);
   ++topology_epoch_;
   const std::size_t i = escs_.size() - 1;
@@ -372,11 +375,12 @@ void Segment::refresh_dirty() noexcept {
   const std::span<std::uint64_t> dirty = index_.dirty_words();
   for (std::size_t w = 0; w < dirty.size(); ++w) {
     std::uint64_t bits = dirty[w];
+    if (bits == 0) continue;
     dirty[w] = 0;
-    while (bits != 0) {
+    do {
       note_entered<kRoute>(w * SkipIndex::kWordBits + static_cast<std::size_t>(std::countr_zero(bits)));
       bits &= bits - 1;
-    }
+    } while (bits != 0);
   }
 }
 
@@ -436,29 +440,45 @@ std::size_t Segment::logical_spans(const Esc& e, SkipIndex::Spans& out) noexcept
   return count;
 }
 
+// The registers behind ESC i's address epoch (Esc::address_epoch_).
+void Segment::read_addressing(std::size_t i) noexcept {
+  const Esc& e = *escs_[i];
+  EscView& v = views_[i];
+  const std::uint8_t* m = e.mem_.get();
+  v.address_epoch = e.address_epoch_;
+  const std::uint16_t station = load_le<std::uint16_t>(m + reg::kConfiguredStationAddress);
+  const bool alias_on = (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0;
+  const std::uint16_t alias = alias_on ? load_le<std::uint16_t>(m + reg::kConfiguredStationAlias) : station;
+  v.address = station | (std::uint32_t{alias} << 16);
+  v.event_mask = load_le<std::uint16_t>(m + reg::kEcatEventMask);
+  v.open = e.config_.fast_paths && e.port_open_[kUpstreamPort] && !e.reset_requested_;
+  v.down = e.line_route_ == Esc::LineRoute::Down;
+}
+
 template <bool kRoute>
 void Segment::note_entered(std::size_t i) noexcept {
   const Esc& e = *escs_[i];
+  if (views_[i].address_epoch != e.address_epoch_) [[unlikely]] read_addressing(i);
+  const EscView& v = views_[i];
   SkipIndex::Passive p;
+  // The IRQ field (Esc::irq_field) is 0 while the mask is, without a look
+  // at the request register.
+  const bool no_irq = v.event_mask == 0 || (e.ecat_event() & v.event_mask) == 0;
   if constexpr (kRoute) {
     // Port 0 open: the processing unit leaves the frame's circulating bits alone.
-    p.passive = e.config_.fast_paths && e.port_open_[kUpstreamPort] && e.irq_field() == 0 &&
-                !e.dc_.receive_latch_armed() && !e.reset_requested_;
+    p.passive = v.open && no_irq && !e.dc_.receive_latch_armed();
     if (port_mask(e) != port_masks_[i]) ++topology_epoch_;
   } else {
-    p.passive = e.config_.fast_paths && e.port_open_[kUpstreamPort] && e.line_route_ == Esc::LineRoute::Down &&
-                e.irq_field() == 0 && !e.dc_.receive_latch_armed() && !e.reset_requested_;
+    p.passive = v.open && v.down && no_irq && !e.dc_.receive_latch_armed();
   }
   if (p.passive) {
-    const std::uint8_t* m = e.mem_.get();
     p.next_timer = e.next_timer_;
-    p.station = load_le<std::uint16_t>(m + reg::kConfiguredStationAddress);
-    const bool alias_on = (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0;
-    p.alias = alias_on ? load_le<std::uint16_t>(m + reg::kConfiguredStationAlias) : p.station;
+    p.station = static_cast<std::uint16_t>(v.address);
+    p.alias = static_cast<std::uint16_t>(v.address >> 16);
   }
   index_.update(i, p);
-  if (fmmu_epochs_[i] != e.fmmu_epoch_) {
-    fmmu_epochs_[i] = e.fmmu_epoch_;
+  if (v.fmmu_epoch != e.fmmu_epoch_) {
+    views_[i].fmmu_epoch = e.fmmu_epoch_;
     SkipIndex::Spans spans{};
     const std::size_t count = logical_spans(e, spans);
     index_.set_spans(i, spans, count);

@@ -306,7 +306,21 @@ class Segment {
   // Set by record_pass: ESCs the skipping path passed by may not have taken
   // in pass_ yet (Esc::sync_pass); carry_dense syncs them all once first.
   bool passes_pending_ = false;
-  std::vector<std::uint32_t> fmmu_epochs_;  // Esc::fmmu_epoch_ when its spans were last read
+  // What note_entered keeps of each ESC's addressing, read again only when
+  // the ESC's address epoch moved (issue 30 item 1: at 1000 drives the
+  // registers' lines - 0x0010, 0x0100, 0x0200 - and the ESC's config were
+  // last-level misses at every entered or accessed ESC), and the FMMU epoch
+  // of its spans: one small record per ESC, four to a cache line.
+  struct EscView {
+    std::uint32_t address_epoch = 0;  // Esc::address_epoch_ when read
+    std::uint32_t fmmu_epoch = 0;     // Esc::fmmu_epoch_ when its spans were last read
+    std::uint32_t address = 0;        // station | alias << 16 (alias = station while not enabled)
+    std::uint16_t event_mask = 0;     // ECAT event mask 0x0200
+    bool open = false;                // fast paths on, port 0 open, no ESC reset requested
+    bool down = false;                // and the line's frame goes on out of port 1 (Esc::line_route_)
+  };
+  std::vector<EscView> views_;
+  [[gnu::noinline]] void read_addressing(std::size_t i) noexcept;
   // Trees and rings (carry_route): the port walk of each master port's
   // frames, for the ports' states when it was built.
   struct RouteEvent {

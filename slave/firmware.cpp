@@ -66,6 +66,7 @@ Firmware::Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const Sla
             has_type(device, od::SmType::Inputs)),
       eoe_init_(options.eoe_init),
       report_(options.report) {
+  coe_.mailbox().keep_idle_flag(&mailbox_idle_);
   esm_.add_hooks(coe_.esm_hooks());
   sync_.install();
   sync_.attach(esm_);
@@ -105,13 +106,13 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
   }
   const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
   if (sms_changed) coe_.process_data().load_layout(pdi_);
-  if (changed || (events & kMailboxEvents) != 0 || coe_.mailbox().has_output()) coe_.poll(now);
+  if (changed || (events & kMailboxEvents) != 0 || mailbox_output()) coe_.poll(now);
   const coe::SyncPoll sp = dc ? sync_.poll(now) : sync_.poll(now, events);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed, lines);
   next_ = sp.next;
   wake_ = sp.next.value_or(Nanoseconds::max());
-  pass_work_ = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
+  pass_work_ = poll_each_frame_ || esm_.pending() || mailbox_output();
   return sp.next;
 }
 

@@ -56,8 +56,8 @@ class Firmware {
   // deferral, a mailbox reply waiting for SM1, an SM whose event the master
   // switched off so the firmware has to look by itself).
   bool wants_poll(Nanoseconds now, EscLines lines) const noexcept {
-    return lines.irq || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() ||
-           coe_.mailbox().has_output() || mask_lost(lines);
+    return lines.irq || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() || mailbox_output() ||
+           mask_lost(lines);
   }
   // A cheap superset of wants_poll() for the check after every frame of a
   // chain (issue 8): the IRQ and a lost mask as they are now, the deadline
@@ -109,6 +109,9 @@ class Firmware {
   void note_al_status_code(Nanoseconds now) noexcept;
   void check_eoe_init(esc::AlState entered) noexcept;
   bool sm_events_enabled(std::uint32_t mask) noexcept;
+  // coe::MailboxServer::has_output(), asked only when the flag the server
+  // keeps here (keep_idle_flag) does not already say no.
+  bool mailbox_output() const noexcept { return !mailbox_idle_ && coe_.mailbox().has_output(); }
 
   esc::Pdi& pdi_;
   // What the chain asks after every frame and poll() keeps, first and
@@ -125,6 +128,7 @@ class Firmware {
   esc::AlState state_seen_ = esc::AlState::Init;
   bool pass_work_ = true;
   bool poll_each_frame_ = false;
+  bool mailbox_idle_ = false;  // set by coe_.mailbox() (MailboxServer::keep_idle_flag)
   std::uint64_t cycles_ = 0;
   std::uint64_t polls_ = 0;
   esc::Esm esm_;

@@ -152,8 +152,9 @@ class DcUnit : private SyncUnit::Sink {
   // field), last: the Esc keeps its own per-frame members right behind.
   std::uint32_t al_events_ = 0;
   std::uint16_t ecat_events_ = 0;
-  bool receive_latch_armed_ = false;
   Nanoseconds last_t_{0};  // latest time the unit has seen
+  // Last: next to the Esc members esc::Segment's skip index reads with it.
+  bool receive_latch_armed_ = false;
   bool sync0_inhibited_ = false;  // fault: SYNC0 pulses suppressed
 };
 

@@ -230,6 +230,52 @@ TEST(Mailbox, RepliesQueueWhileSm1IsFullAndAreNeverLost) {
   EXPECT_FALSE(rig.fetch());
 }
 
+// The idle flag a caller keeps (MailboxServer::keep_idle_flag, slave::Firmware)
+// is true exactly while has_output() is false, through replies, unsolicited
+// messages, a storm and the mailbox closing.
+TEST(Mailbox, IdleFlagIsTrueExactlyWhileNothingWaits) {
+  test::Rig rig(test::make_device(), 4);
+  bool idle = false;
+  rig.mailbox.keep_idle_flag(&idle);
+  auto check = [&](bool expected, const char* what) {
+    EXPECT_EQ(idle, expected) << what;
+    EXPECT_EQ(rig.mailbox.has_output(), !expected) << what;
+  };
+  check(true, "new");
+  rig.mailbox.poll(Nanoseconds{0});
+  check(true, "open, nothing queued");
+  ASSERT_TRUE(rig.mailbox.send(MailboxType::CoE, Frame{0x00, 0x10, 0x11, 0x86}));
+  check(false, "emergency queued");
+  rig.mailbox.poll(Nanoseconds{0});
+  check(true, "emergency in SM1");
+  // A request while SM1 is still full: its reply waits in the queue.
+  ASSERT_TRUE(rig.esc.master_write(mbx(3, 1, sdo(0x40, 0x1018, 1))));
+  rig.mailbox.poll(Nanoseconds{0});
+  check(false, "reply queued behind the emergency");
+  ASSERT_TRUE(rig.fetch());  // the emergency; the poll inside moves the reply into SM1
+  check(true, "reply in SM1");
+  ASSERT_TRUE(rig.fetch());
+  check(true, "all read");
+  // A storm of three: left to send until the last copy is queued and sent.
+  ASSERT_TRUE(rig.mailbox.set_unsolicited_storm(MailboxType::CoE, Frame{0x00, 0x10, 0x00, 0x50}, 3));
+  check(false, "storm set");
+  for (int k = 0; k < 3; ++k) {
+    rig.mailbox.poll(Nanoseconds{0});
+    ASSERT_TRUE(rig.fetch()) << k;
+  }
+  check(true, "storm sent");
+  // Queued output is dropped when the mailbox closes (Init).
+  ASSERT_TRUE(rig.mailbox.send(MailboxType::CoE, Frame{0x00, 0x10, 0x11, 0x86}));
+  ASSERT_TRUE(rig.mailbox.send(MailboxType::CoE, Frame{0x00, 0x10, 0x12, 0x86}));
+  rig.mailbox.poll(Nanoseconds{0});
+  check(false, "one in SM1, one queued");
+  rig.esc.set_state(0x01);
+  rig.mailbox.poll(Nanoseconds{0});
+  check(true, "closed");
+  rig.mailbox.keep_idle_flag(nullptr);
+  EXPECT_TRUE(idle);  // no longer written
+}
+
 }  // namespace
 }  // namespace ecat::coe
 

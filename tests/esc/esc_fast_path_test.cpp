@@ -443,7 +443,11 @@ TEST(RegisterMap, PlainBytesAreFullyWritableAndBlocksAreSpecial) {
   EXPECT_TRUE(has(reg::kAlStatus, kReadEffectEcat));
   EXPECT_TRUE(has(reg::kAlControl, kReadEffectPdi));
   EXPECT_FALSE(has(reg::kAlControl, kReadEffectEcat));
-  EXPECT_TRUE(has(reg::kConfiguredStationAddress, kWritePlainEcat));
+  EXPECT_TRUE(has(reg::kWatchdogDivider, kWritePlainEcat));
+  // Writable, but each write advances the ESC's address epoch (Esc::address_epoch_).
+  EXPECT_FALSE(has(reg::kConfiguredStationAddress, kWritePlainEcat));
+  EXPECT_FALSE(has(reg::kConfiguredStationAlias, kWritePlainPdi));
+  EXPECT_FALSE(has(reg::kEcatEventMask, kWritePlainEcat));
   EXPECT_TRUE(has(bits::kUserRam, kWritePlainPdi));
 }
 

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "esc_fixture.hpp"
 
@@ -46,6 +48,30 @@ struct Twin {
     ASSERT_EQ(a.frame().size(), b.frame().size()) << what;
     EXPECT_EQ(std::memcmp(a.frame().data(), b.frame().data(), a.frame().size()), 0) << what;
     ++frames;
+  }
+  // The same, with each datagram's WKC and data as the skipping line left them.
+  template <typename Fill>
+  std::vector<std::pair<std::uint16_t, Data>> answers(Nanoseconds now, Fill fill, const std::string& what) {
+    TestFrame a;
+    TestFrame b;
+    fill(a);
+    fill(b);
+    a.send(fast.segment, now);
+    b.send(ref.segment, now);
+    ++frames;
+    EXPECT_EQ(a.frame().size(), b.frame().size()) << what;
+    if (a.frame().size() != b.frame().size()) return {};
+    EXPECT_EQ(std::memcmp(a.frame().data(), b.frame().data(), a.frame().size()), 0) << what;
+    std::vector<std::pair<std::uint16_t, Data>> out;
+    for (std::size_t k = 0; a.frame().size() > 0 && k < count_of(a); ++k) out.emplace_back(a.wkc(k), a.data(k));
+    return out;
+  }
+  static std::size_t count_of(const TestFrame& f) {
+    std::size_t n = 0;
+    for (DatagramView d = f.dg(0);; d = d.next()) {
+      ++n;
+      if (!d.more()) return n;
+    }
   }
   void pdi_write(std::size_t i, std::uint16_t address, const Data& d) {
     fast[i].write(address, d);
@@ -246,6 +272,99 @@ TEST(SegmentSkip, SkippingOffAndOnAgainMatches) {
   EXPECT_EQ(entered[0], (std::uint64_t{1} << 2) | (std::uint64_t{1} << 20) | (std::uint64_t{1} << 33));
   EXPECT_EQ(entered[1], std::uint64_t{1} << (kSlaves - 1 - 64));
   t.compare("counted");
+}
+
+// What the skip index keeps of an ESC's addressing and ports (read again
+// only when the ESC's address epoch moved, issue 30 item 1): each change
+// made between two frames - a station address written by a frame, an alias
+// written by the PDI and then enabled in DL control, a port closed and
+// opened again by its loop bits, a cable cut and restored - is seen by the
+// next frame exactly as by the line that enters every ESC. Frames that pass
+// the changed ESC by come before and after each change.
+TEST(SegmentSkip, AddressingChangedBetweenFramesIsSeenByTheNextFrame) {
+  Twin t;
+  set_up(t);
+  Nanoseconds now{1'000'000};
+  auto answers = [&](const std::string& what, auto fill) {
+    now += Nanoseconds{20'000};
+    t.at(now);
+    return t.answers(now, fill, what);
+  };
+  // The outputs of slave 33 (LRW over FMMU 0 only: +2), which every frame
+  // below passes the other slaves by for.
+  auto pass = [&](const std::string& what) {
+    const auto a = answers(what, [](TestFrame& f) { f.add(Command::Lrw, 33 * 4, le32(0x01020304)); });
+    ASSERT_EQ(a.size(), 1u) << what;
+    EXPECT_EQ(a[0].first, 2) << what;
+  };
+  // LRW of slave 50's outputs: 2 while the frame reaches it, 0 when a port
+  // before it turns the frame back.
+  auto lrw_of_50 = [&](const std::string& what) {
+    const auto a = answers(what, [](TestFrame& f) { f.add(Command::Lrw, 50 * 4, le32(0x0A0B0C0D)); });
+    return a.empty() ? std::uint16_t{0xFFFF} : a[0].first;
+  };
+  pass("every slave read once");
+  pass("passing them by");
+
+  // Station address 0x0010: slave 20 moves from 0x1015 to 0x2020.
+  constexpr std::uint16_t kMoved = 0x2020;
+  auto a = answers("station written", [](TestFrame& f) {
+    f.add(Command::Fpwr, fp(station(20), reg::kConfiguredStationAddress), le16(kMoved));
+  });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0].first, 1);
+  pass("after the station write");
+  a = answers("the new station", [](TestFrame& f) {
+    f.add(Command::Fprd, fp(kMoved, reg::kConfiguredStationAddress), 2);
+    f.add(Command::Fprd, fp(station(20), reg::kConfiguredStationAddress), 2);
+  });
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0], std::make_pair(std::uint16_t{1}, le16(kMoved)));
+  EXPECT_EQ(a[1], std::make_pair(std::uint16_t{0}, le16(0)));
+
+  // Alias 0x0012, written by the PDI: no address until DL control 0x0103
+  // bit 0 (0x0100 bit 24) enables it, then slave 45 answers to it too.
+  constexpr std::uint16_t kAlias = 0x0777;
+  t.pdi_write(45, reg::kConfiguredStationAlias, le16(kAlias));
+  pass("after the alias write");
+  a = answers("alias not enabled", [](TestFrame& f) { f.add(Command::Fprd, fp(kAlias, reg::kConfiguredStationAddress), 2); });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0], std::make_pair(std::uint16_t{0}, le16(0)));
+  a = answers("alias enabled", [](TestFrame& f) {
+    f.add(Command::Fpwr, fp(station(45), reg::kDlControl + 3), Data{0x01});
+  });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0].first, 1);
+  pass("after the alias was enabled");
+  a = answers("the alias", [](TestFrame& f) { f.add(Command::Fprd, fp(kAlias, reg::kConfiguredStationAddress), 2); });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0], std::make_pair(std::uint16_t{1}, le16(station(45))));
+
+  // DL control loop bits 0x0101: port 1 of slave 30 closed (bits 3:2 = 11),
+  // then back to Auto (00) with its link up.
+  EXPECT_EQ(lrw_of_50("before the loop write"), 2);
+  a = answers("port 1 closed", [](TestFrame& f) { f.add(Command::Fpwr, fp(station(30), reg::kDlControl + 1), Data{0x0C}); });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0].first, 1);
+  EXPECT_EQ(lrw_of_50("port 1 of slave 30 closed"), 0);
+  a = answers("slave 33 behind the closed port", [](TestFrame& f) { f.add(Command::Lrw, 33 * 4, le32(0x01020304)); });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0].first, 0);
+  a = answers("port 1 auto", [](TestFrame& f) { f.add(Command::Fpwr, fp(station(30), reg::kDlControl + 1), Data{0x00}); });
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_EQ(a[0].first, 1);
+  EXPECT_EQ(lrw_of_50("port 1 of slave 30 auto again"), 2);
+
+  // A cable cut after slave 40 (its port 1 in Auto closes), then restored.
+  EXPECT_TRUE(t.fast.segment.set_link(40, kDownstreamPort, false));
+  EXPECT_TRUE(t.ref.segment.set_link(40, kDownstreamPort, false));
+  EXPECT_EQ(lrw_of_50("cable after slave 40 cut"), 0);
+  pass("slave 33 before the cut");
+  EXPECT_TRUE(t.fast.segment.set_link(40, kDownstreamPort, true));
+  EXPECT_TRUE(t.ref.segment.set_link(40, kDownstreamPort, true));
+  EXPECT_EQ(lrw_of_50("cable restored"), 2);
+  pass("after the cable came back");
+  t.compare("end");
 }
 
 // Random frames, PDI accesses, polls, link cuts and times, compared step by step.
