@@ -90,6 +90,12 @@ struct Emergency {
 
 class CoeClient {
  public:
+  // The object an SDO initiate request names: its reply must name it too.
+  struct SdoAddress {
+    std::uint16_t index;
+    std::uint8_t subindex;
+  };
+
   CoeClient(Master& master, std::size_t slave) noexcept : master_(master), slave_(slave) {}
 
   Expected<std::vector<std::uint8_t>, SdoError> upload(std::uint16_t index, std::uint8_t subindex,
@@ -121,6 +127,9 @@ class CoeClient {
   Expected<void, SdoError> read_pdo_sizes();
 
   const std::vector<Emergency>& emergencies() const noexcept { return emergencies_; }
+  // SDO replies dropped because they answered an earlier request (late
+  // answers of a request that timed out), since this client was made.
+  std::size_t stale_replies() const noexcept { return stale_replies_; }
 
   // Builds the SDO request payloads (CoE header onward) the client sends; public
   // so tests can check the exact bytes.
@@ -131,13 +140,16 @@ class CoeClient {
 
  private:
   // Sends `payload` as a CoE message and returns the next CoE reply that is not
-  // an emergency (its payload, starting at the CoE header).
-  Expected<std::vector<std::uint8_t>, SdoError> exchange(ConstBytes payload);
+  // an emergency (its payload, starting at the CoE header). With `request`,
+  // an SDO initiate response or abort that names another object is a late
+  // answer to an earlier request: it is dropped and the mailbox read again.
+  Expected<std::vector<std::uint8_t>, SdoError> exchange(ConstBytes payload, const SdoAddress* request = nullptr);
   Expected<std::vector<std::uint8_t>, SdoError> info_exchange(std::uint8_t opcode, ConstBytes request);
 
   Master& master_;
   std::size_t slave_;
   std::vector<Emergency> emergencies_;
+  std::size_t stale_replies_ = 0;
 };
 
 // CoeClient::read_pdo_sizes for each of `slaves`, their mailbox steps sent

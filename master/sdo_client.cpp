@@ -39,6 +39,21 @@ Expected<std::uint8_t, SdoError> sdo_command(ConstBytes p, std::uint16_t index, 
   return cmd;
 }
 
+// An SDO initiate response or an abort (the commands that carry index and
+// subindex) naming another object than `request`: the late answer to an
+// earlier request whose wait ran out. IgH keeps waiting in that case
+// (masters.md §2, SDO upload); taking it as the answer would leave every
+// later request one reply behind.
+bool answers_another(ConstBytes p, const CoeClient::SdoAddress& request) noexcept {
+  if (p.size() < kCoeHeaderSize + kSdoHeaderSize) return false;
+  const std::uint8_t cmd = p[kCoeHeaderSize];
+  const std::uint8_t specifier = static_cast<std::uint8_t>(cmd >> kSpecifierShift);
+  const bool names_object =
+      cmd == kAbort || (service_of(p) == kServiceSdoResponse &&
+                        (specifier == kScsUploadInitiate || specifier == kScsDownloadInitiate));
+  return names_object && (load_le<std::uint16_t>(p.data() + 3) != request.index || p[5] != request.subindex);
+}
+
 }  // namespace
 
 std::array<std::uint8_t, kCoeHeaderSize + kSdoHeaderSize> CoeClient::upload_request(std::uint16_t index,
@@ -67,7 +82,7 @@ std::array<std::uint8_t, kCoeHeaderSize + kSdoHeaderSize> CoeClient::expedited_d
   return b;
 }
 
-Expected<std::vector<std::uint8_t>, SdoError> CoeClient::exchange(ConstBytes payload) {
+Expected<std::vector<std::uint8_t>, SdoError> CoeClient::exchange(ConstBytes payload, const SdoAddress* request) {
   if (auto s = master_.mailbox_send(slave_, mbx::kTypeCoe, payload); !s) return fail(SdoError::master(s.error()));
   for (unsigned n = 0; n < master_.config().max_polls; ++n) {
     auto m = master_.mailbox_receive(slave_, master_.config().mailbox_timeout);
@@ -85,6 +100,10 @@ Expected<std::vector<std::uint8_t>, SdoError> CoeClient::exchange(ConstBytes pay
       emergencies_.push_back(e);
       continue;
     }
+    if (request != nullptr && answers_another(m->payload, *request)) {
+      ++stale_replies_;
+      continue;
+    }
     return std::vector<std::uint8_t>(m->payload.begin(), m->payload.end());
   }
   return fail(SdoError::master(MasterError::MailboxTimeout));
@@ -93,7 +112,8 @@ Expected<std::vector<std::uint8_t>, SdoError> CoeClient::exchange(ConstBytes pay
 Expected<std::vector<std::uint8_t>, SdoError> CoeClient::upload(std::uint16_t index, std::uint8_t subindex,
                                                                 bool complete_access) {
   const auto req = upload_request(index, subindex, complete_access);
-  auto reply = exchange(req);
+  const SdoAddress object{index, subindex};
+  auto reply = exchange(req, &object);
   if (!reply) return fail(reply.error());
   auto cmd = sdo_command(*reply, index, subindex, true);
   if (!cmd) return fail(cmd.error());
@@ -139,7 +159,8 @@ Expected<void, SdoError> CoeClient::download(std::uint16_t index, std::uint8_t s
     std::uint32_t v = 0;
     for (std::size_t i = 0; i < data.size(); ++i) v |= static_cast<std::uint32_t>(data[i]) << (8 * i);
     const auto req = expedited_download_request(index, subindex, v, data.size(), complete_access);
-    auto reply = exchange(req);
+    const SdoAddress object{index, subindex};
+    auto reply = exchange(req, &object);
     if (!reply) return fail(reply.error());
     auto cmd = sdo_command(*reply, index, subindex, true);
     if (!cmd) return fail(cmd.error());
@@ -161,7 +182,8 @@ Expected<void, SdoError> CoeClient::download(std::uint16_t index, std::uint8_t s
   w.u32(static_cast<std::uint32_t>(data.size()));
   w.bytes(data.first(first));
   req.resize(w.position());
-  auto reply = exchange(req);
+  const SdoAddress object{index, subindex};
+  auto reply = exchange(req, &object);
   if (!reply) return fail(reply.error());
   auto cmd = sdo_command(*reply, index, subindex, true);
   if (!cmd) return fail(cmd.error());
