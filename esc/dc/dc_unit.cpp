@@ -41,6 +41,7 @@ void DcUnit::reset(std::uint16_t sync_pulse_length) noexcept {
   pulse_end_ = {};
   al_events_ = 0;
   ecat_events_ = 0;
+  wake_ = Nanoseconds::min();
 }
 
 // Current values of the registers that are not plain storage.
@@ -121,6 +122,7 @@ bool DcUnit::writable(std::uint16_t offset, Side side) const noexcept {
 
 void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds t, Side side) noexcept {
   last_t_ = std::max(last_t_, t);
+  wake_ = Nanoseconds::min();  // the schedule or (time loop) the clock may change: poll again
   if (offset >= kSize) return;
   const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(in.size(), kSize - offset));
   const auto end = static_cast<std::uint16_t>(offset + n);

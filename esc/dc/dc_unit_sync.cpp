@@ -89,7 +89,6 @@ void DcUnit::end_pulses(std::uint64_t system_now) noexcept {
 }
 
 std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
-  last_t_ = std::max(last_t_, now);
   // No pulse scheduled and no output high: nothing below would act and no
   // deadline would come out (issue 8: most ESCs of a line, every cycle).
   if (!sync_.pulse_pending() && !sync_level_[0] && !sync_level_[1]) return std::nullopt;
@@ -105,6 +104,7 @@ std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
       if (!deadline || end < *deadline) deadline = end;
     }
   }
+  wake_ = deadline.value_or(Nanoseconds::max());
   return deadline;
 }
 
