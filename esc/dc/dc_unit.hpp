@@ -81,14 +81,13 @@ class DcUnit : private SyncUnit::Sink {
   // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
   // A time before which poll() does nothing (Nanoseconds::max(): never):
-  // with a pulse scheduled or an output high, the deadline the last poll()
-  // returned - unless anything since could have moved it earlier (a
+  // the deadline the last poll() returned (none: no pulse scheduled, no
+  // output high) - unless anything since could have moved it earlier (a
   // register write, which may also change the clock through the time loop,
-  // a reset, a clock fault), then Nanoseconds::min(). A slave::Chain polls
+  // a reset, a clock fault), then Nanoseconds::min(). A read only lowers an
+  // output (acknowledge mode): the bound stays a bound. A slave::Chain polls
   // only the slaves whose time came (docs/e2e.md "Live timing").
-  Nanoseconds wake_bound() const noexcept {
-    return sync_.pulse_pending() || sync_level_[0] || sync_level_[1] ? wake_ : Nanoseconds::max();
-  }
+  Nanoseconds wake_bound() const noexcept { return wake_; }
 
   // Event bits the unit currently requests: AL event request 0x0220 bits
   // 1..3 (latch, SYNC0, SYNC1) and ECAT event request 0x0210 bit 0 (latch).
@@ -175,7 +174,7 @@ class DcUnit : private SyncUnit::Sink {
   // unit (not a poll: a reset anchors the clock's correction at it, and a
   // chain polls only the slaves whose time came).
   Nanoseconds last_t_{0};
-  Nanoseconds wake_ = Nanoseconds::max();  // wake_bound()'s, with a pulse scheduled
+  Nanoseconds wake_ = Nanoseconds::max();  // wake_bound()'s
   bool sync0_inhibited_ = false;  // fault: SYNC0 pulses suppressed
 };
 
