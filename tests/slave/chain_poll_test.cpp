@@ -4,7 +4,8 @@
 // ecat-slave runs it (Chain::catch_up, pass_frame, run_firmware; Chain::poll
 // when the wire is quiet, at the deadline it returned). The project's master
 // takes six generic servos through scan, SII, mailbox, DC with SYNC0 at
-// 1 ms, SafeOp and Op, cycles with drift compensation and SDO uploads, cuts
+// 1 ms, SafeOp and Op, cycles with drift compensation and SDO uploads (and
+// a step of one slave's local time, made through the ESC from outside), cuts
 // the line behind slave 3 until the slaves behind it drop out on their
 // process-data watchdog, plugs it back, then sends nothing until every
 // watchdog has expired. Every returned frame, every deadline poll()
@@ -36,6 +37,8 @@ using std::chrono::milliseconds;
 
 constexpr std::size_t kSlaves = 6;  // a line long enough to skip (esc::Segment::kSkipFrom)
 constexpr std::size_t kCutAfter = 3;  // slaves 4 and 5 lose the line
+constexpr std::size_t kJumped = 2;    // its local time steps
+constexpr std::int64_t kJump = 300'000;  // ns forward: SYNC0 comes 300 µs early once
 constexpr Nanoseconds kCycle = milliseconds(1);
 constexpr std::uint32_t kCycleNs = 1'000'000;
 constexpr std::uint16_t kSyncModeDcSync0 = 2;
@@ -191,10 +194,16 @@ struct LiveRig : InProcess {
 
   // The scripted run.
   void run() {
+    // Held from set-up, as a PDI host holds its ESC: what it does later is
+    // seen only through the ESC (its accesses mark it for the segment).
+    esc::Esc& outside = chain[kJumped].esc();
     ASSERT_EQ(bring_up_dc(), "");
     for (int k = 0; k < 200; ++k) {
       (void)tick();
       if (k % 50 == 0) upload_all(kSlaves);
+      // The local clock of one slave steps (a dc_time_jump without the
+      // catalogue): its SYNC0 deadline moves earlier, then the time loop pulls it back.
+      if (k == 100) outside.dc().jump_local_time(clock.now(), kJump);
     }
     // The line cut behind slave kCutAfter: the master cycles on, the
     // slaves behind the cut see no frame and expire.
