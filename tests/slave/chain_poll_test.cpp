@@ -5,7 +5,8 @@
 // when the wire is quiet, at the deadline it returned). The project's master
 // takes six generic servos through scan, SII, mailbox, DC with SYNC0 at
 // 1 ms, SafeOp and Op, cycles with drift compensation and SDO uploads (and
-// a step of one slave's local time, made through the ESC from outside), cuts
+// a step of one slave's local time and a LATCH0 pulse on another, made
+// through the ESC from outside the chain), cuts
 // the line behind slave 3 until the slaves behind it drop out on their
 // process-data watchdog, plugs it back, then sends nothing until every
 // watchdog has expired. Every returned frame, every deadline poll()
@@ -38,6 +39,10 @@ using std::chrono::milliseconds;
 constexpr std::size_t kSlaves = 6;  // a line long enough to skip (esc::Segment::kSkipFrom)
 constexpr std::size_t kCutAfter = 3;  // slaves 4 and 5 lose the line
 constexpr std::size_t kJumped = 2;    // its local time steps
+constexpr std::size_t kLatched = 1;   // its LATCH0 input toggles
+constexpr std::uint16_t kLatch0Control = 0x09A8;
+constexpr std::uint16_t kLatch0Status = 0x09AE;
+constexpr std::uint16_t kLatch0TimePositive = 0x09B0;  // 8 bytes, then the negative edge's
 constexpr std::int64_t kJump = 300'000;  // ns forward: SYNC0 comes 300 µs early once
 constexpr Nanoseconds kCycle = milliseconds(1);
 constexpr std::uint32_t kCycleNs = 1'000'000;
@@ -197,13 +202,27 @@ struct LiveRig : InProcess {
     // Held from set-up, as a PDI host holds its ESC: what it does later is
     // seen only through the ESC (its accesses mark it for the segment).
     esc::Esc& outside = chain[kJumped].esc();
+    esc::Esc& latch_pin = chain[kLatched].esc();
     ASSERT_EQ(bring_up_dc(), "");
+    const std::uint16_t latched = master.slave(kLatched).station_address;
+    ASSERT_TRUE(master.fpwr_u8(latched, kLatch0Control, 0));  // continuous, both edges, ECAT-owned
     for (int k = 0; k < 200; ++k) {
       (void)tick();
       if (k % 50 == 0) upload_all(kSlaves);
       // The local clock of one slave steps (a dc_time_jump without the
       // catalogue): its SYNC0 deadline moves earlier, then the time loop pulls it back.
       if (k == 100) outside.dc().jump_local_time(clock.now(), kJump);
+      // LATCH0 of another goes high and low between frames: ECAT event
+      // 0x0210 bit 0 in the IRQ field of the frames after, the times read back.
+      if (k == 150) latch_pin.dc().set_latch_input(0, true, clock.now() - kLead);
+      if (k == 160) latch_pin.dc().set_latch_input(0, false, clock.now() - kLead);
+      if (k == 170) {
+        std::array<std::uint8_t, 16> edges{};
+        (void)master.fprd(latched, kLatch0TimePositive, edges);
+        uploads.push_back(load_le<std::uint32_t>(edges.data()));
+        uploads.push_back(load_le<std::uint32_t>(edges.data() + 8));
+        uploads.push_back(master.fprd_u8(latched, kLatch0Status).value_or(0xFF));
+      }
     }
     // The line cut behind slave kCutAfter: the master cycles on, the
     // slaves behind the cut see no frame and expire.
