@@ -4,15 +4,15 @@
 // ecat-slave runs it (Chain::catch_up, pass_frame, run_firmware; Chain::poll
 // when the wire is quiet, at the deadline it returned). The project's master
 // takes six generic servos through scan, SII, mailbox, DC with SYNC0 at
-// 1 ms, SafeOp and Op, cycles with drift compensation and SDO uploads (and
-// a step of one slave's local time and a LATCH0 pulse on another, made
-// through the ESC from outside the chain), cuts
-// the line behind slave 3 until the slaves behind it drop out on their
-// process-data watchdog, plugs it back, then sends nothing until every
-// watchdog has expired. Every returned frame, every deadline poll()
-// returned, every AL status change and SYNC edge with its time, and at the
-// end every ESC's memory, DC registers, timers and firmware counters are the
-// same.
+// 1 ms, SafeOp and Op, cycles with drift compensation and SDO uploads (and,
+// made through the ESC from outside the chain, a step of one slave's local
+// time and a LATCH0 pulse on another), cuts the line behind slave 3 until
+// the slaves behind it leave Op (DC sync error 0x001A) and their
+// process-data watchdogs expire, plugs it back, then sends nothing until
+// every slave has left Op and every watchdog has expired. Every returned
+// frame, every deadline poll() returned, every AL status change and SYNC
+// edge with its time, and at the end every ESC's memory, DC registers,
+// timers and firmware counters are the same.
 #include <gtest/gtest.h>
 
 #include <algorithm>
