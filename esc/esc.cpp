@@ -245,7 +245,10 @@ void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcep
     mem_write(address, in.first(n), Side::Pdi);
   }
   pdi_watchdog_trigger(t);
-  if (reset_requested_) reset();  // recomputes 0x0110 itself
+  if (reset_requested_) {
+    dc_.note_time(t);  // the DC time loop's correction ends at the reset (DcUnit::reset)
+    reset();  // recomputes 0x0110 itself
+  }
   if (!config_.fast_paths) update_dl_status();
 }
 

@@ -159,6 +159,7 @@ class Esc final : public Pdi {
     touch();  // the caller may change the DC unit's events or times
     return dc_;
   }
+  const DcUnit& dc() const noexcept { return dc_; }
   // SM n; one this ESC does not have (n >= the count in 0x0005) is a
   // disabled SM whose registers are what those registers read (0, status
   // 0x30).
@@ -179,6 +180,11 @@ class Esc final : public Pdi {
   // The earliest time the ESC's own timers (watchdogs, SII busy) need to
   // run; Nanoseconds::max() when none is armed. DC SYNC is in dc().poll().
   Nanoseconds next_timer() const noexcept { return next_timer_; }
+  // A time before which poll() does nothing but note the time: next_timer()
+  // (kept exact at every access) and the DC unit's DcUnit::wake_bound().
+  // Nanoseconds::max(): nothing armed. Read after any access, it already
+  // holds what that access armed (slave::Chain polls by it).
+  Nanoseconds wake_bound() const noexcept { return std::min(next_timer_, dc_.wake_bound()); }
   // Time of the latest access: frame, PDI access or poll.
   Nanoseconds last_time() const noexcept {
     const_cast<Esc*>(this)->sync_pass();

@@ -155,6 +155,11 @@ class Segment {
   // may have changed) since the caller last cleared the bits: bit i of word
   // i / 64 is ESC i. slave::Chain asks only those slaves' firmware.
   std::span<std::uint64_t> entered() noexcept { return index_.entered_words(); }
+  // The ESCs accessed from outside a frame (PDI, poll, link, reset:
+  // Esc::touch) since the segment last read them again - at its next frame
+  // that skips, or never on a dense line (bit i of word i / 64: ESC i).
+  // slave::Chain looks at these slaves' timers again before it polls.
+  std::span<const std::uint64_t> dirty() noexcept { return index_.dirty_words(); }
 
   std::uint64_t frames_processed() const noexcept { return processed_; }
   std::uint64_t frames_dropped() const noexcept { return dropped_; }

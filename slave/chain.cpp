@@ -32,6 +32,7 @@ void Chain::added() noexcept {
   pending_.resize((slaves_.size() + 63) / 64, 0);
   due_.resize(pending_.size(), 0);
   wakes_.resize(slaves_.size());
+  deadlines_.resize(slaves_.size(), Nanoseconds::max());
   rescan_ = true;
 }
 
@@ -132,10 +133,12 @@ void Chain::after_frame(std::size_t i, Nanoseconds now) noexcept {
     note(i);
     return;
   }
-  // Not due: not pending, and its wake time is the one the heap holds -
-  // unless it was just taken out as due (then it goes back).
+  // Not due: not pending; its times are taken again, as the frame may
+  // have armed a timer of its ESC (a watchdog, SYNC0).
   pending_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
-  if (wakes_.time(i) == Nanoseconds::max()) wakes_.set(i, s.wake_at());
+  const Nanoseconds next = s.next_deadline();
+  wakes_.set(i, s.visit_at());
+  deadlines_.set(i, next);
 }
 
 void Chain::note(std::size_t i) noexcept {
@@ -146,12 +149,26 @@ void Chain::note(std::size_t i) noexcept {
   } else {
     pending_[i / 64] &= ~bit;
   }
-  wakes_.set(i, s.wake_at());
+  wakes_.set(i, s.visit_at());
+  deadlines_.set(i, s.next_deadline());
 }
 
+void Chain::note_touched() noexcept {
+  const std::span<const std::uint64_t> dirty = segment_.dirty();
+  const std::span<const std::uint64_t> entered = segment_.entered();
+  for (std::size_t w = 0; w < pending_.size(); ++w) {
+    for (std::uint64_t bits = dirty[w] | entered[w]; bits != 0; bits &= bits - 1) {
+      note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
+    }
+  }
+}
 
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
   seen_ = std::max(seen_, now);
+  return poll_all_ || rescan_ ? poll_every(now) : poll_due(now, true);
+}
+
+std::optional<Nanoseconds> Chain::poll_every(Nanoseconds now) noexcept {
   std::optional<Nanoseconds> next;
   // Every slave's state moves: what run_firmware keeps is taken anew.
   for (std::size_t i = 0; i < slaves_.size(); ++i) {
@@ -163,10 +180,47 @@ std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
   return next;
 }
 
+// A slave that is not pending and whose visit time has not come would, if
+// polled, run no timer (the ESC's wake bound is later), not run its firmware
+// (VirtualSlave::after_frame_due is false, a superset of wants_poll), and
+// return its next_deadline(): it is left alone. Its ESC's time of latest
+// access (Esc::last_time) is then the last one it had, not `now`.
+std::optional<Nanoseconds> Chain::poll_due(Nanoseconds now, bool next) noexcept {
+  note_touched();
+  wakes_.take_due(now, due_);
+  // The polled ones' deadlines are what their polls returned, the others'
+  // what they would return: their earliest is poll()'s answer. Then the
+  // polled ones are noted as they stand after their firmware ran.
+  for (std::size_t w = 0; w < pending_.size(); ++w) {
+    std::uint64_t bits = pending_[w] | due_[w];
+    due_[w] = bits;
+    for (; bits != 0; bits &= bits - 1) {
+      const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+      const std::optional<Nanoseconds> t = slaves_[i]->poll(now);
+      deadlines_.set(i, t.value_or(Nanoseconds::max()));
+    }
+  }
+  const Nanoseconds earliest = next ? deadlines_.earliest() : Nanoseconds::max();
+  for (std::size_t w = 0; w < pending_.size(); ++w) {
+    std::uint64_t bits = due_[w];
+    due_[w] = 0;
+    for (; bits != 0; bits &= bits - 1) note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
+  }
+  if (earliest == Nanoseconds::max()) return std::nullopt;
+  return earliest;
+}
+
 Nanoseconds Chain::catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now) noexcept {
   const Nanoseconds latest = std::max(now, seen_);
   const Nanoseconds at = arrival ? std::clamp(*arrival, seen_, latest) : latest;
-  (void)poll(at);
+  seen_ = std::max(seen_, at);
+  // Only the timers due by the frame's arrival run first; what poll()
+  // would return is not needed here.
+  if (poll_all_ || rescan_) {
+    (void)poll_every(at);
+  } else {
+    (void)poll_due(at, false);
+  }
   return at;
 }
 

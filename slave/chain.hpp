@@ -72,9 +72,20 @@ class Chain {
   void set_skipping(bool on) noexcept {
     segment_.set_skipping(on);
     ask_all_ = !on;
+    poll_all_ = !on;
   }
+  // Polling only the due slaves (docs/e2e.md "Live timing"): poll() and
+  // catch_up() poll the slaves whose time came (VirtualSlave::visit_at, as
+  // the slave's last note left it: after its poll, a frame that entered its
+  // ESC, or any access to the ESC from outside a frame) and the pending
+  // ones; every other slave's poll would only note the time. Off: every
+  // slave polled, the reference tests/slave/chain_poll_test.cpp compares
+  // with (bytes, registers, event times). On by default; set_skipping(false)
+  // turns it off too.
+  void set_polling_due(bool on) noexcept { poll_all_ = !on; }
 
-  // Timers and firmware of every slave; returns the earliest next deadline.
+  // Timers and firmware of the slaves (see set_polling_due); returns the
+  // earliest next deadline of all, as a poll of every slave would.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
 
   // Live runs, where the process may be woken late (issue 19): the time at
@@ -131,8 +142,17 @@ class Chain {
   void added() noexcept;
   // Runs slave i's firmware if a frame left it work; keeps what it waits for.
   void after_frame(std::size_t i, Nanoseconds now) noexcept;
-  // Keeps slave i's pending bit and its wake time.
+  // Keeps slave i's pending bit, its wake time and its next deadline.
   void note(std::size_t i) noexcept;
+  // poll() of every slave, and of the due ones (set_polling_due); the
+  // latter computes the earliest deadline only when `next` is wanted.
+  std::optional<Nanoseconds> poll_every(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> poll_due(Nanoseconds now, bool next) noexcept;
+  // Notes again the slaves changed since their last note other than by this
+  // chain's polls and firmware runs: a frame entered their ESC (before
+  // run_firmware saw it) or anything accessed it from outside a frame (the
+  // segment's dirty set: a PDI host, a fault, a test).
+  void note_touched() noexcept;
 
   const Clock& clock_;
   std::vector<std::unique_ptr<VirtualSlave>> slaves_;
@@ -154,8 +174,12 @@ class Chain {
   std::vector<std::uint64_t> pending_;
   std::vector<std::uint64_t> due_;
   WakeTimes wakes_;
+  // Per slave: what its poll would return now (VirtualSlave::next_deadline
+  // at its last note); their earliest is what poll() returns.
+  WakeTimes deadlines_;
   bool rescan_ = true;  // every slave next time (set-up, poll, a slave handed out)
   bool ask_all_ = false;  // set_skipping(false)
+  bool poll_all_ = false;  // set_polling_due(false)
 };
 
 }  // namespace ecat::slave

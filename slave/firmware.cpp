@@ -74,6 +74,10 @@ Firmware::Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const Sla
   esm_.reset();
   // At power-on the ESC's mask is 0 (Section II 0x0204): program it.
   program_event_mask(true, EscLines{});
+  // What poll() would leave: without it a slave nobody talks to (Init, no
+  // IRQ) stayed pending() until its first poll, which wants_poll() never
+  // asked for - and a chain visited it at every frame and every poll.
+  pass_work_ = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
 }
 
 void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {

@@ -80,6 +80,21 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
     return has_firmware_ ? std::min(esc_wake_, firmware_->wake_time()) : esc_wake_;
   }
   bool pending() const noexcept { return has_firmware_ && firmware_->pending(lines()); }
+  // What poll() would return now if nothing is due (Nanoseconds::max():
+  // nothing armed): the ESC's timers as they stand after whatever accessed
+  // it since the last poll (esc::Esc::wake_bound: the watchdogs and the SII
+  // exactly, DC its last deadline or, after a DC write, "now"), and the
+  // firmware's deadline. A poll before it only notes the time, unless the
+  // slave is pending().
+  Nanoseconds next_deadline() const noexcept {
+    const Nanoseconds esc = esc_->wake_bound();
+    return has_firmware_ ? std::min(esc, firmware_->wake_time()) : esc;
+  }
+  // When a chain next has to visit this slave by time alone: next_deadline(),
+  // or earlier the ESC deadline the last poll left (wake_at), which
+  // after_frame() goes by - a poll there refreshes it, as a poll of every
+  // slave would (slave::Chain::poll).
+  Nanoseconds visit_at() const noexcept { return std::min(esc_wake_, next_deadline()); }
 
   SlaveStatus status() const noexcept;
 

@@ -1,6 +1,6 @@
 // The slaves of a chain by the time they next need to run (issue 16 item 5,
 // issue 30): one time per slave in a flat array and a lower bound on all of
-// them. Setting a time is a store and a compare; the ones due are found by
+// them (exact, by a scan, when asked: earliest()). Setting a time is a store and a compare; the ones due are found by
 // a scan of the array, made only when the time reaches the lower bound (as
 // esc::SkipIndex::mark_due does for the ESCs' timers). It replaced an
 // indexed min-heap whose sift on every set cost the 100-drive CSP cycle
@@ -23,13 +23,31 @@ class WakeTimes {
 
   // Set-up: slaves 0..n-1, the new ones waking at `at`.
   void resize(std::size_t n, Nanoseconds at = Nanoseconds::min()) {
-    if (n > at_.size()) earliest_ = std::min(earliest_, at);
+    if (n > at_.size() && at <= earliest_) {
+      earliest_ = at;
+      exact_ = true;
+    }
+    if (n < at_.size()) exact_ = false;
     at_.resize(n, at);
   }
   Nanoseconds time(std::size_t i) const noexcept { return at_[i]; }
   void set(std::size_t i, Nanoseconds at) noexcept {
+    if (at <= earliest_) {
+      earliest_ = at;
+      exact_ = true;
+    } else if (at_[i] == earliest_) {
+      exact_ = false;  // the earliest one moved later: earliest() scans
+    }
     at_[i] = at;
-    earliest_ = std::min(earliest_, at);
+  }
+  // The earliest time of all, exactly (Nanoseconds::max(): none, or no
+  // slave): a scan only when a set() moved the earliest one later.
+  Nanoseconds earliest() noexcept {
+    if (!exact_) {
+      earliest_ = at_.empty() ? Nanoseconds::max() : *std::min_element(at_.begin(), at_.end());
+      exact_ = true;
+    }
+    return earliest_;
   }
 
   // Every slave whose time is <= now: bit i of word i / 64 set in `due`,
@@ -46,12 +64,14 @@ class WakeTimes {
       }
     }
     earliest_ = earliest;
+    exact_ = true;
   }
 
  private:
   std::vector<Nanoseconds> at_;  // per slave: when it wakes
   // No slave wakes before this (a lower bound: set() only lowers it, a scan sets it exactly).
   Nanoseconds earliest_ = Nanoseconds::max();
+  bool exact_ = true;  // earliest_ is the earliest time, not only a bound
 };
 
 }  // namespace ecat::slave

@@ -41,6 +41,7 @@ void DcUnit::reset(std::uint16_t sync_pulse_length) noexcept {
   pulse_end_ = {};
   al_events_ = 0;
   ecat_events_ = 0;
+  wake_ = Nanoseconds::min();
 }
 
 // Current values of the registers that are not plain storage.
@@ -121,6 +122,11 @@ bool DcUnit::writable(std::uint16_t offset, Side side) const noexcept {
 
 void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds t, Side side) noexcept {
   last_t_ = std::max(last_t_, t);
+  // With a pulse scheduled or an output high, the write may move the
+  // deadline (its schedule, or the clock through the time loop or the
+  // offset): poll again. A write that schedules one says so itself
+  // (activation_written).
+  if (sync_.pulse_pending() || sync_level_[0] || sync_level_[1]) wake_ = Nanoseconds::min();
   if (offset >= kSize) return;
   const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(in.size(), kSize - offset));
   const auto end = static_cast<std::uint16_t>(offset + n);

@@ -80,6 +80,14 @@ class DcUnit : private SyncUnit::Sink {
   bool receive_latch_armed() const noexcept { return receive_latch_armed_; }
   // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  // A time before which poll() does nothing (Nanoseconds::max(): never):
+  // the deadline the last poll() returned (none: no pulse scheduled, no
+  // output high) - unless anything since could have moved it earlier (a
+  // register write, which may also change the clock through the time loop,
+  // a reset, a clock fault), then Nanoseconds::min(). A read only lowers an
+  // output (acknowledge mode): the bound stays a bound. A slave::Chain polls
+  // only the slaves whose time came (docs/e2e.md "Live timing").
+  Nanoseconds wake_bound() const noexcept { return wake_; }
 
   // Event bits the unit currently requests: AL event request 0x0220 bits
   // 1..3 (latch, SYNC0, SYNC1) and ECAT event request 0x0210 bit 0 (latch).
@@ -93,7 +101,10 @@ class DcUnit : private SyncUnit::Sink {
 
   // --- Simulation and application side (additive to the Esc interface) ---
   // Oscillator error and local time at true time 0 (set-up).
-  void set_clock(double ppm, std::uint64_t start) noexcept { clock_.reset(ppm, start); }
+  void set_clock(double ppm, std::uint64_t start) noexcept {
+    clock_.reset(ppm, start);
+    wake_ = Nanoseconds::min();
+  }
   const LocalClock& clock() const noexcept { return clock_; }
   std::uint64_t local_time(Nanoseconds t) const noexcept { return clock_.at(t); }
   std::uint64_t system_time(Nanoseconds t) const noexcept { return clock_.at(t) + offset(); }
@@ -110,8 +121,14 @@ class DcUnit : private SyncUnit::Sink {
   // The oscillator runs `ppm` off from true time t on (the ESC's own error;
   // the time loop's correction stays as it is), or its local time steps by
   // `ns` at t: what the time loop then compares shows it in 0x092C.
-  void set_oscillator_ppm(Nanoseconds t, double ppm) noexcept { clock_.set_ppm(t, ppm); }
-  void jump_local_time(Nanoseconds t, std::int64_t ns) noexcept { clock_.jump(t, ns); }
+  void set_oscillator_ppm(Nanoseconds t, double ppm) noexcept {
+    clock_.set_ppm(t, ppm);
+    wake_ = Nanoseconds::min();
+  }
+  void jump_local_time(Nanoseconds t, std::int64_t ns) noexcept {
+    clock_.jump(t, ns);
+    wake_ = Nanoseconds::min();
+  }
   // SYNC0 stopped: the unit keeps its schedule (0x0981, 0x0990 as they
   // were) but no SYNC0 pulse reaches the output or AL event bit 2.
   void inhibit_sync0(bool on) noexcept { sync0_inhibited_ = on; }
@@ -152,7 +169,11 @@ class DcUnit : private SyncUnit::Sink {
   // field), last: the Esc keeps its own per-frame members right behind.
   std::uint32_t al_events_ = 0;
   std::uint16_t ecat_events_ = 0;
-  Nanoseconds last_t_{0};  // latest time the unit has seen
+  // Latest time a frame, a register access or a latch input showed the
+  // unit (not a poll: a reset anchors the clock's correction at it, and a
+  // chain polls only the slaves whose time came).
+  Nanoseconds last_t_{0};
+  Nanoseconds wake_ = Nanoseconds::max();  // wake_bound()'s
   // Last: next to the Esc members esc::Segment's skip index reads with it.
   bool receive_latch_armed_ = false;
   bool sync0_inhibited_ = false;  // fault: SYNC0 pulses suppressed

@@ -21,6 +21,7 @@ constexpr std::uint64_t kLowWordMask = 0xFFFFFFFFull;
 // re-arms, so a master deactivates before re-programming); bit 7 gives one
 // debug pulse and clears itself.
 void DcUnit::activation_written(Nanoseconds t) noexcept {
+  wake_ = Nanoseconds::min();  // a pulse may now be scheduled (wake_bound)
   std::uint8_t& activation = regs_[kActivation];
   const std::uint64_t now = system_time(t);
   if ((activation & kDebugPulse) != 0) {
@@ -89,10 +90,12 @@ void DcUnit::end_pulses(std::uint64_t system_now) noexcept {
 }
 
 std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
-  last_t_ = std::max(last_t_, now);
   // No pulse scheduled and no output high: nothing below would act and no
   // deadline would come out (issue 8: most ESCs of a line, every cycle).
-  if (!sync_.pulse_pending() && !sync_level_[0] && !sync_level_[1]) return std::nullopt;
+  if (!sync_.pulse_pending() && !sync_level_[0] && !sync_level_[1]) {
+    wake_ = Nanoseconds::max();
+    return std::nullopt;
+  }
   const std::uint64_t system = system_time(now);
   const std::optional<std::uint64_t> next = sync_.advance(system, *this);
   end_pulses(system);
@@ -105,6 +108,7 @@ std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
       if (!deadline || end < *deadline) deadline = end;
     }
   }
+  wake_ = deadline.value_or(Nanoseconds::max());
   return deadline;
 }
 
