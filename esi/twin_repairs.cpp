@@ -475,6 +475,21 @@ class Repairer {
           }
         }
       }
+      // Another placed copy of a module PDO that took an Sm above, one the
+      // dictionary does not assign (its 1C1xh entry missing or unreadable):
+      // the ESI and device file describe it by the same module type PDO,
+      // which now says the Sm, so it is assigned there on every reload; the
+      // twin assigns it now, and 1C1xh's default is compared with that.
+      if (!d_.modular) continue;
+      for (auto& p : pdos) {
+        if (p.sm || !d_.modular->placed_pdo(p.index)) continue;
+        const od::Pdo* t = module_type_pdo(p.index);
+        if (!t || !t->sm) continue;
+        p.sm = t->sm;
+        ctx_.warn_at(rx ? "RxPdo" : "TxPdo", p.source_line,
+                     fmt::format("PDO {:04X}h has no Sm; assigned to SM{} as its module's PDO {:04X}h is", p.index,
+                                 *p.sm, t->index));
+      }
     }
   }
 

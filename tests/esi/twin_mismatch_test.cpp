@@ -185,6 +185,33 @@ TEST(TwinMismatch, ModulePdosTakeTheDictionarysDefaultAssignment) {
   EXPECT_TRUE(agree(*loaded));
 }
 
+// The same file with 1C13h:03 unreadable (DefaultData '5', found by
+// fuzz_twin_judge): 1A01h, the second slot's copy of the module's TxPDO, is
+// assigned by no 1C13h entry, but the ESI and device file describe it by
+// the module's PDO, which took SM3 from 1C13h:02; so it takes SM3 at once,
+// and 1C13h's default is compared with all three. Before, the import left
+// it without Sm while every reload assigned it, and the written ESI was no
+// fixed point (1C13h:00 3 against 2).
+TEST(TwinMismatch, PlacedCopyOfAModulePdoTakesTheModulesSm) {
+  std::ifstream in(std::string(ECAT_SOURCE_DIR) + "/tests/data/esi-mismatch/module-assignment.xml", std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  std::string text = s.str();
+  const std::string entry = "<Name>SubIndex 003</Name><Info><DefaultData>011A</DefaultData>";
+  const auto at_entry = text.find(entry);
+  ASSERT_NE(at_entry, std::string::npos);
+  text.replace(at_entry, entry.size(), "<Name>SubIndex 003</Name><Info><DefaultData>5</DefaultData>");
+  const test::Read r = test::read(text);
+  std::vector<std::pair<std::uint16_t, int>> tx;
+  for (const auto& p : r.d.tx_pdos) tx.emplace_back(p.index, p.sm ? *p.sm : -1);
+  EXPECT_EQ(tx, (std::vector<std::pair<std::uint16_t, int>>{{0x1A00, 3}, {0x1A01, 3}, {0x1A80, 3}}));
+  const int module_tx = line_of(text, "<Index DependOnSlot=\"true\">#x1A00") - 1;
+  EXPECT_TRUE(test::has_warning(r.warnings, module_tx, "PDO 1A01h has no Sm; assigned to SM3 as its module's PDO 1A00h is"))
+      << test::all(r.warnings);
+  auto judged = judge_twin(r.d);
+  EXPECT_TRUE(judged) << judged.error();
+}
+
 // Item 1 (c): whatever a description holds, neither writer emits a character
 // XML 1.0 forbids; control characters through a STRING default given as bytes
 // (as the loader or a capture could hold them) become '?', length kept.
