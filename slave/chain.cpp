@@ -135,6 +135,7 @@ void Chain::after_frame(std::size_t i, Nanoseconds now) noexcept {
   }
   // Not due: not pending; its times are taken again, as the frame may
   // have armed a timer of its ESC (a watchdog, SYNC0).
+  if (untracked()) return;
   pending_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
   const Nanoseconds next = s.next_deadline();
   wakes_.set(i, s.visit_at());
@@ -142,6 +143,7 @@ void Chain::after_frame(std::size_t i, Nanoseconds now) noexcept {
 }
 
 void Chain::note(std::size_t i) noexcept {
+  if (untracked()) return;
   const VirtualSlave& s = *slaves_[i];
   const std::uint64_t bit = std::uint64_t{1} << (i % 64);
   if (s.pending()) {

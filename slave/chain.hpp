@@ -73,6 +73,7 @@ class Chain {
     segment_.set_skipping(on);
     ask_all_ = !on;
     poll_all_ = !on;
+    rescan_ = rescan_ || on;  // the times untracked meanwhile are taken anew
   }
   // Polling only the due slaves (docs/e2e.md "Live timing"): poll() and
   // catch_up() poll the slaves whose time came (VirtualSlave::visit_at, as
@@ -82,7 +83,10 @@ class Chain {
   // slave polled, the reference tests/slave/chain_poll_test.cpp compares
   // with (bytes, registers, event times). On by default; set_skipping(false)
   // turns it off too.
-  void set_polling_due(bool on) noexcept { poll_all_ = !on; }
+  void set_polling_due(bool on) noexcept {
+    poll_all_ = !on;
+    rescan_ = rescan_ || on;
+  }
 
   // Timers and firmware of the slaves (see set_polling_due); returns the
   // earliest next deadline of all, as a poll of every slave would.
@@ -180,6 +184,9 @@ class Chain {
   bool rescan_ = true;  // every slave next time (set-up, poll, a slave handed out)
   bool ask_all_ = false;  // set_skipping(false)
   bool poll_all_ = false;  // set_polling_due(false)
+  // Every slave asked and polled every time: nothing reads the pending
+  // bits and times, so they are not kept (BM_Cycle_CspFullPass).
+  bool untracked() const noexcept { return ask_all_ && poll_all_; }
 };
 
 }  // namespace ecat::slave
