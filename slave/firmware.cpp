@@ -77,7 +77,7 @@ Firmware::Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const Sla
   // What poll() would leave: without it a slave nobody talks to (Init, no
   // IRQ) stayed pending() until its first poll, which wants_poll() never
   // asked for - and a chain visited it at every frame and every poll.
-  pass_work_ = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
+  due_->pass_work = poll_each_frame_ || esm_.pending() || coe_.mailbox().has_output();
 }
 
 void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
@@ -115,8 +115,9 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed, lines);
   next_ = sp.next;
-  wake_ = sp.next.value_or(Nanoseconds::max());
-  pass_work_ = poll_each_frame_ || esm_.pending() || mailbox_output();
+  Due& due = *due_;
+  due.wake = sp.next.value_or(Nanoseconds::max());
+  due.pass_work = poll_each_frame_ || esm_.pending() || mailbox_output();
   return sp.next;
 }
 
@@ -145,9 +146,9 @@ void Firmware::check_eoe_init(esc::AlState entered) noexcept {
 // synchronisation mode).
 void Firmware::program_event_mask(bool sms_changed, EscLines lines) noexcept {
   const std::uint32_t mask = kBaseEvents | sync_.al_event_mask();
-  if (mask != event_mask_ || mask_lost(lines)) {
+  if (mask != due_->event_mask || mask_lost(lines)) {
     pdi_.write_u32(esc::reg::kAlEventMask, mask);
-    event_mask_ = mask;
+    due_->event_mask = mask;
     sms_changed = true;
   }
   if (sms_changed) poll_each_frame_ = !sm_events_enabled(mask);

@@ -36,6 +36,18 @@ struct EscLines {
 
 class Firmware {
  public:
+  // What a chain checks of a sleeping firmware after every frame
+  // (may_want_poll's own part): the time it next has to run by, the AL
+  // event mask it last programmed and whether work waits that it finishes
+  // pass by pass. Kept where keep_due_in() put it - by a VirtualSlave on its
+  // own hot cache line, so the check does not read this object at all
+  // (docs/performance.md "Session 15: the skip index...").
+  struct Due {
+    Nanoseconds wake = Nanoseconds::max();  // next_ (max when none)
+    std::uint32_t event_mask = 0;
+    bool pass_work = true;
+  };
+
   // Runs above any esc::Pdi: the emulated ESC itself, or an SPI backend
   // to a real (or emulated) LAN9252/ET1100 (pdi_spi/).
   Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const SlaveOptions& options);
@@ -69,15 +81,21 @@ class Firmware {
   // may_want_poll's two halves (issue 16 item 5: a chain keeps them per
   // slave and asks only the slaves a frame entered, the pending ones and
   // the ones whose time came): the time alone, and what does not wait for it.
-  Nanoseconds wake_time() const noexcept { return wake_; }
+  Nanoseconds wake_time() const noexcept { return due_->wake; }
   // Work arrived from outside the ESC (an EoE frame from a TAP): look at the
   // next frame even without an IRQ.
-  void wake() noexcept { pass_work_ = true; }
-  bool pending(EscLines lines) const noexcept { return lines.irq || pass_work_ || mask_lost(lines); }
+  void wake() noexcept { due_->pass_work = true; }
+  bool pending(EscLines lines) const noexcept { return lines.irq || due_->pass_work || mask_lost(lines); }
   // The time poll() last asked to run again at.
   std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }
   // The AL event mask the firmware last programmed.
-  std::uint32_t event_mask() const noexcept { return event_mask_; }
+  std::uint32_t event_mask() const noexcept { return due_->event_mask; }
+  // Keeps the Due values in *due from now on (copied there first; `due`
+  // must outlive this firmware), instead of in this object.
+  void keep_due_in(Due* due) noexcept {
+    *due = *due_;
+    due_ = due;
+  }
 
   esc::Esm& esm() noexcept { return esm_; }
   coe::CoeServer& coe() noexcept { return coe_; }
@@ -105,7 +123,7 @@ class Firmware {
   void application_cycle(Nanoseconds now) noexcept;
   void program_event_mask(bool sms_changed, EscLines lines) noexcept;
   // The ESC no longer holds the mask programmed (an ESC reset clears it).
-  bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != event_mask_; }
+  bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != due_->event_mask; }
   void note_al_status_code(Nanoseconds now) noexcept;
   void check_eoe_init(esc::AlState entered) noexcept;
   bool sm_events_enabled(std::uint32_t mask) noexcept;
@@ -118,19 +136,17 @@ class Firmware {
   // together (one or two cache lines, not one per member spread behind the
   // CoE server's kilobytes): at 1000 slaves each line is a last-level miss
   // per visit (docs/performance.md "Session 14").
-  // For may_want_poll(): next_ (max when none), and whether the last poll
-  // left work it finishes pass by pass.
-  Nanoseconds wake_ = Nanoseconds::max();
+  // For may_want_poll(): where the Due values are (own_due_ or the host's).
+  Due* due_ = &own_due_;
   std::optional<Nanoseconds> next_;  // deadline returned by the last poll
   std::optional<Nanoseconds> last_cycle_;
-  std::uint32_t event_mask_ = 0;
   esc::AlStatusCode code_seen_ = esc::AlStatusCode::NoError;  // the last one put into 10F3h
   esc::AlState state_seen_ = esc::AlState::Init;
-  bool pass_work_ = true;
   bool poll_each_frame_ = false;
   bool mailbox_idle_ = false;  // set by coe_.mailbox() (MailboxServer::keep_idle_flag)
   std::uint64_t cycles_ = 0;
   std::uint64_t polls_ = 0;
+  Due own_due_;  // until keep_due_in()
   esc::Esm esm_;
   std::shared_ptr<coe::StorageQuota> state_quota_;  // before coe_, which points at it
   coe::CoeServer coe_;

@@ -54,6 +54,7 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
     pdi = s->spi_pdi_.get();
   }
   s->firmware_ = std::make_unique<Firmware>(*pdi, *s->device_, options);
+  s->firmware_->keep_due_in(&s->fw_due_);
   return s;
 }
 
@@ -83,8 +84,8 @@ Expected<void, std::string> VirtualSlave::power_on() {
     pdi = spi_pdi_.get();
   }
   firmware_ = std::make_unique<Firmware>(*pdi, *device_, options_);
+  firmware_->keep_due_in(&fw_due_);
   if (probe_) firmware_->attach_trace(*probe_);
-  esc_next_.reset();
   esc_wake_ = Nanoseconds::max();
   return {};
 }
@@ -101,7 +102,6 @@ VirtualSlave::~VirtualSlave() {
 
 std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
   std::optional<Nanoseconds> next = esc_->poll(now);
-  esc_next_ = next;
   esc_wake_ = next.value_or(Nanoseconds::max());
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
   if (!has_firmware_) return next;
@@ -114,7 +114,7 @@ std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
 void VirtualSlave::after_frame(Nanoseconds now) noexcept {
   // SYNC pulses (and other ESC timers) due by now are raised before the
   // firmware looks: silicon raises them in time, the emulation on demand.
-  if (esc_next_ && *esc_next_ <= now) {
+  if (esc_wake_ <= now) {  // max when the ESC has nothing armed
     (void)poll(now);
   } else if (has_firmware_ && firmware_->wants_poll(now, lines())) {
     (void)firmware_->poll(now, lines());

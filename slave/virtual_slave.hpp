@@ -77,9 +77,13 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   // due whatever the time (IRQ, work finished pass by pass). Both change only
   // when the ESC is entered by a frame or the slave is polled (slave::Chain).
   Nanoseconds wake_at() const noexcept {
-    return has_firmware_ ? std::min(esc_wake_, firmware_->wake_time()) : esc_wake_;
+    return has_firmware_ ? std::min(esc_wake_, fw_due_.wake) : esc_wake_;
   }
-  bool pending() const noexcept { return has_firmware_ && firmware_->pending(lines()); }
+  bool pending() const noexcept {
+    if (!has_firmware_) return false;
+    const EscLines l = lines();  // Firmware::pending on fw_due_, its copy here
+    return l.irq || fw_due_.pass_work || l.al_event_mask != fw_due_.event_mask;
+  }
   // What poll() would return now if nothing is due (Nanoseconds::max():
   // nothing armed): the ESC's timers as they stand after whatever accessed
   // it since the last poll (esc::Esc::wake_bound: the watchdogs and the SII
@@ -88,7 +92,7 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   // slave is pending().
   Nanoseconds next_deadline() const noexcept {
     const Nanoseconds esc = esc_->wake_bound();
-    return has_firmware_ ? std::min(esc, firmware_->wake_time()) : esc;
+    return has_firmware_ ? std::min(esc, fw_due_.wake) : esc;
   }
   // When a chain next has to visit this slave by time alone: next_deadline(),
   // or earlier the ESC deadline the last poll left (wake_at), which
@@ -118,14 +122,16 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   Expected<void, std::string> make_spi_pdi();
 
   // What the chain reads after every frame and in every poll first, on one
-  // cache line (the object is 16-byte aligned and these are 48 bytes): at
+  // cache line (the object is 64-byte aligned and these are 49 bytes): at
   // 1000 slaves each is a last-level miss per visit (docs/performance.md
-  // "Session 14").
+  // "Session 14"); the firmware's part of the check is kept here too
+  // (fw_due_, Firmware::keep_due_in), so a slave with nothing due is
+  // answered from this line and the ESC's IRQ and mask.
   std::unique_ptr<esc::Esc> esc_;
   std::unique_ptr<Firmware> firmware_;
   std::unique_ptr<pdi_spi::EmulatedChip> chip_;  // SPI PDI only
-  std::optional<Nanoseconds> esc_next_;  // the ESC's next deadline at the last poll
-  Nanoseconds esc_wake_ = Nanoseconds::max();  // the same, max when none
+  Nanoseconds esc_wake_ = Nanoseconds::max();  // the ESC's next deadline at the last poll, max when none
+  Firmware::Due fw_due_;  // written by *firmware_
   // False for an ESC without PDI (SII word 0 PDI type 0 and no mailbox SM,
   // od::runs_firmware; e.g. a coupler or junction): no µC, the firmware
   // never runs; with device emulation
