@@ -114,7 +114,6 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
   const coe::SyncPoll sp = dc ? sync_.poll(now) : sync_.poll(now, events);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed, lines);
-  next_ = sp.next;
   Due& due = *due_;
   due.wake = sp.next.value_or(Nanoseconds::max());
   due.pass_work = poll_each_frame_ || esm_.pending() || mailbox_output();

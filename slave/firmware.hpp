@@ -43,7 +43,7 @@ class Firmware {
   // own hot cache line, so the check does not read this object at all
   // (docs/performance.md "Session 15: the skip index...").
   struct Due {
-    Nanoseconds wake = Nanoseconds::max();  // next_ (max when none)
+    Nanoseconds wake = Nanoseconds::max();  // the deadline poll() last returned, max when none
     std::uint32_t event_mask = 0;
     bool pass_work = true;
   };
@@ -68,7 +68,7 @@ class Firmware {
   // deferral, a mailbox reply waiting for SM1, an SM whose event the master
   // switched off so the firmware has to look by itself).
   bool wants_poll(Nanoseconds now, EscLines lines) const noexcept {
-    return lines.irq || poll_each_frame_ || (next_ && *next_ <= now) || esm_.pending() || mailbox_output() ||
+    return lines.irq || poll_each_frame_ || due_->wake <= now || esm_.pending() || mailbox_output() ||
            mask_lost(lines);
   }
   // A cheap superset of wants_poll() for the check after every frame of a
@@ -87,7 +87,9 @@ class Firmware {
   void wake() noexcept { due_->pass_work = true; }
   bool pending(EscLines lines) const noexcept { return lines.irq || due_->pass_work || mask_lost(lines); }
   // The time poll() last asked to run again at.
-  std::optional<Nanoseconds> next_deadline() const noexcept { return next_; }
+  std::optional<Nanoseconds> next_deadline() const noexcept {
+    return due_->wake == Nanoseconds::max() ? std::nullopt : std::optional<Nanoseconds>(due_->wake);
+  }
   // The AL event mask the firmware last programmed.
   std::uint32_t event_mask() const noexcept { return due_->event_mask; }
   // Keeps the Due values in *due from now on (copied there first; `due`
@@ -138,7 +140,6 @@ class Firmware {
   // per visit (docs/performance.md "Session 14").
   // For may_want_poll(): where the Due values are (own_due_ or the host's).
   Due* due_ = &own_due_;
-  std::optional<Nanoseconds> next_;  // deadline returned by the last poll
   std::optional<Nanoseconds> last_cycle_;
   esc::AlStatusCode code_seen_ = esc::AlStatusCode::NoError;  // the last one put into 10F3h
   esc::AlState state_seen_ = esc::AlState::Init;
