@@ -21,18 +21,29 @@ std::uint8_t service_of(ConstBytes p) noexcept {
   return static_cast<std::uint8_t>(load_le<std::uint16_t>(p.data()) >> kServiceShift);
 }
 
+// Where the SDO header's fields lie in a CoE payload (coe-mailbox.md §5): the
+// command byte, then index (2 bytes) and subindex, then data or abort code.
+constexpr std::size_t kSdoIndexAt = kCoeHeaderSize + 1;
+constexpr std::size_t kSdoSubindexAt = kSdoIndexAt + 2;
+constexpr std::size_t kSdoDataAt = kSdoSubindexAt + 1;
+
+// The SDO header names another object than index/subindex.
+bool names_other(ConstBytes p, std::uint16_t index, std::uint8_t subindex) noexcept {
+  return load_le<std::uint16_t>(p.data() + kSdoIndexAt) != index || p[kSdoSubindexAt] != subindex;
+}
+
 // An SDO reply: at least CoE header + command byte; abort -> its code.
 Expected<std::uint8_t, SdoError> sdo_command(ConstBytes p, std::uint16_t index, std::uint8_t subindex,
                                              bool initiate) {
   if (p.size() < kCoeHeaderSize + 1) return fail(SdoError::master(MasterError::InvalidResponse));
   const std::uint8_t cmd = p[kCoeHeaderSize];
   if (cmd == kAbort && p.size() >= kCoeHeaderSize + kSdoHeaderSize) {
-    return fail(SdoError::abort(static_cast<SdoAbortCode>(load_le<std::uint32_t>(p.data() + 6))));
+    return fail(SdoError::abort(static_cast<SdoAbortCode>(load_le<std::uint32_t>(p.data() + kSdoDataAt))));
   }
   if (service_of(p) != kServiceSdoResponse) return fail(SdoError::master(MasterError::InvalidResponse));
   if (initiate) {
     if (p.size() < kCoeHeaderSize + kSdoHeaderSize) return fail(SdoError::master(MasterError::InvalidResponse));
-    if (load_le<std::uint16_t>(p.data() + 3) != index || p[5] != subindex) {
+    if (names_other(p, index, subindex)) {
       return fail(SdoError::master(MasterError::InvalidResponse));
     }
   }
@@ -51,7 +62,7 @@ bool answers_another(ConstBytes p, const CoeClient::SdoAddress& request) noexcep
   const bool names_object =
       cmd == kAbort || (service_of(p) == kServiceSdoResponse &&
                         (specifier == kScsUploadInitiate || specifier == kScsDownloadInitiate));
-  return names_object && (load_le<std::uint16_t>(p.data() + 3) != request.index || p[5] != request.subindex);
+  return names_object && names_other(p, request.index, request.subindex);
 }
 
 }  // namespace
@@ -123,7 +134,7 @@ Expected<std::vector<std::uint8_t>, SdoError> CoeClient::upload(std::uint16_t in
     const std::size_t size = (*cmd & kSizeIndicated) != 0 ? 4 - ((*cmd >> 2) & 0x03) : 4;
     return std::vector<std::uint8_t>(p.begin() + 6, p.begin() + 6 + static_cast<std::ptrdiff_t>(size));
   }
-  const std::uint32_t complete = load_le<std::uint32_t>(p.data() + 6);
+  const std::uint32_t complete = load_le<std::uint32_t>(p.data() + kSdoDataAt);
   std::vector<std::uint8_t> data(p.begin() + kCoeHeaderSize + kSdoHeaderSize, p.end());
   if (data.size() > complete) data.resize(complete);
   bool toggle = false;

@@ -167,7 +167,11 @@ void Chain::note_touched() noexcept {
 
 std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
   seen_ = std::max(seen_, now);
-  return poll_all_ || rescan_ ? poll_every(now) : poll_due(now, true);
+  return poll_at(now, true);
+}
+
+std::optional<Nanoseconds> Chain::poll_at(Nanoseconds now, bool next) noexcept {
+  return poll_all_ || rescan_ ? poll_every(now) : poll_due(now, next);
 }
 
 std::optional<Nanoseconds> Chain::poll_every(Nanoseconds now) noexcept {
@@ -218,11 +222,7 @@ Nanoseconds Chain::catch_up(std::optional<Nanoseconds> arrival, Nanoseconds now)
   seen_ = std::max(seen_, at);
   // Only the timers due by the frame's arrival run first; what poll()
   // would return is not needed here.
-  if (poll_all_ || rescan_) {
-    (void)poll_every(at);
-  } else {
-    (void)poll_due(at, false);
-  }
+  (void)poll_at(at, false);
   return at;
 }
 

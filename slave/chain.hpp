@@ -151,6 +151,8 @@ class Chain {
   // poll() of every slave, and of the due ones (set_polling_due); the
   // latter computes the earliest deadline only when `next` is wanted.
   std::optional<Nanoseconds> poll_every(Nanoseconds now) noexcept;
+  // One of them, as the modes say (`next`: poll_due's).
+  std::optional<Nanoseconds> poll_at(Nanoseconds now, bool next) noexcept;
   std::optional<Nanoseconds> poll_due(Nanoseconds now, bool next) noexcept;
   // Notes again the slaves changed since their last note other than by this
   // chain's polls and firmware runs: a frame entered their ESC (before

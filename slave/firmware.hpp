@@ -46,6 +46,10 @@ class Firmware {
     Nanoseconds wake = Nanoseconds::max();  // the deadline poll() last returned, max when none
     std::uint32_t event_mask = 0;
     bool pass_work = true;
+    // The ESC no longer holds the mask programmed (an ESC reset clears it).
+    bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != event_mask; }
+    // Due whatever the time: the IRQ, work finished pass by pass, a lost mask.
+    bool pending(EscLines lines) const noexcept { return lines.irq || pass_work || mask_lost(lines); }
   };
 
   // Runs above any esc::Pdi: the emulated ESC itself, or an SPI backend
@@ -85,7 +89,7 @@ class Firmware {
   // Work arrived from outside the ESC (an EoE frame from a TAP): look at the
   // next frame even without an IRQ.
   void wake() noexcept { due_->pass_work = true; }
-  bool pending(EscLines lines) const noexcept { return lines.irq || due_->pass_work || mask_lost(lines); }
+  bool pending(EscLines lines) const noexcept { return due_->pending(lines); }
   // The time poll() last asked to run again at.
   std::optional<Nanoseconds> next_deadline() const noexcept {
     return due_->wake == Nanoseconds::max() ? std::nullopt : std::optional<Nanoseconds>(due_->wake);
@@ -124,8 +128,7 @@ class Firmware {
  private:
   void application_cycle(Nanoseconds now) noexcept;
   void program_event_mask(bool sms_changed, EscLines lines) noexcept;
-  // The ESC no longer holds the mask programmed (an ESC reset clears it).
-  bool mask_lost(EscLines lines) const noexcept { return lines.al_event_mask != due_->event_mask; }
+  bool mask_lost(EscLines lines) const noexcept { return due_->mask_lost(lines); }
   void note_al_status_code(Nanoseconds now) noexcept;
   void check_eoe_init(esc::AlState entered) noexcept;
   bool sm_events_enabled(std::uint32_t mask) noexcept;

@@ -79,11 +79,8 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   Nanoseconds wake_at() const noexcept {
     return has_firmware_ ? std::min(esc_wake_, fw_due_.wake) : esc_wake_;
   }
-  bool pending() const noexcept {
-    if (!has_firmware_) return false;
-    const EscLines l = lines();  // Firmware::pending on fw_due_, its copy here
-    return l.irq || fw_due_.pass_work || l.al_event_mask != fw_due_.event_mask;
-  }
+  // Firmware::pending, answered from fw_due_ (where the firmware keeps it).
+  bool pending() const noexcept { return has_firmware_ && fw_due_.pending(lines()); }
   // What poll() would return now if nothing is due (Nanoseconds::max():
   // nothing armed): the ESC's timers as they stand after whatever accessed
   // it since the last poll (esc::Esc::wake_bound: the watchdogs and the SII

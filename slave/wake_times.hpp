@@ -1,8 +1,9 @@
 // The slaves of a chain by the time they next need to run (issue 16 item 5,
 // issue 30): one time per slave in a flat array and a lower bound on all of
-// them (exact, by a scan, when asked: earliest()). Setting a time is a store and a compare; the ones due are found by
-// a scan of the array, made only when the time reaches the lower bound (as
-// esc::SkipIndex::mark_due does for the ESCs' timers). It replaced an
+// them (exact, by a scan, when asked: earliest()). Setting a time is a store
+// and a compare; the ones due are found by a scan of the array, made only
+// when the time reaches the lower bound (as esc::SkipIndex::mark_due does
+// for the ESCs' timers). It replaced an
 // indexed min-heap whose sift on every set cost the 100-drive CSP cycle
 // more than the scans it saved (docs/performance.md "Session 11").
 // Sized at set-up; nothing allocates afterwards.

@@ -126,7 +126,7 @@ void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanos
   // deadline (its schedule, or the clock through the time loop or the
   // offset): poll again. A write that schedules one says so itself
   // (activation_written).
-  if (sync_.pulse_pending() || sync_level_[0] || sync_level_[1]) wake_ = Nanoseconds::min();
+  if (active()) wake_ = Nanoseconds::min();
   if (offset >= kSize) return;
   const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(in.size(), kSize - offset));
   const auto end = static_cast<std::uint16_t>(offset + n);

@@ -80,6 +80,8 @@ class DcUnit : private SyncUnit::Sink {
   bool receive_latch_armed() const noexcept { return receive_latch_armed_; }
   // Advances SYNC generation to `now`; returns when it next needs to run.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  // A pulse scheduled or an output high: poll() has something to do.
+  bool active() const noexcept { return sync_.pulse_pending() || sync_level_[0] || sync_level_[1]; }
   // A time before which poll() does nothing (Nanoseconds::max(): never):
   // the deadline the last poll() returned (none: no pulse scheduled, no
   // output high) - unless anything since could have moved it earlier (a

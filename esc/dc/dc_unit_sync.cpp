@@ -92,7 +92,7 @@ void DcUnit::end_pulses(std::uint64_t system_now) noexcept {
 std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
   // No pulse scheduled and no output high: nothing below would act and no
   // deadline would come out (issue 8: most ESCs of a line, every cycle).
-  if (!sync_.pulse_pending() && !sync_level_[0] && !sync_level_[1]) {
+  if (!active()) {
     wake_ = Nanoseconds::max();
     return std::nullopt;
   }
