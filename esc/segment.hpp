@@ -53,12 +53,17 @@ struct Delivery {
     Corrupted,  // came back to the master on `master_port` with a bad FCS: a cable
                 // corrupted it (Segment::corrupt_link); the master drops it as lost
   };
+  // 16 bytes, returned in two registers: a 24-byte Delivery was built on the
+  // stack field by field and read back as one 16-byte load, which cannot be
+  // forwarded from the smaller stores and stalled every frame (issue 30:
+  // the one-slave FPRD 3x its 49fab26 time with 1.33x its instructions).
+  Nanoseconds at{0};                 // when it reached the master port (when Returned)
+  unsigned processed = 0;            // processing units the frame passed
+  std::uint8_t master_port = 0;      // valid when Returned (< kMasterPorts)
   Outcome outcome = Outcome::Lost;
-  unsigned master_port = 0;  // valid when Returned
-  Nanoseconds at{0};         // when it reached the master port (when Returned)
-  unsigned processed = 0;    // processing units the frame passed
   bool returned() const noexcept { return outcome == Outcome::Returned; }
 };
+static_assert(sizeof(Delivery) == 16, "Delivery is returned in two registers");
 
 class Segment {
  public:

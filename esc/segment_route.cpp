@@ -341,7 +341,7 @@ Delivery Segment::carry_route_as(DatagramView first, std::size_t count, Nanoseco
   d.outcome = r.outcome;
   d.processed = static_cast<unsigned>(units);
   if (r.outcome == Delivery::Outcome::Returned) {
-    d.master_port = r.out_port;
+    d.master_port = static_cast<std::uint8_t>(r.out_port);
     d.at = now + r.out_at;
   }
   return d;
