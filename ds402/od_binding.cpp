@@ -266,10 +266,16 @@ void DriveBinding::write_axis(const DriveOutputs& out, EmcyQueue& emergencies, N
   });
   if (!emergency_) {
     if (error_register_) store_.set(*error_register_, static_cast<std::uint8_t>(out.error_register | other_axes));
-    while (emergencies.pop()) ++emergencies_lost_;  // nobody to send them to
+    while (!emergencies.empty()) {  // nobody to send them to
+      (void)emergencies.pop();
+      ++emergencies_lost_;
+    }
     return;
   }
-  while (auto r = emergencies.pop()) {
+  // empty() first: an empty pop() through the optional stalled every cycle
+  // (its flag stored as a byte, read back wider; issue 30).
+  while (!emergencies.empty()) {
+    std::optional<EmcyRequest> r = emergencies.pop();
     if (multi_axis_) r->manufacturer[kEmcyAxisByte] = static_cast<std::uint8_t>(axis_);
     const auto reg = static_cast<std::uint8_t>(r->error_register | other_axes);
     if (!emergency_->raise(r->error_code, reg, r->manufacturer, now)) ++emergencies_lost_;
@@ -286,10 +292,16 @@ void DriveBinding::write_objects(const DriveOutputs& out, EmcyQueue& emergencies
   });
   if (!emergency_) {
     if (error_register_) store_.set(*error_register_, out.error_register);
-    while (emergencies.pop()) ++emergencies_lost_;  // nobody to send them to
+    while (!emergencies.empty()) {  // nobody to send them to
+      (void)emergencies.pop();
+      ++emergencies_lost_;
+    }
     return;
   }
-  while (auto r = emergencies.pop()) {
+  // empty() first: an empty pop() through the optional stalled every cycle
+  // (its flag stored as a byte, read back wider; issue 30).
+  while (!emergencies.empty()) {
+    std::optional<EmcyRequest> r = emergencies.pop();
     if (!emergency_->raise(r->error_code, r->error_register, r->manufacturer, now)) ++emergencies_lost_;
   }
 }

@@ -406,15 +406,12 @@ void Esc::apply_route_passes(const LinePass& p) noexcept {
   }
 }
 
-std::optional<Nanoseconds> Esc::poll(Nanoseconds now) noexcept {
+Nanoseconds Esc::advance(Nanoseconds now) noexcept {
   touch();
   run_timers(now);
   now_ = now;
-  std::optional<Nanoseconds> next = watchdogs_.next_deadline();
-  for (auto t : {sii_.next_deadline(), dc_.poll(now)}) {
-    if (t && (!next || *t < *next)) next = t;
-  }
-  return next;
+  const Nanoseconds dc = dc_.advance(now);
+  return std::min({watchdogs_.next_deadline().value_or(kNoDeadline), sii_.next_deadline().value_or(kNoDeadline), dc});
 }
 
 

@@ -96,7 +96,10 @@ class Esc final : public Pdi {
   void count_pdi_error(std::uint8_t code) noexcept;
   // Runs the time-driven parts (watchdogs, SII busy, DC) up to `now`;
   // returns the next time it needs to run, if any.
-  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept { return deadline_or_none(advance(now)); }
+  // The same with the answer as a time, kNoDeadline when none (the form
+  // the slave layer calls: no optional returned through a call).
+  Nanoseconds advance(Nanoseconds now) noexcept;
 
   // Hardware reset (power-on or the 0x0040/0x0041 'R','E','S' sequence):
   // registers to reset values, EEPROM load from the SII image.

@@ -165,21 +165,20 @@ void Chain::note_touched() noexcept {
   }
 }
 
-std::optional<Nanoseconds> Chain::poll(Nanoseconds now) noexcept {
+Nanoseconds Chain::advance(Nanoseconds now) noexcept {
   seen_ = std::max(seen_, now);
   return poll_at(now, true);
 }
 
-std::optional<Nanoseconds> Chain::poll_at(Nanoseconds now, bool next) noexcept {
+Nanoseconds Chain::poll_at(Nanoseconds now, bool next) noexcept {
   return poll_all_ || rescan_ ? poll_every(now) : poll_due(now, next);
 }
 
-std::optional<Nanoseconds> Chain::poll_every(Nanoseconds now) noexcept {
-  std::optional<Nanoseconds> next;
+Nanoseconds Chain::poll_every(Nanoseconds now) noexcept {
+  Nanoseconds next = kNoDeadline;
   // Every slave's state moves: what run_firmware keeps is taken anew.
   for (std::size_t i = 0; i < slaves_.size(); ++i) {
-    const auto t = slaves_[i]->poll(now);
-    if (t && (!next || *t < *next)) next = t;
+    next = std::min(next, slaves_[i]->advance(now));
     note(i);
   }
   rescan_ = false;
@@ -191,7 +190,7 @@ std::optional<Nanoseconds> Chain::poll_every(Nanoseconds now) noexcept {
 // (VirtualSlave::after_frame_due is false, a superset of wants_poll), and
 // return its next_deadline(): it is left alone. Its ESC's time of latest
 // access (Esc::last_time) is then the last one it had, not `now`.
-std::optional<Nanoseconds> Chain::poll_due(Nanoseconds now, bool next) noexcept {
+Nanoseconds Chain::poll_due(Nanoseconds now, bool next) noexcept {
   note_touched();
   wakes_.take_due(now, due_);
   // The polled ones' deadlines are what their polls returned, the others'
@@ -202,17 +201,15 @@ std::optional<Nanoseconds> Chain::poll_due(Nanoseconds now, bool next) noexcept 
     due_[w] = bits;
     for (; bits != 0; bits &= bits - 1) {
       const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
-      const std::optional<Nanoseconds> t = slaves_[i]->poll(now);
-      deadlines_.set(i, t.value_or(Nanoseconds::max()));
+      deadlines_.set(i, slaves_[i]->advance(now));
     }
   }
-  const Nanoseconds earliest = next ? deadlines_.earliest() : Nanoseconds::max();
+  const Nanoseconds earliest = next ? deadlines_.earliest() : kNoDeadline;
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = due_[w];
     due_[w] = 0;
     for (; bits != 0; bits &= bits - 1) note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
   }
-  if (earliest == Nanoseconds::max()) return std::nullopt;
   return earliest;
 }
 

@@ -90,7 +90,9 @@ class Chain {
 
   // Timers and firmware of the slaves (see set_polling_due); returns the
   // earliest next deadline of all, as a poll of every slave would.
-  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept { return deadline_or_none(advance(now)); }
+  // The same as a time, kNoDeadline when none.
+  Nanoseconds advance(Nanoseconds now) noexcept;
 
   // Live runs, where the process may be woken late (issue 19): the time at
   // which to process a frame that the medium says arrived at `arrival`
@@ -150,10 +152,12 @@ class Chain {
   void note(std::size_t i) noexcept;
   // poll() of every slave, and of the due ones (set_polling_due); the
   // latter computes the earliest deadline only when `next` is wanted.
-  std::optional<Nanoseconds> poll_every(Nanoseconds now) noexcept;
+  // Each returns the earliest deadline, kNoDeadline when none (no optional
+  // returned through a call: common/clock.hpp).
+  Nanoseconds poll_every(Nanoseconds now) noexcept;
   // One of them, as the modes say (`next`: poll_due's).
-  std::optional<Nanoseconds> poll_at(Nanoseconds now, bool next) noexcept;
-  std::optional<Nanoseconds> poll_due(Nanoseconds now, bool next) noexcept;
+  Nanoseconds poll_at(Nanoseconds now, bool next) noexcept;
+  Nanoseconds poll_due(Nanoseconds now, bool next) noexcept;
   // Notes again the slaves changed since their last note other than by this
   // chain's polls and firmware runs: a frame entered their ESC (before
   // run_firmware saw it) or anything accessed it from outside a frame (the

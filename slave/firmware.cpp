@@ -86,7 +86,7 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
   sync_.set_trace(&probe);
 }
 
-std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexcept {
+Nanoseconds Firmware::advance(Nanoseconds now, EscLines lines) noexcept {
   ++polls_;
   const std::uint32_t events = pdi_.read_u32(esc::reg::kAlEventRequest);
   // In DC mode the ESM and the synchronisation read 0x0220 again themselves
@@ -115,9 +115,9 @@ std::optional<Nanoseconds> Firmware::poll(Nanoseconds now, EscLines lines) noexc
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed, lines);
   Due& due = *due_;
-  due.wake = sp.next.value_or(Nanoseconds::max());
+  due.wake = sp.next.value_or(kNoDeadline);
   due.pass_work = poll_each_frame_ || esm_.pending() || mailbox_output();
-  return sp.next;
+  return due.wake;
 }
 
 // A new AL status code (an error the ESM raised or a refused transition)

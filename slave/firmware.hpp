@@ -64,7 +64,12 @@ class Firmware {
   // and the synchronisation read it again, see firmware.cpp); the AL event mask
   // 0x0204 is kept to what this pass found the firmware needs. Returns when
   // it next needs to run by time alone.
-  std::optional<Nanoseconds> poll(Nanoseconds now, EscLines lines) noexcept;
+  std::optional<Nanoseconds> poll(Nanoseconds now, EscLines lines) noexcept {
+    return deadline_or_none(advance(now, lines));
+  }
+  // poll() with its answer as a time, kNoDeadline when nothing is armed
+  // (the chain's form: no optional returned through a call, common/clock.hpp).
+  Nanoseconds advance(Nanoseconds now, EscLines lines) noexcept;
 
   // Whether a frame that just passed the ESC gives the firmware work at
   // `now`: the ESC's IRQ (AL event request & mask), a deadline due, or

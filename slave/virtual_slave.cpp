@@ -1,5 +1,7 @@
 #include "slave/virtual_slave.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "od/firmware.hpp"
@@ -100,24 +102,22 @@ VirtualSlave::~VirtualSlave() {
   esc_.reset();
 }
 
-std::optional<Nanoseconds> VirtualSlave::poll(Nanoseconds now) noexcept {
-  std::optional<Nanoseconds> next = esc_->poll(now);
-  esc_wake_ = next.value_or(Nanoseconds::max());
+Nanoseconds VirtualSlave::advance(Nanoseconds now) noexcept {
+  esc_wake_ = esc_->advance(now);
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
-  if (!has_firmware_) return next;
-  const std::optional<Nanoseconds> fw =
-      firmware_->wants_poll(now, lines()) ? firmware_->poll(now, lines()) : firmware_->next_deadline();
-  if (fw && (!next || *fw < *next)) next = fw;
-  return next;
+  if (!has_firmware_) return esc_wake_;
+  const Nanoseconds fw =
+      firmware_->wants_poll(now, lines()) ? firmware_->advance(now, lines()) : firmware_->wake_time();
+  return std::min(esc_wake_, fw);
 }
 
 void VirtualSlave::after_frame(Nanoseconds now) noexcept {
   // SYNC pulses (and other ESC timers) due by now are raised before the
   // firmware looks: silicon raises them in time, the emulation on demand.
   if (esc_wake_ <= now) {  // max when the ESC has nothing armed
-    (void)poll(now);
+    (void)advance(now);
   } else if (has_firmware_ && firmware_->wants_poll(now, lines())) {
-    (void)firmware_->poll(now, lines());
+    (void)firmware_->advance(now, lines());
   }
 }
 

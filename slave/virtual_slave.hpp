@@ -64,7 +64,9 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   // process data, drive cycle) if the ESC raised its IRQ or the firmware's
   // deadline came. Call at the deadline it returns. Returns when it next
   // needs to run.
-  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept { return deadline_or_none(advance(now)); }
+  // The same as a time, kNoDeadline when none (slave::Chain's form).
+  Nanoseconds advance(Nanoseconds now) noexcept;
 
   // After a frame passed this slave's ESC at `now`: the ESC's timers if one
   // is due, then the firmware if the ESC raised its IRQ or its deadline came.

@@ -183,10 +183,18 @@ void DcUnit::compare_system_time(std::span<const std::uint8_t> written, Nanoseco
   // The local time once: the copy and the time loop both need it.
   const std::uint64_t local = clock_.at(t);
   const std::uint64_t copy = local + offset() - delay();
-  std::array<std::uint8_t, kU64> received{};
-  store_le(received.data(), copy);
-  std::copy(written.begin(), written.end(), received.begin());
-  const std::uint64_t value = load_le<std::uint64_t>(received.data());
+  // The written bytes over the low bytes of the copy, in a register: built
+  // in an 8-byte buffer by narrower stores and read back whole, it stalled
+  // the load at every ARMW/FRMW of the time (issue 30).
+  std::uint64_t value = copy;
+  if (written.size() == kU64) {
+    value = load_le<std::uint64_t>(written.data());
+  } else {
+    for (std::size_t i = 0; i < written.size(); ++i) {
+      const unsigned shift = static_cast<unsigned>(i) * 8u;
+      value = (value & ~(std::uint64_t{0xFF} << shift)) | (std::uint64_t{written[i]} << shift);
+    }
+  }
   std::int64_t difference = 0;
   if (written.size() > kU32) {
     difference = static_cast<std::int64_t>(copy - value);

@@ -79,7 +79,9 @@ class DcUnit : private SyncUnit::Sink {
   // arrival at port 0 disarms it.
   bool receive_latch_armed() const noexcept { return receive_latch_armed_; }
   // Advances SYNC generation to `now`; returns when it next needs to run.
-  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
+  std::optional<Nanoseconds> poll(Nanoseconds now) noexcept { return deadline_or_none(advance(now)); }
+  // The same as a time, kNoDeadline when none (Esc::advance's form).
+  Nanoseconds advance(Nanoseconds now) noexcept;
   // A pulse scheduled or an output high: poll() has something to do.
   bool active() const noexcept { return sync_.pulse_pending() || sync_level_[0] || sync_level_[1]; }
   // A time before which poll() does nothing (Nanoseconds::max(): never):

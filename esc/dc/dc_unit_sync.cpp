@@ -89,12 +89,12 @@ void DcUnit::end_pulses(std::uint64_t system_now) noexcept {
   }
 }
 
-std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
+Nanoseconds DcUnit::advance(Nanoseconds now) noexcept {
   // No pulse scheduled and no output high: nothing below would act and no
   // deadline would come out (issue 8: most ESCs of a line, every cycle).
   if (!active()) {
-    wake_ = Nanoseconds::max();
-    return std::nullopt;
+    wake_ = kNoDeadline;
+    return wake_;
   }
   const std::uint64_t system = system_time(now);
   const std::optional<std::uint64_t> next = sync_.advance(system, *this);
@@ -108,8 +108,8 @@ std::optional<Nanoseconds> DcUnit::poll(Nanoseconds now) noexcept {
       if (!deadline || end < *deadline) deadline = end;
     }
   }
-  wake_ = deadline.value_or(Nanoseconds::max());
-  return deadline;
+  wake_ = deadline.value_or(kNoDeadline);
+  return wake_;
 }
 
 void DcUnit::set_latch_input(unsigned unit, bool level, Nanoseconds t) noexcept {
