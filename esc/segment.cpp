@@ -149,8 +149,9 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   const DatagramView first(valid.first);
   Delivery d;
   if (faults_.empty() && line_ && master_port == 0) [[likely]] {
-    d = !skipping_ || escs_.size() < kSkipFrom ? carry_dense(first, valid.count, now)
-                                               : carry_line(first, valid.count, now);
+    d = !skipping_ || escs_.size() < kSkipFrom || enters_every(first, valid.count)
+            ? carry_dense(first, valid.count, now)
+            : carry_line(first, valid.count, now);
   } else {
     d = carry_walk(first, valid.count, now, master_port);
   }
@@ -217,37 +218,36 @@ Delivery Segment::carry_every(DatagramView first, std::size_t count, Nanoseconds
 // position), set before each ESC entered and after the last. A line shorter
 // than kSkipFrom, or with skipping off, takes carry_dense instead.
 //
-// A frame that enters every ESC (a broadcast: the cycle's first frame)
-// needs no plan, and the ESCs accessed since the last frame are read again
-// as it enters them (their dirty bit cleared there), not before as well:
-// only the ones it does not reach are read after it. The two kinds are two
-// instances of one loop: one loop testing the kind on every step ran the
-// skipping frame through 100 ESCs 1.2-1.36x slower in CPU time with the
-// same instruction count (docs/performance.md, session 12).
-Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
-  if (escs_.empty() || !master_[0].up) [[unlikely]] return Delivery{};
-  return enters_all(first, count) ? carry_line_as<true>(first, count, now) : carry_line_as<false>(first, count, now);
+// A frame that enters every ESC - a broadcast (the cycle's first frame), or
+// a logical datagram over the process data of every ESC (the one LRW of a
+// typical cycle) - takes the dense loop (carry_dense) instead: skipping
+// would pass none by, and the index it would keep up to date after each
+// ESC (some 90-110 instructions per ESC, issue 30: BRD and LRW through
+// 10-100 ESCs 1.3-1.6x their 49fab26 time) is read again anyway once the
+// firmware has touched the ESCs. The next skipping frame reads every ESC
+// into the index first (index_stale_), without entering it.
+bool Segment::enters_every(DatagramView first, std::size_t count) noexcept {
+  return enters_all(first, count) || maps_all(first, count);
 }
 
-template <bool all>
-Delivery Segment::carry_line_as(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
+  if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
   if (index_stale_) [[unlikely]] {
-    // Dense frames kept no index: every ESC is entered once and read again.
+    // Dense frames kept no index: every ESC is read again (as if accessed
+    // from outside a frame), not entered.
     index_stale_ = false;
-    index_.must_visit_all();
-    for (std::uint64_t& w : index_.dirty_words()) w = 0;
-  } else if constexpr (!all) {
-    refresh_dirty();
+    index_.all_dirty();
   }
-  if constexpr (!all) plan(first, count, now);
+  refresh_dirty();
+  plan(first, count, now);
   const std::size_t n = escs_.size();
   std::size_t reached = 0;  // ESCs whose processing unit the frame entered
   std::size_t passed = 0;   // ... and left again (the ADP increments)
   std::size_t visited = 0;  // entered ESCs listed in visited_
   bool ended = false;       // lost or destroyed inside the line
   bool back = false;        // turned back by an ESC whose port 1 is closed
-  for (std::size_t i = all ? 0 : index_.next(0); i < n; i = all ? i + 1 : index_.next(i + 1)) {
+  for (std::size_t i = index_.next(0); i < n; i = index_.next(i + 1)) {
     Esc* esc = escs_[i];
     esc->sync_pass();
     if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
@@ -256,10 +256,8 @@ Delivery Segment::carry_line_as(DatagramView first, std::size_t count, Nanosecon
       ended = true;
       break;
     }
-    if constexpr (!all) {
-      for (std::size_t k = 0; k < auto_increments_; ++k) {
-        auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + i));
-      }
+    for (std::size_t k = 0; k < auto_increments_; ++k) {
+      auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + i));
     }
     reached = i + 1;
     index_.entered(i);
@@ -273,7 +271,6 @@ Delivery Segment::carry_line_as(DatagramView first, std::size_t count, Nanosecon
     }
     passed = reached;
     note_entered(i);
-    if constexpr (all) index_.dirty_words()[i / SkipIndex::kWordBits] &= ~SkipIndex::bit(i);
     const Esc::LineRoute route = esc->line_route_;
     if (route == Esc::LineRoute::Back) {  // closed: the frame turns back here
       back = true;
@@ -285,12 +282,8 @@ Delivery Segment::carry_line_as(DatagramView first, std::size_t count, Nanosecon
     }
   }
   if (!ended && !back) reached = passed = n;  // went on out of the last ESC's port 1 (skipped or not)
-  if constexpr (all) {
-    refresh_dirty();  // the ESCs it did not reach (or that were touched while it passed)
-  } else {
-    for (std::size_t k = 0; k < auto_increments_; ++k) {
-      auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + passed));
-    }
+  for (std::size_t k = 0; k < auto_increments_; ++k) {
+    auto_increment_[k].datagram.set_adp(static_cast<std::uint16_t>(auto_increment_[k].adp + passed));
   }
   const bool returned = !ended && d.outcome != Delivery::Outcome::Destroyed;
   record_pass(now, static_cast<std::uint32_t>(reached), returned);
@@ -403,6 +396,17 @@ bool Segment::enters_all(DatagramView first, std::size_t count) noexcept {
       case Addressing::Logical:
         break;
     }
+    if (--left == 0) return false;
+    dg = dg.next();
+  }
+}
+
+bool Segment::maps_all(DatagramView first, std::size_t count) noexcept {
+  DatagramView dg = first;
+  for (std::size_t left = count;;) {
+    const engine_detail::CommandTraits& traits =
+        engine_detail::kCommandTraits[static_cast<std::uint8_t>(dg.command())];
+    if (traits.mode == Addressing::Logical && index_.maps_every_esc(dg.logical_address(), dg.length())) return true;
     if (--left == 0) return false;
     dg = dg.next();
   }

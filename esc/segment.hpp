@@ -183,10 +183,9 @@ class Segment {
 
   std::size_t append(Esc& esc);
   void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
+  // A line frame that skips (one that enters every ESC takes carry_dense:
+  // enters_every).
   Delivery carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
-  // carry_line for a frame that enters every ESC (all) or one that skips.
-  template <bool all>
-  Delivery carry_line_as(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // The line without skipping: every ESC entered until the frame turns back
   // (inline in send).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
@@ -257,6 +256,12 @@ class Segment {
   // Whether a frame addresses every ESC (a broadcast, xRMW, or more APxx
   // than kMaxAutoIncrement): it enters all of them, unplanned.
   static bool enters_all(DatagramView first, std::size_t count) noexcept;
+  // Whether a logical datagram of the frame spans the process data of every
+  // ESC as the index last read them (SkipIndex::maps_every_esc): skipping
+  // would pass none by. A guess that only chooses the path: both are exact.
+  bool maps_all(DatagramView first, std::size_t count) noexcept;
+  // Either: the frame enters every ESC of a line and skips none.
+  [[gnu::noinline]] bool enters_every(DatagramView first, std::size_t count) noexcept;
   // Marks the ESCs a frame that does not enter all must enter (SkipIndex).
   void plan(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // The planning walk of plan and plan_route (esc/segment_marking.hpp): the

@@ -28,6 +28,7 @@ bool SkipIndex::resize(std::size_t n) {
     entered_[i / kWordBits] |= bit(i);
   }
   size_ = n;
+  spans_dirty_ = true;  // every_esc_mapped_ counts the new ones
   return must_.data() != before || dirty_.data() != dirty_before;
 }
 
@@ -45,6 +46,10 @@ void SkipIndex::set_spans(std::size_t i, const Spans& spans, std::size_t count) 
 
 void SkipIndex::must_visit_all() noexcept {
   for (std::size_t i = 0; i < size_; ++i) must_[i / kWordBits] |= bit(i);
+}
+
+void SkipIndex::all_dirty() noexcept {
+  for (std::size_t i = 0; i < size_; ++i) dirty_[i / kWordBits] |= bit(i);
 }
 
 void SkipIndex::entered_all() noexcept {
@@ -72,11 +77,22 @@ void SkipIndex::rebuild_spans() noexcept {
   std::sort(order_.begin(), order_.begin() + static_cast<std::ptrdiff_t>(spans_),
             [&](std::uint32_t a, std::uint32_t b) { return first_[a] < first_[b] || (first_[a] == first_[b] && a < b); });
   std::uint64_t reach = 0;
+  std::size_t mapped = 0;  // ESCs with a span: slots run i * kSpans + k, so count each ESC's first
+  std::size_t last_esc = size_;
   for (std::size_t k = 0; k < spans_; ++k) {
     sorted_first_[k] = first_[order_[k]];
     reach = std::max(reach, end_[order_[k]]);
     prefix_end_[k] = reach;
   }
+  for (std::size_t slot = 0; slot < size_ * kSpans; ++slot) {
+    if (first_[slot] < end_[slot] && slot / kSpans != last_esc) {
+      last_esc = slot / kSpans;
+      ++mapped;
+    }
+  }
+  hull_first_ = spans_ > 0 ? sorted_first_[0] : 0;
+  hull_end_ = reach;
+  every_esc_mapped_ = size_ > 0 && mapped == size_;
   spans_dirty_ = false;
 }
 

@@ -77,6 +77,14 @@ class SkipIndex {
   void set_spans(std::size_t i, const Spans& spans, std::size_t count) noexcept;
   // Every ESC must be visited (a frame went round the port walk).
   void must_visit_all() noexcept;
+  // Every ESC is to be read again before the next frame that skips.
+  void all_dirty() noexcept;
+  // Whether logical bytes [first, first + size) meet a span of every ESC:
+  // each has one and all lie inside (the plan would mark every ESC).
+  bool maps_every_esc(std::uint64_t first, std::size_t size) noexcept {
+    if (spans_dirty_) rebuild_spans();
+    return every_esc_mapped_ && first <= hull_first_ && first + size >= hull_end_;
+  }
 
   // --- One frame ---
   void begin_frame() noexcept;
@@ -129,6 +137,11 @@ class SkipIndex {
   std::vector<std::uint64_t> prefix_end_;
   std::size_t spans_ = 0;
   bool spans_dirty_ = false;
+  // Over all spans (rebuild_spans): the lowest start, the highest end, and
+  // whether every ESC has at least one.
+  std::uint64_t hull_first_ = 0;
+  std::uint64_t hull_end_ = 0;
+  bool every_esc_mapped_ = false;
   // No passive ESC's timer is due before this (a lower bound; mark_due
   // scans only when a frame reaches it).
   Nanoseconds min_timer_ = Nanoseconds::min();

@@ -174,7 +174,6 @@ class Chain {
   std::unique_ptr<esc::VcdTrace> trace_;
   esc::Segment segment_;
   ChainStats stats_;
-  CycleTiming cycle_timing_;
   Nanoseconds seen_{Nanoseconds::min()};
   Nanoseconds max_frame_age_{0};
   // Which slaves run_firmware asks (issue 16 item 5): the ones whose ESC a
@@ -190,6 +189,12 @@ class Chain {
   bool rescan_ = true;  // every slave next time (set-up, poll, a slave handed out)
   bool ask_all_ = false;  // set_skipping(false)
   bool poll_all_ = false;  // set_polling_due(false)
+  // Last: its interval ring (8 KiB) between the segment and the fields
+  // above put them 8 KiB apart, where a store to one and a load of the
+  // other can be taken for the same address (the low 12 bits match) and
+  // the load waits; with 24 bytes more in the segment the one-drive cycle
+  // took 1.2x its time (issue 30, docs/performance.md session 16).
+  CycleTiming cycle_timing_;
   // Every slave asked and polled every time: nothing reads the pending
   // bits and times, so they are not kept (BM_Cycle_CspFullPass).
   bool untracked() const noexcept { return ask_all_ && poll_all_; }

@@ -141,10 +141,9 @@ inline void config_sm(Segment& s, std::uint16_t station, unsigned n, std::uint16
   transact(s, Command::Fpwr, fp(station, reg::sync_manager(n)), d);
 }
 
-// Configures FMMU n via ECAT.
-inline void config_fmmu(Segment& s, std::uint16_t station, unsigned n, std::uint32_t logical, std::uint16_t length,
-                        std::uint8_t start_bit, std::uint8_t stop_bit, std::uint16_t physical,
-                        std::uint8_t physical_bit, std::uint8_t type) {
+// The 16 bytes of an enabled FMMU (Section II 0x0600 + 16 n).
+inline Data fmmu_bytes(std::uint32_t logical, std::uint16_t length, std::uint8_t start_bit, std::uint8_t stop_bit,
+                       std::uint16_t physical, std::uint8_t physical_bit, std::uint8_t type) {
   Data d = le32(logical);
   for (auto b : le16(length)) d.push_back(b);
   d.push_back(start_bit);
@@ -154,7 +153,15 @@ inline void config_fmmu(Segment& s, std::uint16_t station, unsigned n, std::uint
   d.push_back(type);
   d.push_back(1);  // enable
   d.resize(16, 0);
-  transact(s, Command::Fpwr, fp(station, reg::fmmu(n)), d);
+  return d;
+}
+
+// Configures FMMU n via ECAT.
+inline void config_fmmu(Segment& s, std::uint16_t station, unsigned n, std::uint32_t logical, std::uint16_t length,
+                        std::uint8_t start_bit, std::uint8_t stop_bit, std::uint16_t physical,
+                        std::uint8_t physical_bit, std::uint8_t type) {
+  transact(s, Command::Fpwr, fp(station, reg::fmmu(n)),
+           fmmu_bytes(logical, length, start_bit, stop_bit, physical, physical_bit, type));
 }
 
 // The first byte at which two ESCs' memories differ, or nothing. memcmp

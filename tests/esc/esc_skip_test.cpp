@@ -274,6 +274,89 @@ TEST(SegmentSkip, SkippingOffAndOnAgainMatches) {
   t.compare("counted");
 }
 
+// A process image in one piece (outputs at 4 i, inputs after all outputs)
+// and one LRW over all of it, as a typical cycle's frame: every ESC is
+// mapped, so the skipping line takes the dense loop for it (no index kept),
+// and the next frame that skips reads every ESC into the index again
+// without entering it. Between the frames: a PDI write asking for the IRQ
+// field, an FMMU moved by a frame, the receive latch armed - each seen by
+// the next skipping frame as by the line that enters every ESC.
+TEST(SegmentSkip, LrwOverEveryEscIsDenseAndTheNextFrameStillSkips) {
+  Twin t;
+  constexpr std::uint32_t kWholeImage = 2 * kImage;  // outputs, then inputs
+  for (Line* l : {&t.fast, &t.ref}) {
+    assign_stations(*l);
+    for (std::size_t i = 0; i < kSlaves; ++i) {
+      config_sm(l->segment, station(i), 2, kSm2, 4, 0x64);
+      config_fmmu(l->segment, station(i), 0, static_cast<std::uint32_t>(4 * i), 4, 0, 7, kSm2, 0, 2);
+      config_fmmu(l->segment, station(i), 1, static_cast<std::uint32_t>(kImage + 4 * i), 4, 0, 7, kIn, 0, 1);
+    }
+  }
+  t.compare("set-up");
+  Nanoseconds now{1'000'000};
+  auto whole = [&](std::uint32_t seed) {
+    return [seed](TestFrame& f) {
+      Data image(kWholeImage);
+      for (std::size_t b = 0; b < image.size(); ++b) image[b] = static_cast<std::uint8_t>(seed + b);
+      f.add(Command::Lrw, 0, image);
+    };
+  };
+  auto one = [&](std::uint32_t v) { return [v](TestFrame& f) { f.add(Command::Lrw, 33 * 4, le32(v)); }; };
+  auto clear = [](std::span<std::uint64_t> bits) {
+    for (std::uint64_t& w : bits) w = 0;
+  };
+  for (int k = 0; k < 4; ++k) {
+    t.at(now += Nanoseconds{11'000});
+    clear(t.fast.segment.entered());
+    t.frame(now, whole(static_cast<std::uint32_t>(k)), "whole image " + std::to_string(k));
+    // Every ESC entered (all mapped).
+    for (std::size_t i = 0; i < kSlaves; ++i) {
+      EXPECT_NE(t.fast.segment.entered()[i / 64] & (std::uint64_t{1} << (i % 64)), 0u) << "slave " << i;
+    }
+    t.compare("whole image " + std::to_string(k));
+    clear(t.fast.segment.entered());
+    t.at(now += Nanoseconds{11'000});
+    t.frame(now, one(0x11223344u + static_cast<std::uint32_t>(k)), "slave 33 " + std::to_string(k));
+    // Skipping again at once: slave 33 and the last one only.
+    EXPECT_EQ(t.fast.segment.entered()[0], std::uint64_t{1} << 33) << k;
+    EXPECT_EQ(t.fast.segment.entered()[1], std::uint64_t{1} << (kSlaves - 1 - 64)) << k;
+    t.compare("slave 33 " + std::to_string(k));
+  }
+  // Changes made by the dense frames themselves, which keep no index: an
+  // ECAT event mask broadcast to every ESC (slave 20 then raises an event
+  // by its PDI), the receive latch armed by a broadcast write, slave 33's
+  // FMMU moved by an FPWR riding in a frame with the whole image.
+  t.frame(now += Nanoseconds{11'000}, [&](TestFrame& f) {
+    whole(7)(f);
+    f.add(Command::Bwr, reg::kEcatEventMask, le16(0x0008));
+  }, "mask broadcast");
+  t.pdi_write(20, reg::kAlStatus, le16(0x0002));
+  t.frame(now += Nanoseconds{11'000}, one(1), "slave 20's IRQ field");
+  t.compare("slave 20's IRQ field");
+  t.frame(now += Nanoseconds{11'000}, [&](TestFrame& f) { f.add(Command::Bwr, kDcReceive, le32(0)); }, "latch broadcast");
+  t.frame(now += Nanoseconds{11'000}, one(2), "receive times of every ESC");
+  t.compare("receive times of every ESC");
+  constexpr std::uint32_t kMoved = 0x9000;
+  t.frame(now += Nanoseconds{11'000}, [&](TestFrame& f) {
+    whole(9)(f);
+    f.add(Command::Fpwr, fp(station(33), reg::fmmu(0)), fmmu_bytes(kMoved, 4, 0, 7, kSm2, 0, 2));
+  }, "FMMU moved in a dense frame");
+  for (int k = 0; k < 3; ++k) {
+    t.frame(now += Nanoseconds{11'000}, [&](TestFrame& f) {
+      f.add(Command::Lrw, kMoved, le32(0xA0B0C0D0u + static_cast<std::uint32_t>(k)));
+      f.add(Command::Lrd, kImage + 2 * 4, 4);
+    }, "moved " + std::to_string(k));
+    t.frame(now += Nanoseconds{11'000}, one(5), "slave 33's old place " + std::to_string(k));
+    t.compare("after the changes " + std::to_string(k));
+  }
+  clear(t.fast.segment.entered());
+  t.frame(now += Nanoseconds{11'000}, [&](TestFrame& f) { f.add(Command::Lrw, kMoved, le32(1)); }, "counted");
+  // Slave 33 (and slave 20 while its event is pending) - not all of them.
+  EXPECT_NE(t.fast.segment.entered()[0] & (std::uint64_t{1} << 33), 0u);
+  EXPECT_LE(std::popcount(t.fast.segment.entered()[0] & ~(std::uint64_t{1} << 20)), 1);
+  t.compare("counted");
+}
+
 // What the skip index keeps of an ESC's addressing and ports (read again
 // only when the ESC's address epoch moved, issue 30 item 1): each change
 // made between two frames - a station address written by a frame, an alias
