@@ -113,14 +113,14 @@ struct Twin {
 
 // Station addresses, SM2 (3-buffer, ECAT writes, AL event, watchdog
 // trigger) at 0x1000 mapped by FMMU 0 from logical 4 i, and FMMU 1 reading
-// 0x1100 (plain RAM) from kInputs + 4 i: the process image of a line.
-void set_up(Twin& t) {
+// 0x1100 (plain RAM) from `inputs` + 4 i: the process image of a line.
+void set_up(Twin& t, std::uint32_t inputs = kInputs) {
   for (Line* l : {&t.fast, &t.ref}) {
     assign_stations(*l);
     for (std::size_t i = 0; i < kSlaves; ++i) {
       config_sm(l->segment, station(i), 2, kSm2, 4, 0x64);
       config_fmmu(l->segment, station(i), 0, static_cast<std::uint32_t>(4 * i), 4, 0, 7, kSm2, 0, 2);
-      config_fmmu(l->segment, station(i), 1, static_cast<std::uint32_t>(kInputs + 4 * i), 4, 0, 7, kIn, 0, 1);
+      config_fmmu(l->segment, station(i), 1, static_cast<std::uint32_t>(inputs + 4 * i), 4, 0, 7, kIn, 0, 1);
     }
   }
   t.compare("set-up");
@@ -284,15 +284,7 @@ TEST(SegmentSkip, SkippingOffAndOnAgainMatches) {
 TEST(SegmentSkip, LrwOverEveryEscIsDenseAndTheNextFrameStillSkips) {
   Twin t;
   constexpr std::uint32_t kWholeImage = 2 * kImage;  // outputs, then inputs
-  for (Line* l : {&t.fast, &t.ref}) {
-    assign_stations(*l);
-    for (std::size_t i = 0; i < kSlaves; ++i) {
-      config_sm(l->segment, station(i), 2, kSm2, 4, 0x64);
-      config_fmmu(l->segment, station(i), 0, static_cast<std::uint32_t>(4 * i), 4, 0, 7, kSm2, 0, 2);
-      config_fmmu(l->segment, station(i), 1, static_cast<std::uint32_t>(kImage + 4 * i), 4, 0, 7, kIn, 0, 1);
-    }
-  }
-  t.compare("set-up");
+  set_up(t, kImage);
   Nanoseconds now{1'000'000};
   auto whole = [&](std::uint32_t seed) {
     return [seed](TestFrame& f) {
