@@ -146,7 +146,9 @@ struct EscLine {
   explicit EscLine(std::size_t n, const esc::EscConfig& cfg = make_esc_config()) {
     escs.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
-      escs.push_back(std::make_unique<esc::Esc>(cfg, clock));
+      esc::EscConfig c = cfg;
+      c.memory_colour = static_cast<std::uint8_t>(i % 8);  // as slave::Chain colours its slaves
+      escs.push_back(std::make_unique<esc::Esc>(c, clock));
       segment.add(*escs.back());
     }
     assign_stations(segment);

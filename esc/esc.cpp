@@ -40,7 +40,7 @@ Esc::Esc(EscConfig config, const Clock& clock)
   // Registers and the configured RAM only (issue 16): every access beyond
   // ram_end() is clipped before it reaches memory (mem_read/mem_write, the
   // SMs' memory_end, the FMMU routes, peek, register_u16).
-  mem_ = map_memory(memory_size());
+  mem_ = map_memory(memory_size(), config_.memory_colour);
   allocate_units();
   for (unsigned n = 0; n < config_.sync_manager_count; ++n) {
     sms_[n].bind(mem_.get() + reg::sync_manager(n), mem_.get(), ram_end());

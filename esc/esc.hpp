@@ -368,7 +368,7 @@ class Esc final : public Pdi {
   // memory_size() bytes, mapped once (esc/esc_memory.cpp): pages the ESC
   // never touches - most of a large process RAM - are not resident.
   struct MemoryUnmap {
-    std::size_t size;  // no initializer: default-constructible inside the incomplete Esc
+    std::size_t size;  // of the whole mapping; no initializer: default-constructible inside the incomplete Esc
     void operator()(std::uint8_t* p) const noexcept;
   };
   // What esc::Segment's skip index reads of an ESC accessed since the last
@@ -386,7 +386,7 @@ class Esc final : public Pdi {
   // when it moved.
   std::uint32_t address_epoch_ = 0;
   std::unique_ptr<std::uint8_t[], MemoryUnmap> mem_;
-  static std::unique_ptr<std::uint8_t[], MemoryUnmap> map_memory(std::size_t size);
+  static std::unique_ptr<std::uint8_t[], MemoryUnmap> map_memory(std::size_t size, unsigned colour);
   Nanoseconds now_{0};
   // Logical bytes [logical_first_, logical_end_) span every active FMMU:
   // a logical datagram outside it passes this ESC untouched.

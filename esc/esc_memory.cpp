@@ -8,22 +8,43 @@
 // the RAM and of every register the reset does not set, so the first reset
 // does not clear it (Esc::memory_fresh_); an ESC reset later clears it.
 // Allocated once at construction; nothing here runs per frame.
+//
+// The block starts EscConfig::memory_colour x kColourStep bytes into its
+// mapping (issue 30, docs/performance.md session 16): page-aligned blocks
+// put the same register of every ESC at the same address modulo 4 KiB, and
+// a frame passing a line stores to a register of one ESC and then loads the
+// same register of the next - the CPU takes such a pair for one address
+// until it has compared them in full, and the load waits. The offset is
+// less than a page and the registers end at 0x0FFF, so the pages an ESC
+// touches stay as many.
 #include <sys/mman.h>
+#include <unistd.h>
 
+#include <cstdint>
 #include <new>
 
 #include "esc/esc.hpp"
 
 namespace ecat::esc {
 
-std::unique_ptr<std::uint8_t[], Esc::MemoryUnmap> Esc::map_memory(std::size_t size) {
-  void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+namespace {
+constexpr std::size_t kColourStep = 64;  // one cache line
+constexpr std::size_t kColours = 8;
+}  // namespace
+
+std::unique_ptr<std::uint8_t[], Esc::MemoryUnmap> Esc::map_memory(std::size_t size, unsigned colour) {
+  const std::size_t offset = kColourStep * (colour % kColours);
+  const std::size_t mapped = size + offset;
+  void* p = ::mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED) throw std::bad_alloc();
-  return std::unique_ptr<std::uint8_t[], MemoryUnmap>(static_cast<std::uint8_t*>(p), MemoryUnmap{size});
+  return std::unique_ptr<std::uint8_t[], MemoryUnmap>(static_cast<std::uint8_t*>(p) + offset, MemoryUnmap{mapped});
 }
 
+// The mapping starts at the page boundary at or below the block.
 void Esc::MemoryUnmap::operator()(std::uint8_t* p) const noexcept {
-  if (p != nullptr) ::munmap(p, size);
+  if (p == nullptr) return;
+  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  ::munmap(reinterpret_cast<void*>(reinterpret_cast<std::uintptr_t>(p) & ~(page - 1)), size);
 }
 
 }  // namespace ecat::esc

@@ -20,12 +20,20 @@ Expected<void, std::string> Chain::add(od::DeviceDescription device, const Slave
 
 Expected<void, std::string> Chain::add(std::shared_ptr<const od::DeviceDescription> device,
                                        const SlaveOptions& options) {
-  auto s = VirtualSlave::create(std::move(device), clock_, options);
+  auto s = VirtualSlave::create(std::move(device), clock_, options, next_colour());
   if (!s) return fail(s.error());
   segment_.add((*s)->esc());
   slaves_.push_back(std::move(*s));
   added();
   return {};
+}
+
+// The next slave's ESC memory colour: its position modulo the number of
+// colours (esc::EscConfig::memory_colour). An argument, not a copy of the
+// options: the copy's temporary allocations moved the slave's objects and,
+// with them, the one-drive cycle by 20 % (docs/performance.md session 16).
+std::uint8_t Chain::next_colour() const noexcept {
+  return static_cast<std::uint8_t>(slaves_.size() % kEscMemoryColours);
 }
 
 void Chain::added() noexcept {
@@ -57,7 +65,7 @@ Expected<void, std::string> Chain::attach(std::shared_ptr<const od::DeviceDescri
   if (segment_.peer(parent, parent_port)) {
     return fail(fmt::format("port {} of slave {} is already cabled", parent_port, parent + 1));
   }
-  auto s = VirtualSlave::create(std::move(device), clock_, options);
+  auto s = VirtualSlave::create(std::move(device), clock_, options, next_colour());
   if (!s) return fail(s.error());
   segment_.add((*s)->esc(), parent, parent_port, port, delay);
   slaves_.push_back(std::move(*s));

@@ -163,6 +163,8 @@ class Chain {
   // run_firmware saw it) or anything accessed it from outside a frame (the
   // segment's dirty set: a PDI host, a fault, a test).
   void note_touched() noexcept;
+  static constexpr std::size_t kEscMemoryColours = 8;
+  std::uint8_t next_colour() const noexcept;
 
   const Clock& clock_;
   std::vector<std::unique_ptr<VirtualSlave>> slaves_;

@@ -23,7 +23,8 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(od::De
 }
 
 Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
-    std::shared_ptr<const od::DeviceDescription> device, const Clock& clock, const SlaveOptions& options) {
+    std::shared_ptr<const od::DeviceDescription> device, const Clock& clock, const SlaveOptions& options,
+    std::uint8_t esc_memory_colour) {
   std::unique_ptr<VirtualSlave> s(new VirtualSlave());
   if (auto ok = check_drive(*device); !ok) return fail(ok.error());
   s->device_ = std::move(device);
@@ -31,6 +32,7 @@ Expected<std::unique_ptr<VirtualSlave>, std::string> VirtualSlave::create(
   if (!config) return fail(config.error());
   // Another process's firmware (SOES) meets silicon's SM event rule.
   if (options.external_firmware) config->sm_status_read_clears_event = false;
+  config->memory_colour = esc_memory_colour;
   if (options.processing_delay) config->processing_delay = *options.processing_delay;
   if (options.forwarding_delay) {  // the slave's own figure, every port alike
     config->forwarding_delay = *options.forwarding_delay;

@@ -33,9 +33,12 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   static Expected<std::unique_ptr<VirtualSlave>, std::string> create(od::DeviceDescription device,
                                                                      const Clock& clock,
                                                                      const SlaveOptions& options);
-  // The same over a description shared with other slaves (not null).
+  // The same over a description shared with other slaves (not null), its
+  // ESC's memory block at `esc_memory_colour` (esc::EscConfig::memory_colour:
+  // slave::Chain gives its position).
   static Expected<std::unique_ptr<VirtualSlave>, std::string> create(
-      std::shared_ptr<const od::DeviceDescription> device, const Clock& clock, const SlaveOptions& options);
+      std::shared_ptr<const od::DeviceDescription> device, const Clock& clock, const SlaveOptions& options,
+      std::uint8_t esc_memory_colour = 0);
   ~VirtualSlave();
   VirtualSlave(const VirtualSlave&) = delete;
   VirtualSlave& operator=(const VirtualSlave&) = delete;

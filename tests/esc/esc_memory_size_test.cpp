@@ -30,6 +30,26 @@ TEST(EscMemorySize, BacksRegistersAndConfiguredRamOnly) {
   EXPECT_EQ(largest[0].memory()[reg::kRamSize], 60u);  // 0x0006: RAM size in KiB
 }
 
+// EscConfig::memory_colour: the block starts colour x 64 bytes into its
+// (page-aligned) mapping, colours taken modulo 8; the memory behaves the same
+// (zero at power-on, registers and RAM as without a colour).
+TEST(EscMemorySize, ColourOffsetsTheBlockByCacheLines) {
+  constexpr std::uintptr_t kPage = 4096;
+  for (unsigned colour : {0u, 1u, 3u, 7u, 8u, 13u}) {
+    EscConfig c = make_config();
+    c.memory_colour = static_cast<std::uint8_t>(colour);
+    Line line(1, c);
+    const auto at = reinterpret_cast<std::uintptr_t>(line[0].memory());
+    EXPECT_EQ(at % kPage, 64u * (colour % 8u)) << colour;
+    EXPECT_EQ(line[0].memory_size(), reg::kProcessRam + 8 * kOneKiB);
+    assign_stations(line);
+    const auto last = static_cast<std::uint16_t>(line[0].memory_size() - 2);
+    EXPECT_EQ(transact(line.segment, Command::Fpwr, fp(kStation, last), Data{0x12, 0x34}).wkc, 1);
+    EXPECT_EQ(transact(line.segment, Command::Fprd, fp(kStation, last), Data{0, 0}).data, (Data{0x12, 0x34}));
+    EXPECT_EQ(transact(line.segment, Command::Fprd, fp(kStation, reg::kProcessRam), Data{0xFF}).data, (Data{0}));
+  }
+}
+
 TEST(EscMemorySize, EcatAccessPastTheRamIsNotPresent) {
   Line line(1, config_with_ram(kOneKiB));
   assign_stations(line);

@@ -94,5 +94,17 @@ TEST(ChainSkip, TreeBringUpAndCyclesGiveTheSameFramesAsThePortWalk) {
   }
 }
 
+// Each slave's ESC memory starts 64 x (position mod 8) bytes into its page
+// (esc::EscConfig::memory_colour): neighbours never have the same register
+// at the same address modulo 4 KiB.
+TEST(ChainSkip, NeighbouringSlavesGetDifferentMemoryColours) {
+  InProcess p;
+  p.add_default(10);
+  for (std::size_t i = 0; i < 10; ++i) {
+    const auto at = reinterpret_cast<std::uintptr_t>(p.chain[i].esc().memory());
+    EXPECT_EQ(at % 4096, 64u * (i % 8)) << "slave " << i;
+  }
+}
+
 }  // namespace
 }  // namespace ecat::test
