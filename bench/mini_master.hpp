@@ -147,7 +147,7 @@ struct EscLine {
     escs.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
       esc::EscConfig c = cfg;
-      c.memory_colour = static_cast<std::uint8_t>(i % 8);  // as slave::Chain colours its slaves
+      c.memory_colour = esc::EscConfig::memory_colour_at(i);  // as slave::Chain colours its slaves
       escs.push_back(std::make_unique<esc::Esc>(c, clock));
       segment.add(*escs.back());
     }

@@ -45,12 +45,18 @@ struct EscConfig {
   std::uint8_t fmmu_count = 8;           // <= kMaxFmmus
   std::uint8_t sync_manager_count = 8;   // <= kMaxSyncManagers
   std::uint32_t process_ram_size = 8 * 1024;  // bytes at 0x1000.., <= kMaxProcessRam, multiple of 1 KiB
-  // Where the memory block starts in its mapping: memory_colour x 64 bytes
-  // (taken modulo 8; esc/esc_memory.cpp). Neighbours in a line with
-  // different colours do not have the same register at the same address
-  // modulo 4 KiB, which the CPU takes for one address until it has compared
-  // them in full (a frame stores to a register of one ESC, then loads it at
-  // the next). slave::Chain gives each slave its position modulo 8.
+  // Where the memory block starts in its mapping: memory_colour x
+  // kMemoryColourStep bytes (taken modulo kMemoryColours; esc/esc_memory.cpp).
+  // Neighbours in a line with different colours do not have the same register
+  // at the same address modulo 4 KiB, which the CPU takes for one address
+  // until it has compared them in full (a frame stores to a register of one
+  // ESC, then loads it at the next). slave::Chain gives each slave its
+  // position: memory_colour_at(i).
+  static constexpr std::size_t kMemoryColourStep = 64;  // one cache line
+  static constexpr std::size_t kMemoryColours = 8;
+  static constexpr std::uint8_t memory_colour_at(std::size_t position) noexcept {
+    return static_cast<std::uint8_t>(position % kMemoryColours);
+  }
   std::uint8_t memory_colour = 0;
   std::uint8_t port_count = 2;           // ports 0..port_count-1 exist, <= kMaxPorts
   PortType port_type = PortType::Mii;    // type reported for each existing port in 0x0007

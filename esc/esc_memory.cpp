@@ -9,7 +9,7 @@
 // does not clear it (Esc::memory_fresh_); an ESC reset later clears it.
 // Allocated once at construction; nothing here runs per frame.
 //
-// The block starts EscConfig::memory_colour x kColourStep bytes into its
+// The block starts EscConfig::memory_colour x kMemoryColourStep bytes into its
 // mapping (issue 30, docs/performance.md session 16): page-aligned blocks
 // put the same register of every ESC at the same address modulo 4 KiB, and
 // a frame passing a line stores to a register of one ESC and then loads the
@@ -27,13 +27,8 @@
 
 namespace ecat::esc {
 
-namespace {
-constexpr std::size_t kColourStep = 64;  // one cache line
-constexpr std::size_t kColours = 8;
-}  // namespace
-
 std::unique_ptr<std::uint8_t[], Esc::MemoryUnmap> Esc::map_memory(std::size_t size, unsigned colour) {
-  const std::size_t offset = kColourStep * (colour % kColours);
+  const std::size_t offset = EscConfig::kMemoryColourStep * (colour % EscConfig::kMemoryColours);
   const std::size_t mapped = size + offset;
   void* p = ::mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED) throw std::bad_alloc();

@@ -44,17 +44,16 @@ void SkipIndex::set_spans(std::size_t i, const Spans& spans, std::size_t count) 
   }
 }
 
-void SkipIndex::must_visit_all() noexcept {
-  for (std::size_t i = 0; i < size_; ++i) must_[i / kWordBits] |= bit(i);
+// The bits of ESCs 0..size()-1 in one of the bit vectors.
+void SkipIndex::set_every(std::vector<std::uint64_t>& words) const noexcept {
+  for (std::size_t i = 0; i < size_; ++i) words[i / kWordBits] |= bit(i);
 }
 
-void SkipIndex::all_dirty() noexcept {
-  for (std::size_t i = 0; i < size_; ++i) dirty_[i / kWordBits] |= bit(i);
-}
+void SkipIndex::must_visit_all() noexcept { set_every(must_); }
 
-void SkipIndex::entered_all() noexcept {
-  for (std::size_t i = 0; i < size_; ++i) entered_[i / kWordBits] |= bit(i);
-}
+void SkipIndex::all_dirty() noexcept { set_every(dirty_); }
+
+void SkipIndex::entered_all() noexcept { set_every(entered_); }
 
 void SkipIndex::begin_frame() noexcept { std::fill(visit_.begin(), visit_.end(), 0); }
 
@@ -71,24 +70,23 @@ void SkipIndex::mark_address(std::uint16_t adp) noexcept {
 
 void SkipIndex::rebuild_spans() noexcept {
   spans_ = 0;
+  std::size_t mapped = 0;  // ESCs with a span (an ESC's slots are i * kSpans + k, in a row)
+  std::size_t last_esc = size_;
   for (std::size_t slot = 0; slot < size_ * kSpans; ++slot) {
-    if (first_[slot] < end_[slot]) order_[spans_++] = static_cast<std::uint32_t>(slot);
+    if (first_[slot] >= end_[slot]) continue;
+    order_[spans_++] = static_cast<std::uint32_t>(slot);
+    if (slot / kSpans != last_esc) {
+      last_esc = slot / kSpans;
+      ++mapped;
+    }
   }
   std::sort(order_.begin(), order_.begin() + static_cast<std::ptrdiff_t>(spans_),
             [&](std::uint32_t a, std::uint32_t b) { return first_[a] < first_[b] || (first_[a] == first_[b] && a < b); });
   std::uint64_t reach = 0;
-  std::size_t mapped = 0;  // ESCs with a span: slots run i * kSpans + k, so count each ESC's first
-  std::size_t last_esc = size_;
   for (std::size_t k = 0; k < spans_; ++k) {
     sorted_first_[k] = first_[order_[k]];
     reach = std::max(reach, end_[order_[k]]);
     prefix_end_[k] = reach;
-  }
-  for (std::size_t slot = 0; slot < size_ * kSpans; ++slot) {
-    if (first_[slot] < end_[slot] && slot / kSpans != last_esc) {
-      last_esc = slot / kSpans;
-      ++mapped;
-    }
   }
   hull_first_ = spans_ > 0 ? sorted_first_[0] : 0;
   hull_end_ = reach;

@@ -120,6 +120,7 @@ class SkipIndex {
 
  private:
   void rebuild_spans() noexcept;
+  void set_every(std::vector<std::uint64_t>& words) const noexcept;
 
   std::size_t size_ = 0;
   std::vector<std::uint64_t> must_;

@@ -163,7 +163,6 @@ class Chain {
   // run_firmware saw it) or anything accessed it from outside a frame (the
   // segment's dirty set: a PDI host, a fault, a test).
   void note_touched() noexcept;
-  static constexpr std::size_t kEscMemoryColours = 8;
   std::uint8_t next_colour() const noexcept;
 
   const Clock& clock_;
