@@ -41,6 +41,30 @@ class WakeTimes {
     }
     at_[i] = at;
   }
+  // set() from several threads at once, each for slaves of its own
+  // (slave::Chain's firmware lanes): the times are stored, and what each
+  // thread's sets do to the lower bound is kept in its Bound, merged by one
+  // thread afterwards. The result does not depend on how the slaves were
+  // split: the bound is exact when the lowest time set is at or below it,
+  // and stays exact unless a slave at the bound moved later.
+  struct Bound {
+    Nanoseconds lowest = Nanoseconds::max();  // of the times set
+    bool moved = false;                       // a slave at the bound moved later
+  };
+  void set_apart(std::size_t i, Nanoseconds at, Bound& b) noexcept {
+    b.lowest = std::min(b.lowest, at);
+    b.moved = b.moved || (at_[i] == earliest_ && at > earliest_);
+    at_[i] = at;
+  }
+  void merge(const Bound& b) noexcept {
+    if (b.lowest <= earliest_) {
+      earliest_ = b.lowest;
+      exact_ = true;
+    } else if (b.moved) {
+      exact_ = false;
+    }
+  }
+
   // The earliest time of all, exactly (Nanoseconds::max(): none, or no
   // slave): a scan only when a set() moved the earliest one later.
   Nanoseconds earliest() noexcept {

@@ -1,0 +1,110 @@
+#include "slave/spin_workers.hpp"
+
+#include <pthread.h>
+
+#include <string>
+
+namespace ecat::slave {
+
+namespace {
+
+// A spinning thread's hint to the core (and to its sibling hyperthread).
+inline void cpu_relax() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+}  // namespace
+
+SpinWorkers::SpinWorkers(unsigned helpers) {
+  threads_.reserve(helpers);
+  try {
+    for (unsigned lane = 1; lane <= helpers; ++lane) {
+      threads_.emplace_back([this, lane] { help(lane); });
+      // A name for top and perf ("ecat-fw1"...).
+      const std::string name = "ecat-fw" + std::to_string(lane);
+      (void)pthread_setname_np(threads_.back().native_handle(), name.c_str());
+    }
+  } catch (...) {
+    stop_all();  // the ones started (no thread may outlive its object)
+    throw;
+  }
+}
+
+SpinWorkers::~SpinWorkers() { stop_all(); }
+
+void SpinWorkers::stop_all() noexcept {
+  stop_.store(true, std::memory_order_seq_cst);
+  wake_.fetch_add(1, std::memory_order_seq_cst);
+  wake_.notify_all();
+  for (std::thread& t : threads_) t.join();
+  threads_.clear();
+}
+
+void SpinWorkers::run(Task task, void* context, std::size_t count) noexcept {
+  if (count == 0) return;
+  // No helper is inside a batch here (the last run() waited for them), so
+  // these plain writes race with nothing; a helper reads them only after it
+  // claimed a k of the batch published below.
+  task_ = task;
+  context_ = context;
+  batch_ = (batch_ + 1) & kBatchMask;
+  claim_.store((batch_ << kBatchShift) | (std::uint64_t{count} << kCountShift), std::memory_order_seq_cst);
+  // A helper that went to sleep either sees this batch before it waits or
+  // is counted in sleepers_ before this load (both sides sequentially
+  // consistent), so it is woken.
+  if (sleepers_.load(std::memory_order_seq_cst) != 0) {
+    wake_.fetch_add(1, std::memory_order_seq_cst);
+    wake_.notify_all();
+  }
+  while (take_one(0)) {
+  }
+  // Every k is claimed. A helper that claimed one raised busy_ before its
+  // claim, which this thread's last load of claim_ saw: it is counted here
+  // until its call has returned.
+  while (busy_.load(std::memory_order_seq_cst) != 0) cpu_relax();
+}
+
+bool SpinWorkers::take_one(unsigned lane) noexcept {
+  std::uint64_t c = claim_.load(std::memory_order_seq_cst);
+  while (next_of(c) < count_of(c)) {
+    if (claim_.compare_exchange_weak(c, c + 1, std::memory_order_seq_cst)) {
+      task_(context_, static_cast<std::size_t>(next_of(c)), lane);
+      return true;
+    }
+  }
+  return false;
+}
+
+void SpinWorkers::help(unsigned lane) noexcept {
+  std::uint32_t idle = 0;
+  while (!stop_.load(std::memory_order_relaxed)) {
+    std::uint64_t c = claim_.load(std::memory_order_relaxed);
+    if (next_of(c) < count_of(c)) {
+      busy_.fetch_add(1, std::memory_order_seq_cst);
+      std::uint64_t done = 0;
+      while (take_one(lane)) ++done;
+      busy_.fetch_sub(1, std::memory_order_seq_cst);
+      helped_.fetch_add(done, std::memory_order_relaxed);
+      idle = 0;
+      continue;
+    }
+    if (++idle < kSpinsBeforeSleep) {
+      cpu_relax();
+      continue;
+    }
+    const std::uint32_t seen = wake_.load(std::memory_order_seq_cst);
+    sleepers_.fetch_add(1, std::memory_order_seq_cst);
+    c = claim_.load(std::memory_order_seq_cst);
+    if (next_of(c) >= count_of(c) && !stop_.load(std::memory_order_seq_cst)) {
+      wake_.wait(seen, std::memory_order_seq_cst);
+    }
+    sleepers_.fetch_sub(1, std::memory_order_seq_cst);
+    idle = 0;
+  }
+}
+
+}  // namespace ecat::slave

@@ -1,0 +1,78 @@
+// Threads that help the loop thread with one batch of independent work at a
+// time (issue 30 item 3: the firmware of a chain's slaves on two cores).
+//
+// run(task, context, count) calls task(context, k, lane) once for every k in
+// [0, count): the calling thread (lane 0) and each helper (lanes 1..) take
+// the next k until none is left, and run() returns when every call has
+// returned, with everything the helpers wrote visible to the caller. Which
+// lane runs which k depends on the timing; a task whose calls touch disjoint
+// state gives the same result either way.
+//
+// Between batches the helpers spin (a frame's firmware is a few
+// microseconds: waking a sleeping thread costs more than the work), and
+// after about a millisecond without work they sleep on a futex until the
+// next batch. The caller never waits for a helper to wake: it takes every k
+// itself when none is there, and waits only for calls a helper has begun.
+// Nothing allocates after construction.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+namespace ecat::slave {
+
+class SpinWorkers {
+ public:
+  using Task = void (*)(void* context, std::size_t k, unsigned lane) noexcept;
+  // A batch holds at most this many calls (the claim word's field).
+  static constexpr std::size_t kMaxCount = (std::size_t{1} << 24) - 1;
+  // Pause instructions a helper spins through without work before it sleeps
+  // (some 40-140 cycles each: about 0.3-1 ms).
+  static constexpr std::uint32_t kSpinsBeforeSleep = 1u << 14;
+
+  // `helpers` threads besides the caller's (lanes 1..helpers).
+  explicit SpinWorkers(unsigned helpers);
+  ~SpinWorkers();
+  SpinWorkers(const SpinWorkers&) = delete;
+  SpinWorkers& operator=(const SpinWorkers&) = delete;
+
+  unsigned lanes() const noexcept { return static_cast<unsigned>(threads_.size()) + 1; }
+  // Runs the batch (count <= kMaxCount) as above.
+  void run(Task task, void* context, std::size_t count) noexcept;
+  // Calls made by the helpers since construction (not by the caller).
+  std::uint64_t helped() const noexcept { return helped_.load(std::memory_order_relaxed); }
+
+ private:
+  // The claim word: batch number (16 bits), count (24), next k (24).
+  static constexpr unsigned kNextBits = 24;
+  static constexpr unsigned kCountShift = 24;
+  static constexpr unsigned kBatchShift = 48;
+  static constexpr std::uint64_t kFieldMask = (std::uint64_t{1} << kNextBits) - 1;
+  static constexpr std::uint64_t kBatchMask = 0xFFFF;
+  static std::uint64_t next_of(std::uint64_t c) noexcept { return c & kFieldMask; }
+  static std::uint64_t count_of(std::uint64_t c) noexcept { return (c >> kCountShift) & kFieldMask; }
+  static std::uint64_t batch_of(std::uint64_t c) noexcept { return c >> kBatchShift; }
+
+  // Takes the next k of the batch in `claim_` and runs it; false when none is left.
+  bool take_one(unsigned lane) noexcept;
+  void help(unsigned lane) noexcept;
+  void stop_all() noexcept;
+
+  std::vector<std::thread> threads_;
+  // Written by run() before the batch is published, read by a lane only
+  // after it claimed a k of that batch (run() waits for every such lane).
+  Task task_ = nullptr;
+  void* context_ = nullptr;
+  std::uint64_t batch_ = 0;
+  alignas(64) std::atomic<std::uint64_t> claim_{0};
+  alignas(64) std::atomic<std::uint32_t> busy_{0};      // helpers inside a batch
+  alignas(64) std::atomic<std::uint32_t> sleepers_{0};  // helpers asleep on wake_
+  std::atomic<std::uint32_t> wake_{0};
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> helped_{0};
+};
+
+}  // namespace ecat::slave
