@@ -34,8 +34,8 @@ std::unique_ptr<DriveLine> make_line(benchmark::State& state, std::size_t branch
 // with --control and no client (docs/control.md): a Unix socket server
 // serviced after every cycle, doing its tick's work (poll of the socket,
 // event sample) every 10 ms of the simulated time.
+void report(benchmark::State& state, DriveLine& line);
 void run_cycles(benchmark::State& state, bool skipping, bool control = false, std::size_t branch = 0) {
-  const auto n = static_cast<std::size_t>(state.range(0));
   std::unique_ptr<DriveLine> line = make_line(state, branch);
   if (!line) return;
   line->chain().set_skipping(skipping);
@@ -64,20 +64,50 @@ void run_cycles(benchmark::State& state, bool skipping, bool control = false, st
   } else {
     for (auto _ : state) line->cycle();
   }
-  // The drives must have followed: still enabled after the measured cycles.
-  if ((line->statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) {
-    const std::string why = "drive dropped out: statusword " + std::to_string(line->statusword(n - 1)) +
-                            " error " + std::to_string(line->error_code(n - 1)) + " AL status " +
-                            std::to_string(line->al_status(n - 1));
+  report(state, *line);
+}
+
+// After the measured cycles: the drives must have followed (still enabled,
+// else the case is reported as skipped); the frames per cycle and the time
+// per drive.
+void report(benchmark::State& state, DriveLine& line) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  if ((line.statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) {
+    const std::string why = "drive dropped out: statusword " + std::to_string(line.statusword(n - 1)) +
+                            " error " + std::to_string(line.error_code(n - 1)) + " AL status " +
+                            std::to_string(line.al_status(n - 1));
     state.SkipWithError(why.c_str());
   }
-  state.counters["frames"] = static_cast<double>(line->frames());
+  state.counters["frames"] = static_cast<double>(line.frames());
   state.counters["ns_per_drive"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_Cycle_Csp(benchmark::State& state) { run_cycles(state, true); }
 BENCHMARK(BM_Cycle_Csp)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// BM_Cycle_Csp with the firmware on state.range(1) threads (issue 30 item
+// 3, slave::Chain::set_firmware_threads), in wall time: the helpers spin,
+// so the CPU time they add is the cost and the wall time the gain. The
+// one-thread rows are the reference in the same run.
+void BM_Cycle_CspLanes(benchmark::State& state) {
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
+  if (auto ok = line->chain().set_firmware_threads(static_cast<unsigned>(state.range(1))); !ok) {
+    state.SkipWithError(ok.error().c_str());
+    return;
+  }
+  for (auto _ : state) line->cycle();
+  report(state, *line);
+}
+BENCHMARK(BM_Cycle_CspLanes)
+    ->Apply(iterations_from_env)
+    ->Args({100, 1})
+    ->Args({100, 2})
+    ->Args({1000, 1})
+    ->Args({1000, 2})
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
 
 // BM_Cycle_Csp with every frame passed through a fault catalogue with
 // nothing engaged (issue 26 item 5: the idle cost must be nil;

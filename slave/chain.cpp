@@ -108,18 +108,21 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // a pending one, or - once the time reaches the earliest wake time - any
   // can be due (issue 16 item 5): the others are not asked.
   const std::span<std::uint64_t> entered = segment_.entered();
+  DirectNotes notes;
   if (ask_all_ || rescan_) {
     rescan_ = false;
+    split_ok_ = lanes_ && !serial_forced_ && slaves_run_apart();
     std::fill(entered.begin(), entered.end(), 0);
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
-      after_frame(i, now);
-      note(i);  // whatever changed a slave since (set-up, a slave handed out)
+      after_frame(i, now, notes);
+      note(i, notes);  // whatever changed a slave since (set-up, a slave handed out)
     }
     return;
   }
   // The ones whose time came are taken out (after_frame puts them back at
   // their new time), then every candidate once, in order.
   wakes_.take_due(now, due_);
+  if (split_ok_ && run_split(now)) return;
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = entered[w] | pending_[w] | due_[w];
     entered[w] = 0;
@@ -127,16 +130,80 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
     while (bits != 0) {
       const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
       bits &= bits - 1;
-      after_frame(i, now);
+      after_frame(i, now, notes);
     }
   }
 }
 
-void Chain::after_frame(std::size_t i, Nanoseconds now) noexcept {
+// The candidates of each word go to one lane: the word's pending bit, the
+// segment's entered and dirty bits (Esc::touch) of its slaves are written
+// by that lane alone, their wake times and deadlines are their own entries
+// (WakeTimes::set_apart), and the bounds are merged here afterwards.
+bool Chain::run_split(Nanoseconds now) noexcept {
+  const std::span<std::uint64_t> entered = segment_.entered();
+  std::size_t slaves = 0;
+  split_words_.clear();  // reserved: no allocation
+  for (std::size_t w = 0; w < pending_.size(); ++w) {
+    const std::uint64_t bits = entered[w] | pending_[w] | due_[w];
+    if (bits == 0) continue;
+    split_words_.push_back(static_cast<std::uint32_t>(w));
+    slaves += static_cast<std::size_t>(std::popcount(bits));
+  }
+  if (slaves < min_split_ || split_words_.size() < 2) return false;
+  for (std::size_t w = 0; w < pending_.size(); ++w) {
+    due_[w] |= entered[w] | pending_[w];
+    entered[w] = 0;
+  }
+  for (ApartNotes& n : lane_notes_) n.wake_bound = n.deadline_bound = WakeTimes::Bound{};
+  split_now_ = now;
+  lanes_->run(&Chain::run_word, this, split_words_.size());
+  for (const ApartNotes& n : lane_notes_) {
+    wakes_.merge(n.wake_bound);
+    deadlines_.merge(n.deadline_bound);
+  }
+  ++split_runs_;
+  return true;
+}
+
+void Chain::run_word(void* chain, std::size_t k, unsigned lane) noexcept {
+  Chain& c = *static_cast<Chain*>(chain);
+  const std::size_t w = c.split_words_[k];
+  std::uint64_t bits = c.due_[w];
+  c.due_[w] = 0;
+  while (bits != 0) {
+    const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+    bits &= bits - 1;
+    c.after_frame(i, c.split_now_, c.lane_notes_[lane]);
+  }
+}
+
+bool Chain::slaves_run_apart() const noexcept {
+  return std::all_of(slaves_.begin(), slaves_.end(), [](const auto& s) { return s->runs_apart(); });
+}
+
+Expected<void, std::string> Chain::set_firmware_threads(unsigned threads, std::size_t min_slaves) {
+  if (threads == 0) return fail(std::string("firmware threads: at least 1"));
+  lanes_.reset();
+  split_ok_ = false;
+  min_split_ = min_slaves;
+  if (threads == 1) return {};
+  try {
+    split_words_.reserve(pending_.size());
+    lane_notes_.assign(threads, ApartNotes{});
+    lanes_ = std::make_unique<SpinWorkers>(threads - 1);
+  } catch (const std::exception& e) {
+    return fail(fmt::format("firmware threads: cannot start {} helper threads: {}", threads - 1, e.what()));
+  }
+  rescan_ = true;  // split_ok_ is decided there
+  return {};
+}
+
+template <class Notes>
+void Chain::after_frame(std::size_t i, Nanoseconds now, Notes& notes) noexcept {
   VirtualSlave& s = *slaves_[i];
   if (s.after_frame_due(now)) {
     s.after_frame(now);
-    note(i);
+    note(i, notes);
     return;
   }
   // Not due: not pending; its times are taken again, as the frame may
@@ -144,11 +211,11 @@ void Chain::after_frame(std::size_t i, Nanoseconds now) noexcept {
   if (untracked()) return;
   pending_[i / 64] &= ~(std::uint64_t{1} << (i % 64));
   const Nanoseconds next = s.next_deadline();
-  wakes_.set(i, s.visit_at());
-  deadlines_.set(i, next);
+  notes.set(*this, i, s.visit_at(), next);
 }
 
-void Chain::note(std::size_t i) noexcept {
+template <class Notes>
+void Chain::note(std::size_t i, Notes& notes) noexcept {
   if (untracked()) return;
   const VirtualSlave& s = *slaves_[i];
   const std::uint64_t bit = std::uint64_t{1} << (i % 64);
@@ -157,8 +224,7 @@ void Chain::note(std::size_t i) noexcept {
   } else {
     pending_[i / 64] &= ~bit;
   }
-  wakes_.set(i, s.visit_at());
-  deadlines_.set(i, s.next_deadline());
+  notes.set(*this, i, s.visit_at(), s.next_deadline());
 }
 
 void Chain::note_touched() noexcept {
@@ -245,6 +311,8 @@ Expected<void, std::string> Chain::open_trace(const std::string& path) {
   for (std::size_t i = 0; i < slaves_.size(); ++i) names.push_back(fmt::format("slave{}", i + 1));
   trace_ = std::make_unique<esc::VcdTrace>(trace_file_.get(), names, clock_);
   for (std::size_t i = 0; i < slaves_.size(); ++i) slaves_[i]->attach_trace(trace_->probe(i));
+  rescan_ = true;  // the probes write one file: the firmware stays on this thread
+  split_ok_ = false;
   return {};
 }
 

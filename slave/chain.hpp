@@ -18,6 +18,7 @@
 #include "slave/cycle_timing.hpp"
 #include "slave/frame_age.hpp"
 #include "slave/slave_stats.hpp"
+#include "slave/spin_workers.hpp"
 #include "slave/virtual_slave.hpp"
 #include "slave/wake_times.hpp"
 
@@ -64,6 +65,34 @@ class Chain {
   // 1 for the redundant one); says on which master port it leaves.
   esc::Delivery pass_frame_on(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept;
   void run_firmware(Nanoseconds now) noexcept;
+
+  // The firmware on more than one core (issue 30 item 3, docs/performance.md
+  // "Firmware lanes"): run_firmware hands the slaves a frame left work to
+  // `threads` threads, this one and threads - 1 helpers that spin between
+  // frames (they sleep after about a millisecond without work). A slave's
+  // firmware touches only its own ESC and objects, so the frames, registers
+  // and times are those of one thread (tests/slave/chain_lanes_test.cpp).
+  // Only a run with at least `min_slaves` candidates in at least two
+  // 64-slave words is split; the helpers take whole words, so the bits
+  // and times the chain keeps per word are written by one thread. The
+  // firmware stays on this thread while a slave writes outside itself: a
+  // VCD trace (open_trace), an external firmware, an EoE report callback, or
+  // a fault that reaches back into its catalogue (keep_firmware_serial).
+  // 1: no helper (the default: the helpers spin, so the CPU time grows and
+  // only the wall time can shrink). Fails when a thread cannot be started.
+  static constexpr std::size_t kMinSplitSlaves = 128;
+  Expected<void, std::string> set_firmware_threads(unsigned threads, std::size_t min_slaves = kMinSplitSlaves);
+  unsigned firmware_threads() const noexcept { return lanes_ ? lanes_->lanes() : 1; }
+  // From now on every slave's firmware runs on this thread (see above).
+  void keep_firmware_serial() noexcept {
+    serial_forced_ = true;
+    split_ok_ = false;
+  }
+  bool firmware_kept_serial() const noexcept { return serial_forced_; }
+  // The run_firmware calls that were split over the lanes.
+  std::uint64_t split_runs() const noexcept { return split_runs_; }
+  // The candidates the helpers took (not this thread): SpinWorkers::helped.
+  std::uint64_t helped_words() const noexcept { return lanes_ ? lanes_->helped() : 0; }
 
   // Skipping (issue 16 item 5, docs/esc.md): frames enter only the ESCs
   // they address or that are not passive, and run_firmware asks only the
@@ -146,10 +175,39 @@ class Chain {
  private:
   [[gnu::always_inline]] inline void count_returned(std::span<const std::uint8_t> frame, Nanoseconds now) noexcept;
   void added() noexcept;
+  // Where after_frame and note keep a slave's wake time and deadline: in
+  // the WakeTimes directly, or (a lane of a split run) apart, with the
+  // bounds merged when every lane is done.
+  struct DirectNotes {
+    static void set(Chain& c, std::size_t i, Nanoseconds wake, Nanoseconds deadline) noexcept {
+      c.wakes_.set(i, wake);
+      c.deadlines_.set(i, deadline);
+    }
+  };
+  struct alignas(64) ApartNotes {  // one lane's, on a line of its own
+    WakeTimes::Bound wake_bound;
+    WakeTimes::Bound deadline_bound;
+    void set(Chain& c, std::size_t i, Nanoseconds wake, Nanoseconds deadline) noexcept {
+      c.wakes_.set_apart(i, wake, wake_bound);
+      c.deadlines_.set_apart(i, deadline, deadline_bound);
+    }
+  };
   // Runs slave i's firmware if a frame left it work; keeps what it waits for.
-  void after_frame(std::size_t i, Nanoseconds now) noexcept;
+  template <class Notes>
+  void after_frame(std::size_t i, Nanoseconds now, Notes& notes) noexcept;
   // Keeps slave i's pending bit, its wake time and its next deadline.
-  void note(std::size_t i) noexcept;
+  template <class Notes>
+  void note(std::size_t i, Notes& notes) noexcept;
+  void note(std::size_t i) noexcept {
+    DirectNotes direct;
+    note(i, direct);
+  }
+  // run_firmware's candidates (in due_) on the lanes, when worth it.
+  bool run_split(Nanoseconds now) noexcept;
+  // One lane's part: the candidates of word split_words_[k].
+  static void run_word(void* chain, std::size_t k, unsigned lane) noexcept;
+  // Whether every slave's firmware may run on any thread (set_firmware_threads).
+  bool slaves_run_apart() const noexcept;
   // poll() of every slave, and of the due ones (set_polling_due); the
   // latter computes the earliest deadline only when `next` is wanted.
   // Each returns the earliest deadline, kNoDeadline when none (no optional
@@ -187,6 +245,7 @@ class Chain {
   // Per slave: what its poll would return now (VirtualSlave::next_deadline
   // at its last note); their earliest is what poll() returns.
   WakeTimes deadlines_;
+  bool split_ok_ = false;  // lanes_ and slaves_run_apart() at the last rescan
   bool rescan_ = true;  // every slave next time (set-up, poll, a slave handed out)
   bool ask_all_ = false;  // set_skipping(false)
   bool poll_all_ = false;  // set_polling_due(false)
@@ -196,6 +255,15 @@ class Chain {
   // the load waits; with 24 bytes more in the segment the one-drive cycle
   // took 1.2x its time (issue 30, docs/performance.md session 16).
   CycleTiming cycle_timing_;
+  // The firmware lanes (set_firmware_threads), after the hot fields: null
+  // with one thread.
+  std::unique_ptr<SpinWorkers> lanes_;
+  std::vector<ApartNotes> lane_notes_;      // per lane
+  std::vector<std::uint32_t> split_words_;  // a split run's words with candidates
+  std::size_t min_split_ = kMinSplitSlaves;
+  std::uint64_t split_runs_ = 0;
+  Nanoseconds split_now_{0};
+  bool serial_forced_ = false;  // keep_firmware_serial
   // Every slave asked and polled every time: nothing reads the pending
   // bits and times, so they are not kept (BM_Cycle_CspFullPass).
   bool untracked() const noexcept { return ask_all_ && poll_all_; }

@@ -481,6 +481,9 @@ Expected<FaultId, std::string> FaultCatalogue::engage(const FaultRequest& reques
       });
       if (!esm.add_hooks(*g)) return fail(fmt::format("{}: slave {}: no free ESM hook slot", k, rec.slave));
       im.guards[rec.slave] = std::move(g);
+      // Its callback reaches this catalogue from inside the firmware: no
+      // firmware on a helper thread from now on (Chain::set_firmware_threads).
+      chain_.keep_firmware_serial();
     }
     faults::EsmGuard& guard = *im.guards[rec.slave];
     if (k == "al_error") {

@@ -104,6 +104,14 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
 
   SlaveStatus status() const noexcept;
 
+  // Whether its firmware touches nothing outside this slave, so that it may
+  // run on any thread beside other slaves' (slave::Chain's firmware lanes):
+  // not with a VCD probe (one file for the chain), an external firmware, an
+  // SPI PDI (a chip or bus the host may share), or an EoE report callback.
+  bool runs_apart() const noexcept {
+    return probe_ == nullptr && !detached_ && !spi_pdi_ && (options_.eoe_init.empty() || !options_.report);
+  }
+
   // Power-on again after a power cut (slave::FaultCatalogue's power_cycle):
   // the ESC back to its power-up register values with the SII loaded from
   // its EEPROM, the firmware started afresh (Init, the dictionary's

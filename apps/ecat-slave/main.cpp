@@ -149,6 +149,11 @@ int main(int argc, char** argv) {
                  "timeout; "
                  "0 = never; docs/e2e.md)")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{60'000'000}));
+  cli.add_option("--firmware-threads", o.firmware_threads,
+                 "Run the slaves' firmware on N threads: the loop's and N-1 helpers that spin between frames "
+                 "(more CPU time for less wall time; the same frames as one thread; off with --trace; default 1; "
+                 "docs/performance.md \"Firmware lanes\")")
+      ->check(CLI::Range(1u, 64u));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
   auto* trace = cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");

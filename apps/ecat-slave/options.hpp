@@ -103,6 +103,9 @@ struct SlaveProgramOptions {
   // docs/e2e.md "Stale frames"); 0: never dropped.
   std::int64_t max_frame_age_us =
       std::chrono::duration_cast<std::chrono::microseconds>(slave::kDefaultMaxFrameAge).count();
+  // --firmware-threads N: the slaves' firmware on N threads
+  // (slave::Chain::set_firmware_threads); 1: the loop's thread alone.
+  unsigned firmware_threads = 1;
   std::string trace_vcd;
   std::string plot_svg;
   std::vector<double> ppm;  // per slave oscillator error

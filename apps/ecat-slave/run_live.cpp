@@ -192,6 +192,19 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     std::fprintf(stderr, "ecat-slave: %s\n", chain.error().c_str());
     return 1;
   }
+  // The firmware helpers take the loop's SCHED_FIFO priority (a helper
+  // preempted by an ordinary task would stall the loop that waits for it)
+  // but not its CPU: they start after the priority is set, before the pin.
+  if (o.rt_priority > 0) {
+    if (auto ok = set_realtime_priority(o.rt_priority); !ok) {
+      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+      return 1;
+    }
+  }
+  if (auto ok = (*chain)->set_firmware_threads(o.firmware_threads); !ok) {
+    std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    return 1;
+  }
   if (o.cpu >= 0) {
     if (auto ok = pin_to_cpu(o.cpu); !ok) {
       std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
@@ -199,10 +212,6 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
   }
   if (o.rt_priority > 0) {
-    if (auto ok = set_realtime_priority(o.rt_priority); !ok) {
-      std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
-      return 1;
-    }
     auto locked = lock_memory();
     if (!locked) {
       std::fprintf(stderr, "ecat-slave: %s\n", locked.error().c_str());

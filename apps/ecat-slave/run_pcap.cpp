@@ -32,6 +32,10 @@ int run_pcap(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     return 1;
   }
   slave::Chain& line = **chain;
+  if (auto ok = line.set_firmware_threads(o.firmware_threads); !ok) {
+    std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+    return 1;
+  }
   std::size_t skipped = 0;
   for (;;) {
     auto rec = reader->next();

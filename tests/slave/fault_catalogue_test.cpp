@@ -323,7 +323,11 @@ TEST(FaultCatalogue, WorkingCounterOffsetPerCommand) {
 TEST(FaultCatalogue, AlErrorLatchesTheCodeAndTheStateItForces) {
   Rig r;
   ASSERT_EQ(r.bring_up(kCycle), "");
+  EXPECT_FALSE(r.chain.firmware_kept_serial());
   const FaultId id = r.engage(request("al_error", 1, std::nullopt, {{"code", 0x001A}}));
+  // Its ESM guard calls back into the catalogue from the firmware: no
+  // firmware on helper threads from now on (Chain::set_firmware_threads).
+  EXPECT_TRUE(r.chain.firmware_kept_serial());
   master::AlStatus s = r.al(1);
   EXPECT_EQ(s.raw, kSafeOp | kErrInd);
   EXPECT_EQ(s.code, 0x001A);
