@@ -76,11 +76,15 @@ class Chain {
   // 64-slave words is split; the helpers take whole words, so the bits
   // and times the chain keeps per word are written by one thread. The
   // firmware stays on this thread while a slave writes outside itself: a
-  // VCD trace (open_trace), an external firmware, an EoE report callback, or
-  // a fault that reaches back into its catalogue (keep_firmware_serial).
+  // VCD trace (open_trace), an external firmware, an SPI PDI, an EoE report
+  // callback, or a fault that reaches back into its catalogue
+  // (keep_firmware_serial).
   // 1: no helper (the default: the helpers spin, so the CPU time grows and
   // only the wall time can shrink). Fails when a thread cannot be started.
-  static constexpr std::size_t kMinSplitSlaves = 128;
+  // kMinSplitSlaves: measured (docs/performance.md): the SYNC0 run of 100
+  // drives gains (0.86x the cycle), the process-data runs of about 60
+  // drives after each LRW frame of a longer line lose (64: 1.07x at 200).
+  static constexpr std::size_t kMinSplitSlaves = 96;
   Expected<void, std::string> set_firmware_threads(unsigned threads, std::size_t min_slaves = kMinSplitSlaves);
   unsigned firmware_threads() const noexcept { return lanes_ ? lanes_->lanes() : 1; }
   // From now on every slave's firmware runs on this thread (see above).
