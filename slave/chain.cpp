@@ -110,8 +110,7 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   const std::span<std::uint64_t> entered = segment_.entered();
   DirectNotes notes;
   if (ask_all_ || rescan_) {
-    rescan_ = false;
-    split_ok_ = lanes_ && !serial_forced_ && slaves_run_apart();
+    rescanned();
     std::fill(entered.begin(), entered.end(), 0);
     for (std::size_t i = 0; i < slaves_.size(); ++i) {
       after_frame(i, now, notes);
@@ -122,7 +121,16 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // The ones whose time came are taken out (after_frame puts them back at
   // their new time), then every candidate once, in order.
   wakes_.take_due(now, due_);
-  if (split_ok_ && run_split(now)) return;
+  if (split_ok_) {
+    for (std::size_t w = 0; w < pending_.size(); ++w) {
+      due_[w] |= entered[w] | pending_[w];
+      entered[w] = 0;
+    }
+    if (plan_split()) {
+      run_lanes(&Chain::run_word, now);
+      return;
+    }
+  }
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = entered[w] | pending_[w] | due_[w];
     entered[w] = 0;
@@ -135,46 +143,63 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   }
 }
 
+void Chain::rescanned() noexcept {
+  rescan_ = false;
+  split_ok_ = lanes_ && !serial_forced_ && slaves_run_apart();
+}
+
 // The candidates of each word go to one lane: the word's pending bit, the
 // segment's entered and dirty bits (Esc::touch) of its slaves are written
 // by that lane alone, their wake times and deadlines are their own entries
-// (WakeTimes::set_apart), and the bounds are merged here afterwards.
-bool Chain::run_split(Nanoseconds now) noexcept {
-  const std::span<std::uint64_t> entered = segment_.entered();
+// (WakeTimes::set_apart), and the bounds are merged in run_lanes.
+bool Chain::plan_split() noexcept {
   std::size_t slaves = 0;
   split_words_.clear();  // reserved: no allocation
-  for (std::size_t w = 0; w < pending_.size(); ++w) {
-    const std::uint64_t bits = entered[w] | pending_[w] | due_[w];
-    if (bits == 0) continue;
+  for (std::size_t w = 0; w < due_.size(); ++w) {
+    if (due_[w] == 0) continue;
     split_words_.push_back(static_cast<std::uint32_t>(w));
-    slaves += static_cast<std::size_t>(std::popcount(bits));
+    slaves += static_cast<std::size_t>(std::popcount(due_[w]));
   }
-  if (slaves < min_split_ || split_words_.size() < 2) return false;
-  for (std::size_t w = 0; w < pending_.size(); ++w) {
-    due_[w] |= entered[w] | pending_[w];
-    entered[w] = 0;
-  }
+  return slaves >= min_split_ && split_words_.size() >= 2;
+}
+
+void Chain::run_lanes(SpinWorkers::Task task, Nanoseconds now) noexcept {
   for (ApartNotes& n : lane_notes_) n.wake_bound = n.deadline_bound = WakeTimes::Bound{};
   split_now_ = now;
-  lanes_->run(&Chain::run_word, this, split_words_.size());
+  lanes_->run(task, this, split_words_.size());
   for (const ApartNotes& n : lane_notes_) {
     wakes_.merge(n.wake_bound);
     deadlines_.merge(n.deadline_bound);
   }
   ++split_runs_;
-  return true;
 }
 
+// The lanes' tasks, each over the candidates of word split_words_[k] (due_).
 void Chain::run_word(void* chain, std::size_t k, unsigned lane) noexcept {
   Chain& c = *static_cast<Chain*>(chain);
   const std::size_t w = c.split_words_[k];
   std::uint64_t bits = c.due_[w];
   c.due_[w] = 0;
-  while (bits != 0) {
-    const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
-    bits &= bits - 1;
-    c.after_frame(i, c.split_now_, c.lane_notes_[lane]);
+  for (; bits != 0; bits &= bits - 1) {
+    c.after_frame(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)), c.split_now_, c.lane_notes_[lane]);
   }
+}
+
+void Chain::poll_word(void* chain, std::size_t k, unsigned lane) noexcept {
+  Chain& c = *static_cast<Chain*>(chain);
+  const std::size_t w = c.split_words_[k];
+  for (std::uint64_t bits = c.due_[w]; bits != 0; bits &= bits - 1) {
+    const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+    c.deadlines_.set_apart(i, c.slaves_[i]->advance(c.split_now_), c.lane_notes_[lane].deadline_bound);
+  }
+}
+
+void Chain::note_word(void* chain, std::size_t k, unsigned lane) noexcept {
+  Chain& c = *static_cast<Chain*>(chain);
+  const std::size_t w = c.split_words_[k];
+  std::uint64_t bits = c.due_[w];
+  c.due_[w] = 0;
+  for (; bits != 0; bits &= bits - 1) c.note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)), c.lane_notes_[lane]);
 }
 
 bool Chain::slaves_run_apart() const noexcept {
@@ -194,7 +219,7 @@ Expected<void, std::string> Chain::set_firmware_threads(unsigned threads, std::s
   } catch (const std::exception& e) {
     return fail(fmt::format("firmware threads: cannot start {} helper threads: {}", threads - 1, e.what()));
   }
-  rescan_ = true;  // split_ok_ is decided there
+  rescan_ = true;  // split_ok_ is decided at the rescan (rescanned)
   return {};
 }
 
@@ -253,7 +278,7 @@ Nanoseconds Chain::poll_every(Nanoseconds now) noexcept {
     next = std::min(next, slaves_[i]->advance(now));
     note(i);
   }
-  rescan_ = false;
+  rescanned();
   return next;
 }
 
@@ -267,7 +292,17 @@ Nanoseconds Chain::poll_due(Nanoseconds now, bool next) noexcept {
   wakes_.take_due(now, due_);
   // The polled ones' deadlines are what their polls returned, the others'
   // what they would return: their earliest is poll()'s answer. Then the
-  // polled ones are noted as they stand after their firmware ran.
+  // polled ones are noted as they stand after their firmware ran. Split
+  // over the lanes, the two steps are two batches.
+  if (split_ok_) {
+    for (std::size_t w = 0; w < pending_.size(); ++w) due_[w] |= pending_[w];
+    if (plan_split()) {
+      run_lanes(&Chain::poll_word, now);
+      const Nanoseconds earliest = next ? deadlines_.earliest() : kNoDeadline;
+      run_lanes(&Chain::note_word, now);
+      return earliest;
+    }
+  }
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = pending_[w] | due_[w];
     due_[w] = bits;

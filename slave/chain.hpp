@@ -206,10 +206,18 @@ class Chain {
     DirectNotes direct;
     note(i, direct);
   }
-  // run_firmware's candidates (in due_) on the lanes, when worth it.
-  bool run_split(Nanoseconds now) noexcept;
-  // One lane's part: the candidates of word split_words_[k].
+  // A rescan is done: what run_firmware keeps is taken anew, and whether
+  // the firmware may be split is decided again.
+  void rescanned() noexcept;
+  // Whether the candidates in due_ are worth splitting; lists their words.
+  bool plan_split() noexcept;
+  // Runs `task` over the listed words on the lanes, then merges the bounds.
+  void run_lanes(SpinWorkers::Task task, Nanoseconds now) noexcept;
+  // The lanes' tasks, each for the candidates of word split_words_[k]:
+  // run_firmware's after_frame; poll_due's poll, then its note.
   static void run_word(void* chain, std::size_t k, unsigned lane) noexcept;
+  static void poll_word(void* chain, std::size_t k, unsigned lane) noexcept;
+  static void note_word(void* chain, std::size_t k, unsigned lane) noexcept;
   // Whether every slave's firmware may run on any thread (set_firmware_threads).
   bool slaves_run_apart() const noexcept;
   // poll() of every slave, and of the due ones (set_polling_due); the

@@ -81,6 +81,13 @@ std::string format_stats(const slave::Chain& chain) {
   std::string out = fmt::format(
       "frames {} returned {} malformed {} lost {} datagrams {} wkc-sum {} stale-dropped {}\n", s.frames_received,
       s.frames_returned, s.frames_malformed, s.frames_lost, s.datagrams, s.wkc_total, s.frames_stale);
+  if (chain.firmware_threads() > 1) {
+    // --firmware-threads: the firmware runs split over the threads, the
+    // 64-slave words the helpers took, and whether something kept it serial.
+    out += fmt::format("firmware-threads {} split-runs {} helper-words {}{}\n", chain.firmware_threads(),
+                       chain.split_runs(), chain.helped_words(),
+                       chain.firmware_kept_serial() ? " kept-serial (a fault's ESM guard)" : "");
+  }
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const slave::SlaveStatus st = chain[i].status();
     out += fmt::format("  slave {:>3} {:<24} {:<7}{} AL code 0x{:04X} ({}) cycles {} watchdog {} sync-errors {}\n",

@@ -8,6 +8,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "master/coe_client.hpp"
@@ -79,6 +80,27 @@ TEST(ChainLanes, TwoThreadsGiveTheFramesRegistersAndTimesOfOne) {
     ASSERT_EQ(r->bring_up(), "");
     for (int c = 0; c < 100; ++c) ASSERT_TRUE(r->cycle()) << "cycle " << c;
   }
+  // The master stops: every process-data watchdog (100 ms) expires at the
+  // same time, and the poll that finds them (all 130 due) is split - its
+  // polls, then its notes. Then the master reads the errors.
+  const std::uint64_t splits_before = lanes.chain.split_runs();
+  std::vector<std::optional<Nanoseconds>> next_lanes;
+  std::vector<std::optional<Nanoseconds>> next_ref;
+  for (Recorded* r : {&lanes, &ref}) {
+    auto& next = r == &lanes ? next_lanes : next_ref;
+    r->clock.advance(std::chrono::milliseconds(200));
+    next.push_back(r->chain.poll(r->clock.now()));
+    // What each poll returns (the earliest deadline) until the master is back.
+    for (int t = 0; t < 50; ++t) {
+      r->clock.advance(std::chrono::microseconds(250));
+      next.push_back(r->chain.poll(r->clock.now()));
+    }
+    for (int c = 0; c < 3; ++c) (void)r->cycle();
+  }
+  EXPECT_EQ(next_lanes, next_ref);
+  EXPECT_GE(lanes.chain.split_runs(), splits_before + 2);
+  EXPECT_EQ(lanes.chain[kDrives - 1].status().state, esc::AlState::SafeOp);
+  EXPECT_TRUE(lanes.chain[kDrives - 1].status().error);
   ASSERT_EQ(lanes.frames.size(), ref.frames.size());
   for (std::size_t k = 0; k < lanes.frames.size(); ++k) {
     ASSERT_EQ(lanes.frames[k], ref.frames[k]) << "frame " << k;
@@ -95,7 +117,6 @@ TEST(ChainLanes, TwoThreadsGiveTheFramesRegistersAndTimesOfOne) {
     EXPECT_EQ(a.application_cycles, b.application_cycles) << "slave " << i;
     EXPECT_EQ(a.firmware_polls, b.firmware_polls) << "slave " << i;
   }
-  EXPECT_EQ(lanes.chain[kDrives - 1].status().state, esc::AlState::Op);
   // Split: every cycle's process data at least (which lane took which word
   // depends on the host's timing: counted, not asserted).
   EXPECT_GE(lanes.chain.split_runs(), 100u);

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# ecat-slave --firmware-threads (issue 30 item 3, slave::Chain::
+# set_firmware_threads): a capture of the project's master taking 130 drives
+# through DC set-up to Op and moving them (ecat-master --in-process --dc
+# --move --record) is replayed by ecat-slave on simulated time with the
+# firmware on one thread and on two. The replies are byte for byte the same
+# file, and the two-thread run did split its firmware (its statistics:
+# split-runs > 0): the SYNC0 polls before the frames find all 130 drives due.
+# Then the option's errors.
+# Usage: firmware_threads_replay.sh SRCDIR BUILDDIR   (exit 77 = skipped)
+set -uo pipefail
+build=${2:?builddir}
+slave="$build/bin/ecat-slave"
+master="$build/bin/ecat-master"
+[ -x "$slave" ] && [ -x "$master" ] || { echo "skip: ecat-slave/ecat-master not built"; exit 77; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+status=0
+fail() { echo "FAIL: $*"; status=1; }
+n=130
+
+timeout 120 "$master" --in-process --count $n --dc --move --cycles 200 -q --record "$out/cap.pcap" > "$out/master" 2>&1 \
+  || { echo "FAIL: ecat-master exit $?: $(tail -5 "$out/master")"; exit 1; }
+for threads in 1 2; do
+  timeout 120 "$slave" --pcap-in "$out/cap.pcap" --pcap-out "$out/out$threads.pcap" --count $n \
+    --firmware-threads $threads > "$out/slave$threads" 2>&1 \
+    || fail "--firmware-threads $threads: ecat-slave exit $?: $(tail -5 "$out/slave$threads")"
+done
+cmp -s "$out/out1.pcap" "$out/out2.pcap" || fail "the replies with two firmware threads differ from one thread's"
+[ -s "$out/out1.pcap" ] || fail "no reply written"
+grep -q "^frames .* lost 0 " "$out/slave1" || fail "one thread: $(grep '^frames' "$out/slave1")"
+# Every drive in Op at the end, on both runs.
+for threads in 1 2; do
+  ops=$(grep -c '^  slave .* OP  ' "$out/slave$threads")
+  [ "$ops" -eq $n ] || fail "--firmware-threads $threads: $ops of $n drives in Op"
+done
+splits=$(sed -n 's/^firmware-threads 2 split-runs \([0-9]*\) .*/\1/p' "$out/slave2")
+[ -n "$splits" ] && [ "$splits" -gt 0 ] || fail "two threads never split: $(grep '^firmware-threads' "$out/slave2")"
+grep -q '^firmware-threads' "$out/slave1" && fail "one thread prints a firmware-threads line"
+echo "replayed: $(grep '^frames' "$out/slave1" | cut -d' ' -f1-2); two threads: $(grep '^firmware-threads' "$out/slave2")"
+
+# The option's range: 0 and 65 are refused by name, before anything runs.
+for bad in 0 65; do
+  if "$slave" --pcap-in "$out/cap.pcap" --pcap-out "$out/bad.pcap" --firmware-threads $bad > "$out/bad" 2>&1; then
+    fail "--firmware-threads $bad accepted"
+  fi
+  grep -q -- "--firmware-threads" "$out/bad" || fail "--firmware-threads $bad: error does not name the option: $(cat "$out/bad")"
+done
+exit $status
