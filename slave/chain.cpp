@@ -122,11 +122,16 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // their new time), then every candidate once, in order.
   wakes_.take_due(now, due_);
   if (split_ok_) {
+    // Only the pending and the timed ones count towards a split: a slave a
+    // frame merely entered is mostly not due (a broadcast enters them all),
+    // and its few loads cost more on another core than here.
+    std::size_t busy = 0;
     for (std::size_t w = 0; w < pending_.size(); ++w) {
+      busy += static_cast<std::size_t>(std::popcount(due_[w] | pending_[w]));
       due_[w] |= entered[w] | pending_[w];
       entered[w] = 0;
     }
-    if (plan_split()) {
+    if (plan_split(busy)) {
       run_lanes(&Chain::run_word, now);
       return;
     }
@@ -152,15 +157,13 @@ void Chain::rescanned() noexcept {
 // segment's entered and dirty bits (Esc::touch) of its slaves are written
 // by that lane alone, their wake times and deadlines are their own entries
 // (WakeTimes::set_apart), and the bounds are merged in run_lanes.
-bool Chain::plan_split() noexcept {
-  std::size_t slaves = 0;
+bool Chain::plan_split(std::size_t busy) noexcept {
+  if (busy < min_split_) return false;
   split_words_.clear();  // reserved: no allocation
   for (std::size_t w = 0; w < due_.size(); ++w) {
-    if (due_[w] == 0) continue;
-    split_words_.push_back(static_cast<std::uint32_t>(w));
-    slaves += static_cast<std::size_t>(std::popcount(due_[w]));
+    if (due_[w] != 0) split_words_.push_back(static_cast<std::uint32_t>(w));
   }
-  return slaves >= min_split_ && split_words_.size() >= 2;
+  return split_words_.size() >= 2;
 }
 
 void Chain::run_lanes(SpinWorkers::Task task, Nanoseconds now) noexcept {
@@ -295,8 +298,12 @@ Nanoseconds Chain::poll_due(Nanoseconds now, bool next) noexcept {
   // polled ones are noted as they stand after their firmware ran. Split
   // over the lanes, the two steps are two batches.
   if (split_ok_) {
-    for (std::size_t w = 0; w < pending_.size(); ++w) due_[w] |= pending_[w];
-    if (plan_split()) {
+    std::size_t busy = 0;
+    for (std::size_t w = 0; w < pending_.size(); ++w) {
+      due_[w] |= pending_[w];
+      busy += static_cast<std::size_t>(std::popcount(due_[w]));
+    }
+    if (plan_split(busy)) {
       run_lanes(&Chain::poll_word, now);
       const Nanoseconds earliest = next ? deadlines_.earliest() : kNoDeadline;
       run_lanes(&Chain::note_word, now);

@@ -209,8 +209,9 @@ class Chain {
   // A rescan is done: what run_firmware keeps is taken anew, and whether
   // the firmware may be split is decided again.
   void rescanned() noexcept;
-  // Whether the candidates in due_ are worth splitting; lists their words.
-  bool plan_split() noexcept;
+  // Whether the candidates in due_, `busy` of them pending or due by time,
+  // are worth splitting; lists their words.
+  bool plan_split(std::size_t busy) noexcept;
   // Runs `task` over the listed words on the lanes, then merges the bounds.
   void run_lanes(SpinWorkers::Task task, Nanoseconds now) noexcept;
   // The lanes' tasks, each for the candidates of word split_words_[k]:
