@@ -154,7 +154,8 @@ ecat_install_library(pdi_spi pdi_spi HEADERS
   pdi_spi/lan9252_registers.hpp pdi_spi/et1100_spi_registers.hpp)
 ecat_install_library(slave slave HEADERS
   slave/application.hpp slave/chain.hpp slave/fault_catalogue.hpp slave/virtual_slave.hpp slave/slave_options.hpp
-  slave/slave_stats.hpp slave/firmware.hpp slave/wake_times.hpp slave/frame_age.hpp slave/detached_pdi.hpp
+  slave/slave_stats.hpp slave/firmware.hpp slave/wake_times.hpp slave/spin_workers.hpp slave/frame_age.hpp
+  slave/detached_pdi.hpp
   slave/eoe_init_check.hpp
   slave/cycle_timing.hpp)
 ecat_install_library(control control HEADERS
