@@ -121,21 +121,7 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // The ones whose time came are taken out (after_frame puts them back at
   // their new time), then every candidate once, in order.
   wakes_.take_due(now, due_);
-  if (split_ok_) {
-    // Only the pending and the timed ones count towards a split: a slave a
-    // frame merely entered is mostly not due (a broadcast enters them all),
-    // and its few loads cost more on another core than here.
-    std::size_t busy = 0;
-    for (std::size_t w = 0; w < pending_.size(); ++w) {
-      busy += static_cast<std::size_t>(std::popcount(due_[w] | pending_[w]));
-      due_[w] |= entered[w] | pending_[w];
-      entered[w] = 0;
-    }
-    if (plan_split(busy)) {
-      run_lanes(&Chain::run_word, now);
-      return;
-    }
-  }
+  if (split_ok_ && run_firmware_split(now)) return;
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = entered[w] | pending_[w] | due_[w];
     entered[w] = 0;
@@ -151,79 +137,15 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
 void Chain::rescanned() noexcept {
   rescan_ = false;
   split_ok_ = lanes_ && !serial_forced_ && slaves_run_apart();
-}
-
-// The candidates of each word go to one lane: the word's pending bit, the
-// segment's entered and dirty bits (Esc::touch) of its slaves are written
-// by that lane alone, their wake times and deadlines are their own entries
-// (WakeTimes::set_apart), and the bounds are merged in run_lanes.
-bool Chain::plan_split(std::size_t busy) noexcept {
-  if (busy < min_split_) return false;
-  split_words_.clear();  // reserved: no allocation
-  for (std::size_t w = 0; w < due_.size(); ++w) {
-    if (due_[w] != 0) split_words_.push_back(static_cast<std::uint32_t>(w));
+  // A split run lists its words without allocating (slaves may have been
+  // added since set_firmware_threads); without room, no split.
+  if (split_ok_ && split_words_.capacity() < pending_.size()) {
+    try {
+      split_words_.reserve(pending_.size());
+    } catch (...) {
+      split_ok_ = false;
+    }
   }
-  return split_words_.size() >= 2;
-}
-
-void Chain::run_lanes(SpinWorkers::Task task, Nanoseconds now) noexcept {
-  for (ApartNotes& n : lane_notes_) n.wake_bound = n.deadline_bound = WakeTimes::Bound{};
-  split_now_ = now;
-  lanes_->run(task, this, split_words_.size());
-  for (const ApartNotes& n : lane_notes_) {
-    wakes_.merge(n.wake_bound);
-    deadlines_.merge(n.deadline_bound);
-  }
-  ++split_runs_;
-}
-
-// The lanes' tasks, each over the candidates of word split_words_[k] (due_).
-void Chain::run_word(void* chain, std::size_t k, unsigned lane) noexcept {
-  Chain& c = *static_cast<Chain*>(chain);
-  const std::size_t w = c.split_words_[k];
-  std::uint64_t bits = c.due_[w];
-  c.due_[w] = 0;
-  for (; bits != 0; bits &= bits - 1) {
-    c.after_frame(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)), c.split_now_, c.lane_notes_[lane]);
-  }
-}
-
-void Chain::poll_word(void* chain, std::size_t k, unsigned lane) noexcept {
-  Chain& c = *static_cast<Chain*>(chain);
-  const std::size_t w = c.split_words_[k];
-  for (std::uint64_t bits = c.due_[w]; bits != 0; bits &= bits - 1) {
-    const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
-    c.deadlines_.set_apart(i, c.slaves_[i]->advance(c.split_now_), c.lane_notes_[lane].deadline_bound);
-  }
-}
-
-void Chain::note_word(void* chain, std::size_t k, unsigned lane) noexcept {
-  Chain& c = *static_cast<Chain*>(chain);
-  const std::size_t w = c.split_words_[k];
-  std::uint64_t bits = c.due_[w];
-  c.due_[w] = 0;
-  for (; bits != 0; bits &= bits - 1) c.note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)), c.lane_notes_[lane]);
-}
-
-bool Chain::slaves_run_apart() const noexcept {
-  return std::all_of(slaves_.begin(), slaves_.end(), [](const auto& s) { return s->runs_apart(); });
-}
-
-Expected<void, std::string> Chain::set_firmware_threads(unsigned threads, std::size_t min_slaves) {
-  if (threads == 0) return fail(std::string("firmware threads: at least 1"));
-  lanes_.reset();
-  split_ok_ = false;
-  min_split_ = min_slaves;
-  if (threads == 1) return {};
-  try {
-    split_words_.reserve(pending_.size());
-    lane_notes_.assign(threads, ApartNotes{});
-    lanes_ = std::make_unique<SpinWorkers>(threads - 1);
-  } catch (const std::exception& e) {
-    return fail(fmt::format("firmware threads: cannot start {} helper threads: {}", threads - 1, e.what()));
-  }
-  rescan_ = true;  // split_ok_ is decided at the rescan (rescanned)
-  return {};
 }
 
 template <class Notes>
@@ -254,6 +176,10 @@ void Chain::note(std::size_t i, Notes& notes) noexcept {
   }
   notes.set(*this, i, s.visit_at(), s.next_deadline());
 }
+
+// The lanes' forms, called from slave/chain_lanes.cpp.
+template void Chain::after_frame<Chain::ApartNotes>(std::size_t, Nanoseconds, ApartNotes&) noexcept;
+template void Chain::note<Chain::ApartNotes>(std::size_t, ApartNotes&) noexcept;
 
 void Chain::note_touched() noexcept {
   const std::span<const std::uint64_t> dirty = segment_.dirty();
@@ -297,19 +223,7 @@ Nanoseconds Chain::poll_due(Nanoseconds now, bool next) noexcept {
   // what they would return: their earliest is poll()'s answer. Then the
   // polled ones are noted as they stand after their firmware ran. Split
   // over the lanes, the two steps are two batches.
-  if (split_ok_) {
-    std::size_t busy = 0;
-    for (std::size_t w = 0; w < pending_.size(); ++w) {
-      due_[w] |= pending_[w];
-      busy += static_cast<std::size_t>(std::popcount(due_[w]));
-    }
-    if (plan_split(busy)) {
-      run_lanes(&Chain::poll_word, now);
-      const Nanoseconds earliest = next ? deadlines_.earliest() : kNoDeadline;
-      run_lanes(&Chain::note_word, now);
-      return earliest;
-    }
-  }
+  if (Nanoseconds earliest = kNoDeadline; split_ok_ && poll_due_split(now, next, earliest)) return earliest;
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     std::uint64_t bits = pending_[w] | due_[w];
     due_[w] = bits;

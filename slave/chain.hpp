@@ -209,6 +209,10 @@ class Chain {
   // A rescan is done: what run_firmware keeps is taken anew, and whether
   // the firmware may be split is decided again.
   void rescanned() noexcept;
+  // run_firmware's and poll_due's candidates on the lanes when worth it
+  // (false: not split, the one-thread loop takes them; out of line).
+  [[gnu::noinline]] bool run_firmware_split(Nanoseconds now) noexcept;
+  [[gnu::noinline]] bool poll_due_split(Nanoseconds now, bool next, Nanoseconds& earliest) noexcept;
   // Whether the candidates in due_, `busy` of them pending or due by time,
   // are worth splitting; lists their words.
   bool plan_split(std::size_t busy) noexcept;

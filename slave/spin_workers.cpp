@@ -1,6 +1,7 @@
 #include "slave/spin_workers.hpp"
 
 #include <pthread.h>
+#include <signal.h>
 
 #include <string>
 
@@ -21,6 +22,13 @@ inline void cpu_relax() noexcept {
 
 SpinWorkers::SpinWorkers(unsigned helpers) {
   threads_.reserve(helpers);
+  // The helpers take no signal: a process-directed one (SIGTERM, SIGUSR1)
+  // goes to the loop thread, whose wait it is meant to interrupt. They
+  // inherit the mask they are started with; the caller's is restored.
+  sigset_t all;
+  sigset_t caller;
+  sigfillset(&all);
+  (void)pthread_sigmask(SIG_SETMASK, &all, &caller);
   try {
     for (unsigned lane = 1; lane <= helpers; ++lane) {
       threads_.emplace_back([this, lane] { help(lane); });
@@ -29,9 +37,11 @@ SpinWorkers::SpinWorkers(unsigned helpers) {
       (void)pthread_setname_np(threads_.back().native_handle(), name.c_str());
     }
   } catch (...) {
+    (void)pthread_sigmask(SIG_SETMASK, &caller, nullptr);
     stop_all();  // the ones started (no thread may outlive its object)
     throw;
   }
+  (void)pthread_sigmask(SIG_SETMASK, &caller, nullptr);
 }
 
 SpinWorkers::~SpinWorkers() { stop_all(); }

@@ -13,7 +13,8 @@
 // after about a millisecond without work they sleep on a futex until the
 // next batch. The caller never waits for a helper to wake: it takes every k
 // itself when none is there, and waits only for calls a helper has begun.
-// Nothing allocates after construction.
+// Nothing allocates after construction. The helpers block every signal, so
+// a signal sent to the process interrupts the loop thread's wait.
 #pragma once
 
 #include <atomic>

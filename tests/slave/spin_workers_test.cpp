@@ -3,6 +3,8 @@
 // helper both take part; and slave::WakeTimes' bounds kept apart and merged
 // give the earliest time that the same sets in one thread give.
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <signal.h>
 
 #include <atomic>
 #include <chrono>
@@ -83,6 +85,37 @@ TEST(SpinWorkers, ASleepingHelperIsWokenByTheNextBatch) {
   workers.run(&meet, &m, 2);
   EXPECT_TRUE(m.helper_ran.load());
   EXPECT_FALSE(m.gave_up.load());
+}
+
+// A helper blocks every signal: one sent to the process interrupts the
+// loop thread's wait (ecat-slave's SIGTERM, SIGUSR1), not a spinning helper.
+struct SignalMasks {
+  Meeting meeting;
+  std::atomic<int> helper_blocks_term{-1};
+};
+
+void look_at_mask(void* context, std::size_t k, unsigned lane) noexcept {
+  auto& m = *static_cast<SignalMasks*>(context);
+  if (lane != 0) {
+    sigset_t mask;
+    (void)pthread_sigmask(SIG_SETMASK, nullptr, &mask);
+    m.helper_blocks_term.store(sigismember(&mask, SIGTERM));
+  }
+  meet(&m.meeting, k, lane);
+}
+
+TEST(SpinWorkers, HelpersBlockSignalsAndTheCallersMaskIsKept) {
+  sigset_t before;
+  ASSERT_EQ(pthread_sigmask(SIG_SETMASK, nullptr, &before), 0);
+  SpinWorkers workers(1);
+  sigset_t after;
+  ASSERT_EQ(pthread_sigmask(SIG_SETMASK, nullptr, &after), 0);
+  EXPECT_EQ(sigismember(&after, SIGTERM), sigismember(&before, SIGTERM));
+  EXPECT_EQ(sigismember(&after, SIGUSR1), sigismember(&before, SIGUSR1));
+  SignalMasks m;
+  workers.run(&look_at_mask, &m, 2);
+  ASSERT_TRUE(m.meeting.helper_ran.load());
+  EXPECT_EQ(m.helper_blocks_term.load(), 1);
 }
 
 TEST(SpinWorkers, NoHelperIsOneLaneThatRunsEverything) {
