@@ -62,7 +62,7 @@ void SpinWorkers::run(Task task, void* context, std::size_t count) noexcept {
   task_ = task;
   context_ = context;
   batch_ = (batch_ + 1) & kBatchMask;
-  claim_.store((batch_ << kBatchShift) | (std::uint64_t{count} << kCountShift), std::memory_order_seq_cst);
+  claim_.store((batch_ << kBatchShift) | (std::uint64_t{count} << kBackShift), std::memory_order_seq_cst);
   // A helper that went to sleep either sees this batch before it waits or
   // is counted in sleepers_ before this load (both sides sequentially
   // consistent), so it is woken.
@@ -79,10 +79,12 @@ void SpinWorkers::run(Task task, void* context, std::size_t count) noexcept {
 }
 
 bool SpinWorkers::take_one(unsigned lane) noexcept {
+  const bool from_back = lane != 0;
   std::uint64_t c = claim_.load(std::memory_order_seq_cst);
-  while (next_of(c) < count_of(c)) {
-    if (claim_.compare_exchange_weak(c, c + 1, std::memory_order_seq_cst)) {
-      task_(context_, static_cast<std::size_t>(next_of(c)), lane);
+  while (front_of(c) < back_of(c)) {
+    const std::uint64_t claimed = from_back ? c - (std::uint64_t{1} << kBackShift) : c + 1;
+    if (claim_.compare_exchange_weak(c, claimed, std::memory_order_seq_cst)) {
+      task_(context_, static_cast<std::size_t>(from_back ? back_of(c) - 1 : front_of(c)), lane);
       return true;
     }
   }
@@ -93,7 +95,7 @@ void SpinWorkers::help(unsigned lane) noexcept {
   std::uint32_t idle = 0;
   while (!stop_.load(std::memory_order_relaxed)) {
     std::uint64_t c = claim_.load(std::memory_order_relaxed);
-    if (next_of(c) < count_of(c)) {
+    if (front_of(c) < back_of(c)) {
       busy_.fetch_add(1, std::memory_order_seq_cst);
       std::uint64_t done = 0;
       while (take_one(lane)) ++done;
@@ -109,7 +111,7 @@ void SpinWorkers::help(unsigned lane) noexcept {
     const std::uint32_t seen = wake_.load(std::memory_order_seq_cst);
     sleepers_.fetch_add(1, std::memory_order_seq_cst);
     c = claim_.load(std::memory_order_seq_cst);
-    if (next_of(c) >= count_of(c) && !stop_.load(std::memory_order_seq_cst)) {
+    if (front_of(c) >= back_of(c) && !stop_.load(std::memory_order_seq_cst)) {
       wake_.wait(seen, std::memory_order_seq_cst);
     }
     sleepers_.fetch_sub(1, std::memory_order_seq_cst);
