@@ -5,7 +5,9 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
+#include <thread>
 #include <string>
 
 #include "bench/bench_options.hpp"
@@ -108,6 +110,37 @@ BENCHMARK(BM_Cycle_CspLanes)
     ->Args({1000, 2})
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
+
+// What BM_Cycle_CspLanes depends on most: the time a cache line takes to go
+// from one core to the other and back (an atomic bounced between this
+// thread and a second one, as the lanes' hand-off and the ESC lines a
+// helper wrote do). On this project's 2-vCPU VM it measured 86-229 ns most
+// of the time and 470 ns for a while, when two threads were slower than one
+// (docs/performance.md "Firmware lanes").
+void BM_Lanes_CacheLineRoundTrip(benchmark::State& state) {
+  alignas(64) std::atomic<std::uint64_t> ball{0};
+  std::atomic<bool> done{false};
+  std::thread other([&] {
+    std::uint64_t seen = 0;
+    while (!done.load(std::memory_order_relaxed)) {
+      const std::uint64_t v = ball.load(std::memory_order_acquire);
+      if (v != seen && (v & 1) != 0) {
+        ball.store(v + 1, std::memory_order_release);
+        seen = v + 1;
+      }
+    }
+  });
+  std::uint64_t v = 0;
+  for (auto _ : state) {
+    ball.store(++v, std::memory_order_release);
+    while (ball.load(std::memory_order_acquire) != v + 1) {
+    }
+    ++v;
+  }
+  done.store(true);
+  other.join();
+}
+BENCHMARK(BM_Lanes_CacheLineRoundTrip)->UseRealTime();
 
 // BM_Cycle_Csp with every frame passed through a fault catalogue with
 // nothing engaged (issue 26 item 5: the idle cost must be nil;

@@ -81,10 +81,12 @@ class Chain {
   // (keep_firmware_serial).
   // 1: no helper (the default: the helpers spin, so the CPU time grows and
   // only the wall time can shrink). Fails when a thread cannot be started.
-  // kMinSplitSlaves: measured (docs/performance.md): the SYNC0 run of 100
-  // drives gains (0.86x the cycle), the process-data runs of about 60
-  // drives after each LRW frame of a longer line lose (64: 1.07x at 200).
-  static constexpr std::size_t kMinSplitSlaves = 96;
+  // kMinSplitSlaves: measured (docs/performance.md "Firmware lanes"): with
+  // the cores close (a cache line there and back in ~100-200 ns) the SYNC0
+  // run of 100 drives split gives 0.91x the cycle, with them far apart
+  // (~400 ns) 2.4x; at 1000 drives 0.74x against 1.1-1.3x. Below ~200 busy
+  // slaves the possible gain is too small for the possible loss.
+  static constexpr std::size_t kMinSplitSlaves = 192;
   Expected<void, std::string> set_firmware_threads(unsigned threads, std::size_t min_slaves = kMinSplitSlaves);
   unsigned firmware_threads() const noexcept { return lanes_ ? lanes_->lanes() : 1; }
   // From now on every slave's firmware runs on this thread (see above).

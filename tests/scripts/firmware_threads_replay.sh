@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # ecat-slave --firmware-threads (issue 30 item 3, slave::Chain::
-# set_firmware_threads): a capture of the project's master taking 130 drives
+# set_firmware_threads): a capture of the project's master taking 200 drives
 # through DC set-up to Op and moving them (ecat-master --in-process --dc
 # --move --record) is replayed by ecat-slave on simulated time with the
 # firmware on one thread and on two. The replies are byte for byte the same
 # file, and the two-thread run did split its firmware (its statistics:
-# split-runs > 0): the SYNC0 polls before the frames find all 130 drives due.
+# split-runs > 0): the SYNC0 polls before the frames find all 200 drives due (at least
+# Chain::kMinSplitSlaves).
 # Then the option's errors.
 # Usage: firmware_threads_replay.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
@@ -17,7 +18,7 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 status=0
 fail() { echo "FAIL: $*"; status=1; }
-n=130
+n=200
 
 timeout 120 "$master" --in-process --count $n --dc --move --cycles 200 -q --record "$out/cap.pcap" > "$out/master" 2>&1 \
   || { echo "FAIL: ecat-master exit $?: $(tail -5 "$out/master")"; exit 1; }
