@@ -1,6 +1,10 @@
 #include "apps/ecat-slave/chain_setup.hpp"
 
 #include <arpa/inet.h>
+#include <sched.h>
+
+#include <cstdio>
+
 #include <fmt/format.h>
 
 namespace ecat::app {
@@ -74,6 +78,22 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
     if (auto ok = chain->open_trace(options.trace_vcd); !ok) return fail(ok.error());
   }
   return chain;
+}
+
+Expected<void, std::string> start_firmware_threads(slave::Chain& chain, const SlaveProgramOptions& options) {
+  if (auto ok = chain.set_firmware_threads(options.firmware_threads); !ok) return ok;
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0 && !options.quiet) {
+    const auto cpus = static_cast<unsigned>(CPU_COUNT(&allowed));
+    if (options.firmware_threads > cpus) {
+      std::fprintf(stderr,
+                   "ecat-slave: warning: --firmware-threads %u on %u CPU(s): the helpers spin between frames and "
+                   "will take the loop's CPU time\n",
+                   options.firmware_threads, cpus);
+    }
+  }
+  return {};
 }
 
 std::string format_stats(const slave::Chain& chain) {

@@ -18,6 +18,11 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
                                                                std::vector<od::DeviceDescription> devices,
                                                                const Clock& clock);
 
+// --firmware-threads: starts the helpers (slave::Chain::set_firmware_threads);
+// warns on stderr (unless quiet) when there are more threads than CPUs this
+// process may run on - spinning helpers would then take the loop's CPU.
+Expected<void, std::string> start_firmware_threads(slave::Chain& chain, const SlaveProgramOptions& options);
+
 // One line per slave plus the chain counters, as --stats and SIGUSR1 print them.
 std::string format_stats(const slave::Chain& chain);
 

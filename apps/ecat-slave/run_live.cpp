@@ -201,7 +201,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       return 1;
     }
   }
-  if (auto ok = (*chain)->set_firmware_threads(o.firmware_threads); !ok) {
+  if (auto ok = start_firmware_threads(**chain, o); !ok) {
     std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
     return 1;
   }

@@ -32,7 +32,7 @@ int run_pcap(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     return 1;
   }
   slave::Chain& line = **chain;
-  if (auto ok = line.set_firmware_threads(o.firmware_threads); !ok) {
+  if (auto ok = start_firmware_threads(line, o); !ok) {
     std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
     return 1;
   }

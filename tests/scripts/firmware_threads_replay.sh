@@ -7,7 +7,7 @@
 # file, and the two-thread run did split its firmware (its statistics:
 # split-runs > 0): the SYNC0 polls before the frames find all 200 drives due (at least
 # Chain::kMinSplitSlaves).
-# Then the option's errors.
+# Then more threads than CPUs (a warning) and the option's errors.
 # Usage: firmware_threads_replay.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
 build=${2:?builddir}
@@ -39,6 +39,18 @@ splits=$(sed -n 's/^firmware-threads 2 split-runs \([0-9]*\) .*/\1/p' "$out/slav
 [ -n "$splits" ] && [ "$splits" -gt 0 ] || fail "two threads never split: $(grep '^firmware-threads' "$out/slave2")"
 grep -q '^firmware-threads' "$out/slave1" && fail "one thread prints a firmware-threads line"
 echo "replayed: $(grep '^frames' "$out/slave1" | cut -d' ' -f1-2); two threads: $(grep '^firmware-threads' "$out/slave2")"
+
+# More threads than CPUs: a warning (the helpers spin), and the run goes on
+# (an empty capture: only its global header).
+printf '\xd4\xc3\xb2\xa1\x02\x00\x04\x00\x00\x00\x00\x00\x00\x00\x00\x00\xff\xff\x00\x00\x01\x00\x00\x00' > "$out/empty.pcap"
+many=$(( $(nproc) + 1 ))
+if "$slave" --pcap-in "$out/empty.pcap" --pcap-out "$out/e.pcap" --firmware-threads $many > "$out/many" 2>&1; then
+  grep -q "warning: --firmware-threads $many on [0-9]* CPU(s)" "$out/many" || fail "no warning for $many threads: $(cat "$out/many")"
+else
+  fail "--firmware-threads $many: exit $?: $(cat "$out/many")"
+fi
+"$slave" --pcap-in "$out/empty.pcap" --pcap-out "$out/e.pcap" --firmware-threads 1 > "$out/one" 2>&1
+grep -q "warning" "$out/one" && fail "a warning with one thread: $(cat "$out/one")"
 
 # The option's range: 0 and 65 are refused by name, before anything runs.
 for bad in 0 65; do
