@@ -69,7 +69,7 @@ class Chain {
   // The firmware on more than one core (issue 30 item 3, docs/performance.md
   // "Firmware lanes"): run_firmware hands the slaves a frame left work to
   // `threads` threads, this one and threads - 1 helpers that spin between
-  // frames (they sleep after about a millisecond without work). A slave's
+  // frames (they sleep after about 1.5 ms without work). A slave's
   // firmware touches only its own ESC and objects, so the frames, registers
   // and times are those of one thread (tests/slave/chain_lanes_test.cpp).
   // Only a run with at least `min_slaves` candidates in at least two
