@@ -7,8 +7,8 @@
 
 #include <atomic>
 #include <filesystem>
-#include <thread>
 #include <string>
+#include <thread>
 
 #include "bench/bench_options.hpp"
 #include "bench/drive_line.hpp"
@@ -30,13 +30,28 @@ std::unique_ptr<DriveLine> make_line(benchmark::State& state, std::size_t branch
   }
 }
 
+// After the measured cycles: the drives must have followed (still enabled,
+// else the case is reported as skipped); the frames per cycle and the time
+// per drive.
+void report(benchmark::State& state, DriveLine& line) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  if ((line.statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) {
+    const std::string why = "drive dropped out: statusword " + std::to_string(line.statusword(n - 1)) +
+                            " error " + std::to_string(line.error_code(n - 1)) + " AL status " +
+                            std::to_string(line.al_status(n - 1));
+    state.SkipWithError(why.c_str());
+  }
+  state.counters["frames"] = static_cast<double>(line.frames());
+  state.counters["ns_per_drive"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // The CSP cycle of state.range(0) drives, skipping on or off, with the
 // drives still enabled afterwards (else the case is reported as skipped).
 // With `control`: the control interface on and idle, as ecat-slave runs it
 // with --control and no client (docs/control.md): a Unix socket server
 // serviced after every cycle, doing its tick's work (poll of the socket,
 // event sample) every 10 ms of the simulated time.
-void report(benchmark::State& state, DriveLine& line);
 void run_cycles(benchmark::State& state, bool skipping, bool control = false, std::size_t branch = 0) {
   std::unique_ptr<DriveLine> line = make_line(state, branch);
   if (!line) return;
@@ -69,21 +84,6 @@ void run_cycles(benchmark::State& state, bool skipping, bool control = false, st
   report(state, *line);
 }
 
-// After the measured cycles: the drives must have followed (still enabled,
-// else the case is reported as skipped); the frames per cycle and the time
-// per drive.
-void report(benchmark::State& state, DriveLine& line) {
-  const auto n = static_cast<std::size_t>(state.range(0));
-  if ((line.statusword(n - 1) & kSwStateMask) != kSwOperationEnabled) {
-    const std::string why = "drive dropped out: statusword " + std::to_string(line.statusword(n - 1)) +
-                            " error " + std::to_string(line.error_code(n - 1)) + " AL status " +
-                            std::to_string(line.al_status(n - 1));
-    state.SkipWithError(why.c_str());
-  }
-  state.counters["frames"] = static_cast<double>(line.frames());
-  state.counters["ns_per_drive"] = benchmark::Counter(static_cast<double>(state.iterations() * n),
-                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-}
 
 void BM_Cycle_Csp(benchmark::State& state) { run_cycles(state, true); }
 BENCHMARK(BM_Cycle_Csp)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);

@@ -67,14 +67,15 @@ class Chain {
   void run_firmware(Nanoseconds now) noexcept;
 
   // The firmware on more than one core (issue 30 item 3, docs/performance.md
-  // "Firmware lanes"): run_firmware hands the slaves a frame left work to
-  // `threads` threads, this one and threads - 1 helpers that spin between
-  // frames (they sleep after about 1.5 ms without work). A slave's
+  // "Firmware lanes"): run_firmware and the due polls hand the slaves with
+  // work to `threads` threads, this one and threads - 1 helpers that spin
+  // between frames (they sleep after about 1.5 ms without work). A slave's
   // firmware touches only its own ESC and objects, so the frames, registers
   // and times are those of one thread (tests/slave/chain_lanes_test.cpp).
-  // Only a run with at least `min_slaves` candidates in at least two
-  // 64-slave words is split; the helpers take whole words, so the bits
-  // and times the chain keeps per word are written by one thread. The
+  // Only a run with at least `min_slaves` candidates pending or due by time
+  // in at least two 64-slave words is split; the helpers take whole words,
+  // so the bits and times the chain keeps per word are written by one
+  // thread. The
   // firmware stays on this thread while a slave writes outside itself: a
   // VCD trace (open_trace), an external firmware, an SPI PDI, an EoE report
   // callback, or a fault that reaches back into its catalogue
@@ -94,8 +95,9 @@ class Chain {
     serial_forced_ = true;
     split_ok_ = false;
   }
+  // Whether keep_firmware_serial was called (ecat-slave's statistics say so).
   bool firmware_kept_serial() const noexcept { return serial_forced_; }
-  // The run_firmware calls that were split over the lanes.
+  // The runs (after a frame, or a due poll's batch) split over the lanes.
   std::uint64_t split_runs() const noexcept { return split_runs_; }
   // The candidates the helpers took (not this thread): SpinWorkers::helped.
   std::uint64_t helped_words() const noexcept { return lanes_ ? lanes_->helped() : 0; }

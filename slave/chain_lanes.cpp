@@ -105,13 +105,12 @@ Expected<void, std::string> Chain::set_firmware_threads(unsigned threads, std::s
   min_split_ = min_slaves;
   if (threads == 1) return {};
   try {
-    split_words_.reserve(pending_.size());
     lane_notes_.assign(threads, ApartNotes{});
     lanes_ = std::make_unique<SpinWorkers>(threads - 1);
   } catch (const std::exception& e) {
     return fail(fmt::format("firmware threads: cannot start {} helper threads: {}", threads - 1, e.what()));
   }
-  rescan_ = true;  // split_ok_ is decided at the rescan (rescanned)
+  rescan_ = true;  // split_ok_ is decided, and the word list's room reserved, at the rescan (rescanned)
   return {};
 }
 
