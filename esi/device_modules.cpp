@@ -20,8 +20,7 @@ namespace {
 
 constexpr std::uint64_t kMaxIndex = 0xFFFF;
 constexpr std::uint64_t kMaxIdent = 0xFFFFFFFF;
-// F030h/F050h/F010h are ARRAYs with subindices 1..254 (ETG.5001.1 §5).
-constexpr std::uint64_t kMaxModules = 254;
+constexpr std::uint64_t kMaxModules = od::kMaxModules;
 
 Attr attr(std::string value, const Where& w) { return Attr{std::move(value), w}; }
 

@@ -212,6 +212,15 @@ Expected<void, LoadError> read_esi_modules(const pugi::xml_node& info, const pug
       r.default_ident = r.idents.front();
     }
     if (!r.default_ident) continue;
+    // Refused before placing: a slot's MinInstances 65535 made the import
+    // place 65535 modules (40 s) only for the twin's loader to refuse it.
+    if (m.configured.size() + std::uint64_t{r.min_instances} > od::kMaxModules) {
+      return ecat::fail(ctx.error(slots, fmt::format("the slots' default modules number {} or more, more than the {} "
+                                                     "that F030h/F050h can list (the twin cannot represent this; the "
+                                                     "import refuses it)",
+                                                     m.configured.size() + std::uint64_t{r.min_instances},
+                                                     od::kMaxModules)));
+    }
     for (unsigned k = 0; k < r.min_instances; ++k) m.configured.push_back(*r.default_ident);
   }
   if (m.configured.empty()) {

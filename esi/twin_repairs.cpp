@@ -171,6 +171,7 @@ class Repairer {
         }
         return d_.dictionary.find(i) != nullptr;
       };
+      bool renumbered = false;
       for (auto& p : pdos) {
         if (p.index >= first && p.index <= last) continue;
         std::uint16_t next = first;
@@ -185,6 +186,13 @@ class Repairer {
           }
         }
         p.index = next;
+        renumbered = true;
+      }
+      // A modular device's PDOs are in index order (the slots' PDOs placed
+      // among the device's, esi_reader_modules.cpp); a renumbered one takes
+      // its place in that order, as it will when the twin's ESI is read.
+      if (renumbered && d_.modular) {
+        std::stable_sort(pdos.begin(), pdos.end(), [](const od::Pdo& a, const od::Pdo& b) { return a.index < b.index; });
       }
     }
   }

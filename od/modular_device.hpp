@@ -27,6 +27,9 @@ inline constexpr std::uint16_t kModularDeviceProfile = 0xF000;      // RECORD: i
 inline constexpr std::uint16_t kModuleProfileList = 0xF010;         // ARRAY UDINT: profile of each module
 inline constexpr std::uint16_t kConfiguredModuleIdentList = 0xF030;  // ARRAY UDINT, written by the master in PreOp
 inline constexpr std::uint16_t kDetectedModuleIdentList = 0xF050;    // ARRAY UDINT, the modules present
+// F030h/F050h/F010h are ARRAYs with subindices 1..254 (ETG.5001.1 §5): a
+// modular device holds at most this many modules.
+inline constexpr unsigned kMaxModules = 254;
 
 struct ModuleType {
   std::uint32_t ident = 0;  // ETG.2000 Module/Type@ModuleIdent; F030h/F050h entries

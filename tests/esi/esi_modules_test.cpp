@@ -7,6 +7,7 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
 #include <pugixml.hpp>
 
 #include "esi/device_loader.hpp"
@@ -14,6 +15,7 @@
 #include "esi/esi_writer.hpp"
 #include "esi/esi_writer_device_xml.hpp"
 #include "esi/sii_writer.hpp"
+#include "esi/twin_judge.hpp"
 #include "esi_xmllint.hpp"
 
 namespace ecat::esi {
@@ -208,6 +210,118 @@ TEST(EsiModules, DependOnSlotEntriesWithoutObjects) {
   auto again = load_device_string(write_device_xml(*reread), "etg-device2.xml");
   ASSERT_TRUE(again.has_value()) << again.error().to_string();
   EXPECT_EQ(write_esi(*again), esi2);
+}
+
+// A modular device's own PDO numbered outside its range (fuzz_twin_judge's
+// finding: a TxPdo 0000h beside two slots' TxPdos 1A00h/1A01h): the twin
+// numbers it 1A02h and keeps the PDOs in index order, as the twin's own ESI
+// reads back; the assignment 1C13h follows that order, so the chain
+// ESI -> twin -> ESI is a fixed point (before, 1C13h was 1A02h 1A00h 1A01h
+// on the first read and 1A00h 1A01h 1A02h on the second).
+TEST(EsiModules, ARenumberedDevicePdoTakesItsPlaceInIndexOrder) {
+  const std::string esi = R"(<?xml version="1.0"?>
+<EtherCATInfo Version="1.2">
+  <Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x2" RevisionNo="#x1">Coupler</Type>
+        <Name>Coupler</Name>
+        <GroupType>G</GroupType>
+        <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+        <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1080" ControlByte="#x22" Enable="1">MBoxIn</Sm>
+        <Sm StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>
+        <TxPdo Fixed="1" Sm="3"><Index>0</Index><Name>Device status</Name>
+          <Entry><Index>#xF100</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Status</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+        <Mailbox><CoE SdoInfo="1" PdoAssign="1"/></Mailbox>
+        <Slots SlotIndexIncrement="#x10" SlotPdoIncrement="1">
+          <Slot MinInstances="1" MaxInstances="1"><Name>Port 1</Name><ModuleIdent Default="1">#x00020002</ModuleIdent></Slot>
+          <Slot MinInstances="1" MaxInstances="1"><Name>Port 2</Name><ModuleIdent Default="1">#x00020002</ModuleIdent></Slot>
+        </Slots>
+      </Device>
+    </Devices>
+    <Modules>
+      <Module>
+        <Type ModuleIdent="#x00020002">Port</Type>
+        <Name>Port</Name>
+        <TxPdo Fixed="1" Sm="3">
+          <Index DependOnSlot="true">#x1A00</Index><Name>Port inputs</Name>
+          <Entry><Index DependOnSlot="true">#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Input</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+      </Module>
+    </Modules>
+  </Descriptions>
+</EtherCATInfo>
+)";
+  std::vector<EsiWarning> warnings;
+  auto d = read_esi_string(esi, "renumbered.xml", {}, &warnings);
+  ASSERT_TRUE(d.has_value()) << d.error().to_string();
+  const bool warned = std::any_of(warnings.begin(), warnings.end(), [](const EsiWarning& w) {
+    return w.line == 15 && w.message == "TxPdo index 0000h is outside 1A00h..1BFFh; the twin numbers it 1A02h";
+  });
+  EXPECT_TRUE(warned);
+  ASSERT_EQ(d->tx_pdos.size(), 3u);
+  EXPECT_EQ(d->tx_pdos[0].index, 0x1A00u);
+  EXPECT_EQ(d->tx_pdos[1].index, 0x1A01u);
+  EXPECT_EQ(d->tx_pdos[2].index, 0x1A02u);
+  EXPECT_EQ(d->tx_pdos[2].entries[0].index, 0xF100u);
+  auto loaded = load_device_string(write_device_xml(*d), "renumbered-device.xml");
+  ASSERT_TRUE(loaded.has_value()) << loaded.error().to_string();
+  const od::Entry* second = loaded->dictionary.find(0x1C13, 2);
+  ASSERT_NE(second, nullptr);
+  EXPECT_EQ(second->default_value, (od::Value{0x01, 0x1A}));
+  auto judged = judge_twin(*d);
+  EXPECT_TRUE(judged.has_value()) << judged.error();
+}
+
+// Slots whose defaults configure more modules than F030h/F050h can list
+// (fuzz_twin_judge's timeout: MinInstances 7000 placed 7000 modules, seconds
+// of work, before the twin's loader refused the device) are refused at the
+// Slots element, before any module is placed.
+TEST(EsiModules, DefaultModulesBeyondTheIdentListAreRefused) {
+  auto esi = [](const std::string& first_min) {
+    return R"(<?xml version="1.0"?>
+<EtherCATInfo Version="1.2">
+  <Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x2" RevisionNo="#x1">Coupler</Type>
+        <Name>Coupler</Name>
+        <GroupType>G</GroupType>
+        <Slots>
+          <Slot MinInstances=")" + first_min + R"(" MaxInstances="253"><Name>A</Name><ModuleIdent Default="1">#x1</ModuleIdent></Slot>
+          <Slot MinInstances="1" MaxInstances="1"><Name>B</Name><ModuleIdent Default="1">#x1</ModuleIdent></Slot>
+        </Slots>
+      </Device>
+    </Devices>
+    <Modules>
+      <Module>
+        <Type ModuleIdent="#x1">M</Type>
+        <Name>M</Name>
+      </Module>
+    </Modules>
+  </Descriptions>
+</EtherCATInfo>
+)";
+  };
+  for (const char* min : {"7000", "254"}) {
+    SCOPED_TRACE(min);
+    auto d = read_esi_string(esi(min), "slots.xml");
+    ASSERT_FALSE(d.has_value());
+    EXPECT_EQ(d.error().to_string(),
+              fmt::format("slots.xml:11: the slots' default modules number {} or more, more than the 254 that "
+                          "F030h/F050h can list (the twin cannot represent this; the import refuses it)",
+                          std::string(min) == "254" ? 255 : 7000));
+  }
+  auto fits = read_esi_string(esi("253"), "slots.xml");
+  ASSERT_TRUE(fits.has_value()) << fits.error().to_string();
+  ASSERT_TRUE(fits->modular.has_value());
+  EXPECT_EQ(fits->modular->configured.size(), 254u);
 }
 
 }  // namespace
