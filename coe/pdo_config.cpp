@@ -100,8 +100,8 @@ Expected<void, SdoAbort> PdoConfig::check_entry(PdoDirection d, std::uint32_t va
 Expected<std::uint32_t, SdoAbort> PdoConfig::mapping_bits(PdoDirection d, std::uint16_t index, std::uint8_t count,
                                                           std::uint8_t sub, std::uint32_t value) const noexcept {
   std::uint32_t bits = 0;
-  for (std::uint8_t k = 1; k <= count; ++k) {
-    const ObjectStore::Slot* s = store_.slot(index, k);
+  for (unsigned k = 1; k <= count; ++k) {  // unsigned: a count of 255 must end
+    const ObjectStore::Slot* s = store_.slot(index, static_cast<std::uint8_t>(k));
     if (!s) return fail(SdoAbort::ValueTooHigh);
     const std::uint32_t v = (k == sub) ? value : store_.get<std::uint32_t>(*s);
     if (auto ok = check_entry(d, v, k != sub && !s->entry->access.writable()); !ok) return fail(ok.error());
@@ -116,8 +116,8 @@ Expected<std::uint32_t, SdoAbort> PdoConfig::assigned_bits(const SmLayout& sm, s
   const std::uint16_t assign = sm.assign;
   const PdoDirection d = sm.direction;
   std::uint32_t bits = 0;
-  for (std::uint8_t k = 1; k <= count; ++k) {
-    const ObjectStore::Slot* s = store_.slot(assign, k);
+  for (unsigned k = 1; k <= count; ++k) {  // unsigned: a count of 255 must end
+    const ObjectStore::Slot* s = store_.slot(assign, static_cast<std::uint8_t>(k));
     if (!s) return fail(SdoAbort::ValueTooHigh);
     const std::uint16_t index = (k == sub) ? pdo : store_.get<std::uint16_t>(*s);
     if (!is_mapping_index(index, d) || !store_.contains(index)) return fail(SdoAbort::ValueRange);
@@ -187,11 +187,11 @@ void PdoConfig::build(SmLayout& sm) noexcept {
   image.clear();
   if (!store_.contains(sm.assign)) return;
   const std::uint8_t pdos = store_.get<std::uint8_t>(sm.assign, 0);
-  for (std::uint8_t k = 1; k <= pdos; ++k) {
-    const std::uint16_t pdo = store_.get<std::uint16_t>(sm.assign, k);
+  for (unsigned k = 1; k <= pdos; ++k) {  // unsigned: counts of 255 must end
+    const std::uint16_t pdo = store_.get<std::uint16_t>(sm.assign, static_cast<std::uint8_t>(k));
     const std::uint8_t entries = store_.get<std::uint8_t>(pdo, 0);
-    for (std::uint8_t j = 1; j <= entries; ++j) {
-      const PdoMappingEntry m = PdoMappingEntry::decode(store_.get<std::uint32_t>(pdo, j));
+    for (unsigned j = 1; j <= entries; ++j) {
+      const PdoMappingEntry m = PdoMappingEntry::decode(store_.get<std::uint32_t>(pdo, static_cast<std::uint8_t>(j)));
       ObjectStore::Slot* s = m.is_gap() ? nullptr : store_.slot(m.index, m.subindex);
       if (!image.add(m.bit_length, s)) return;
     }

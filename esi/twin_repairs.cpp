@@ -33,6 +33,9 @@ constexpr std::uint8_t kBitsPerByte = 8;
 constexpr std::uint8_t kIdentityEntries = 4;        // 1018h:01-04 (CiA 301)
 constexpr std::size_t kAssignBytes = 2;             // 1C1xh entries: UNSIGNED16 PDO indices
 constexpr std::size_t kMappingBytes = 4;            // 16xxh/1Axxh entries: UNSIGNED32
+// The highest subindex (8 bits): a subindex 0 that says more (a fuzzed UDINT
+// SI0 of 4,294,967,295 made the repairs list 2^32 entries) names no more.
+constexpr std::uint64_t kHighestSubindex = 0xFF;
 constexpr std::uint16_t kIdentityBits = 32;
 
 std::string hex_value(const od::Value& v) {
@@ -121,7 +124,7 @@ class Repairer {
     std::vector<std::uint64_t> have;
     const od::Entry* si0 = o.find(0);
     const std::uint64_t count = si0 ? value_of(si0->default_value) : 0;
-    for (std::uint64_t k = 1; k <= count; ++k) {
+    for (std::uint64_t k = 1; k <= std::min(count, kHighestSubindex); ++k) {
       const od::Entry* e = o.find(static_cast<std::uint8_t>(k));
       have.push_back(e ? value_of(e->default_value) : 0);
     }
@@ -464,7 +467,7 @@ class Repairer {
       for (std::size_t sm : process_sms(rx ? od::SmType::Outputs : od::SmType::Inputs)) {
         const od::Object* o = d_.dictionary.find(static_cast<std::uint16_t>(kSmAssignFirst + sm));
         if (!o || !o->find(0)) continue;
-        const auto count = value_of(o->find(0)->default_value);
+        const auto count = std::min<std::uint64_t>(value_of(o->find(0)->default_value), kHighestSubindex);
         for (std::uint64_t k = 1; k <= count; ++k) {
           const od::Entry* e = o->find(static_cast<std::uint8_t>(k));
           if (!e) continue;
@@ -689,7 +692,18 @@ class Repairer {
     for (std::size_t i = 0; i < d_.sync_managers.size(); ++i) {
       od::Entry* e = o->find(static_cast<std::uint8_t>(i + 1));
       const std::uint8_t want = sm_type_code(d_.sync_managers[i].type);
-      if (!e || value_of(e->default_value) == want) continue;
+      if (!e) {
+        // A gap in the array (an ArrayInfo LBound of 2 numbers the SM types
+        // from subindex 2): the device file has every subindex up to the
+        // highest, so the twin's holds the Sm's type here, as a re-import of
+        // the twin's ESI would repair it.
+        if (o->entries.size() < 2 || !set_sub(*o, static_cast<std::uint8_t>(i + 1), want, 1, od::DataType::Unsigned8)) {
+          continue;
+        }
+        warn(*o, fmt::format("1C00h:{:02X} is missing; the twin's is the type of Sm {} ({})", i + 1, i, want));
+        continue;
+      }
+      if (value_of(e->default_value) == want) continue;
       warn(*o, fmt::format("1C00h:{:02X} default {} differs from the type of Sm {} ({}); the Sm's is used", i + 1,
                            hex_value(e->default_value), i, want));
       e->default_value = le_of(want, (e->bit_length + kBitsPerByte - 1) / kBitsPerByte);

@@ -7,6 +7,7 @@
 #include "coe/process_data.hpp"
 #include "tests/support/alloc_counter.hpp"
 #include "tests/coe/rig.hpp"
+#include "tests/coe/test_device.hpp"
 
 namespace ecat::coe {
 namespace {
@@ -217,6 +218,25 @@ TEST_F(PdoTest, BitPackedEntriesInTheImage) {
   auto& mem = r.esc.memory();
   // Flag 1 at bit 0, Three 5 (101b) at bits 1..3, gap bits 4..7, then 0xBEEF.
   EXPECT_EQ(Frame(mem.begin() + 0x1180, mem.begin() + 0x1183), (Frame{0x0B, 0xEF, 0xBE}));
+}
+
+// A mapping of all 255 subindices (1-byte gaps) assigned with 1C12h:00 = 1:
+// the layout holds 255 items. Counts of 255 ended only by wrapping an 8-bit
+// loop counter back to 0, so the build never ended.
+TEST(PdoConfigCounts, AMappingOfAll255SubindicesIsBuilt) {
+  od::DeviceDescription d = test::make_device();
+  od::Object* m = d.dictionary.find(0x1600);
+  ASSERT_NE(m, nullptr);
+  m->entries.resize(1);
+  m->entries[0].default_value = {0xFF};
+  for (unsigned sub = 1; sub <= 255; ++sub) {
+    m->entries.push_back(test::entry(static_cast<std::uint8_t>(sub), "Gap", od::DataType::Unsigned32, 32,
+                                     test::kRwPreOp, test::le(0x00000008, 4)));
+  }
+  ObjectStore store{d.dictionary};
+  PdoConfig config{store, d};
+  EXPECT_EQ(config.outputs().items().size(), 255u);
+  EXPECT_EQ(config.outputs().byte_length(), 255u);
 }
 
 }  // namespace
