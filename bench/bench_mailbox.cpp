@@ -12,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "bench/bench_options.hpp"
 #include "bench/mini_master.hpp"
 #include "coe/coe_protocol.hpp"
 #include "coe/mailbox_server.hpp"
@@ -138,7 +139,7 @@ void BM_Mailbox_SdoExpeditedUpload(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(rig.transact(req).data());
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
-BENCHMARK(BM_Mailbox_SdoExpeditedUpload)->Arg(128)->Arg(1024);
+BENCHMARK(BM_Mailbox_SdoExpeditedUpload)->Arg(128)->Arg(1024)->Apply(ecat::bench::iterations_from_env);
 
 // Expedited download of the mode of operation (6060h, 1 byte = CSP).
 void BM_Mailbox_SdoExpeditedDownload(benchmark::State& state) {
@@ -155,7 +156,7 @@ void BM_Mailbox_SdoExpeditedDownload(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(rig.transact(req).data());
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
-BENCHMARK(BM_Mailbox_SdoExpeditedDownload)->Arg(128)->Arg(1024);
+BENCHMARK(BM_Mailbox_SdoExpeditedDownload)->Arg(128)->Arg(1024)->Apply(ecat::bench::iterations_from_env);
 
 // Segmented upload of the whole 1 MiB blob; returns the bytes received.
 std::size_t upload_blob(MailboxRig& rig) {

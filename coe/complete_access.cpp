@@ -107,8 +107,9 @@ Expected<void, SdoAbort> complete_access_download(ObjectStore& store, std::uint1
     std::size_t at = 0;
     for (const od::Entry& e : object.entries) {
       ObjectStore::Slot* s = store.slot(index, e.subindex);
-      (void)store.assign(*s, {scratch.data() + at, s->length});
-      at += s->length;
+      const std::uint32_t n = store.length(*s);
+      (void)store.assign(*s, {scratch.data() + at, n});
+      at += n;
     }
     if (ObjectHooks* h = store.hooks(index)) h->after_write(store, index, 0);
     return fail(abort);

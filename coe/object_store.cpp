@@ -33,11 +33,11 @@ ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : di
     r.first = static_cast<std::uint32_t>(slots_.size());
     for (const od::Entry& e : o.entries) {
       Slot s;
-      s.index = o.index;
-      s.code = o.code;
       s.entry = &e;
+      s.is_string = od::is_string(e.type) ? 1 : 0;
+      if (s.variable()) offset += kLengthPrefix;
       s.offset = offset;
-      s.capacity = capacity_of(e, options);
+      s.capacity = std::min(capacity_of(e, options), kMaxCapacity) & kMaxCapacity;
       offset += s.capacity;
       max_capacity_ = std::max(max_capacity_, s.capacity);
       slots_.push_back(s);
@@ -55,7 +55,14 @@ void ObjectStore::load_default(Slot& s) noexcept {
   std::fill(p, p + s.capacity, std::uint8_t{0});
   const std::size_t n = std::min<std::size_t>(d.size(), s.capacity);
   std::copy_n(d.begin(), n, p);
-  s.length = s.variable() ? static_cast<std::uint32_t>(n) : s.capacity;
+  if (s.variable()) store_le<std::uint32_t>(p - kLengthPrefix, static_cast<std::uint32_t>(n));
+}
+
+std::uint16_t ObjectStore::index_of(const Slot& s) const noexcept {
+  const auto at = static_cast<std::uint32_t>(&s - slots_.data());
+  auto it = std::upper_bound(objects_.begin(), objects_.end(), at,
+                             [](std::uint32_t a, const ObjectRange& r) { return a < r.first; });
+  return it == objects_.begin() ? 0 : std::prev(it)->index;
 }
 
 void ObjectStore::reset_to_defaults() noexcept {
@@ -117,7 +124,7 @@ Expected<void, SdoAbort> ObjectStore::assign(Slot& s, ConstBytes data) noexcept 
   if (!data.empty()) std::memcpy(p, data.data(), data.size());
   if (s.variable()) {
     std::fill(p + data.size(), p + s.capacity, std::uint8_t{0});
-    s.length = static_cast<std::uint32_t>(data.size());
+    store_le<std::uint32_t>(p - kLengthPrefix, static_cast<std::uint32_t>(data.size()));
   }
   return {};
 }
@@ -127,9 +134,10 @@ Expected<std::size_t, SdoAbort> ObjectStore::read(std::uint16_t index, std::uint
   Slot* s = slot(index, subindex);
   if (!s) return fail(missing(index));
   if (ObjectHooks* h = hooks(index)) h->on_read(*this, index, subindex);
-  if (out.size() < s->length) return fail(SdoAbort::ObjectLengthExceedsMailbox);
-  if (s->length > 0) std::memcpy(out.data(), buffer_.data() + s->offset, s->length);
-  return std::size_t{s->length};
+  const std::uint32_t n = length(*s);
+  if (out.size() < n) return fail(SdoAbort::ObjectLengthExceedsMailbox);
+  if (n > 0) std::memcpy(out.data(), buffer_.data() + s->offset, n);
+  return std::size_t{n};
 }
 
 Expected<void, SdoAbort> ObjectStore::check(const Slot& s, ConstBytes data) const noexcept {

@@ -38,17 +38,23 @@ class ObjectStore {
 
   // Where one entry's value lives. Stable for the life of the store, so the
   // drive and the PDO image may keep pointers to it.
-  // 24 bytes: one per entry and slave, thousands of slaves in a chain
-  // (issue 16 item 5); the object's index and code rather than a pointer.
+  // 16 bytes: one per entry and slave, thousands of slaves in a chain
+  // (issue 16 item 5; the generic servo's 211 entries were 24 bytes each
+  // until issue 30 took its memory under 32 KiB). The object's index is
+  // index_of(); a string's current length is kept in the value buffer, in
+  // the kLengthPrefix bytes before its value (length()).
   struct Slot {
     const od::Entry* entry = nullptr;
-    std::uint32_t offset = 0;    // into the value buffer
-    std::uint32_t capacity = 0;  // bytes reserved
-    std::uint32_t length = 0;    // bytes currently valid (== capacity unless a string)
-    std::uint16_t index = 0;     // of the entry's object
-    od::ObjectCode code = od::ObjectCode::Var;  // of the entry's object
-    bool variable() const noexcept { return od::is_string(entry->type); }
+    std::uint32_t offset = 0;  // into the value buffer
+    // Bytes reserved (at most Options::variable_capacity, under 2^31), and
+    // whether the entry is a string whose length may be less: kept here so
+    // that length() does not reach into the description.
+    std::uint32_t capacity : 31 = 0;
+    std::uint32_t is_string : 1 = 0;
+    bool variable() const noexcept { return is_string != 0; }
   };
+  static constexpr std::uint32_t kLengthPrefix = sizeof(std::uint32_t);
+  static constexpr std::uint32_t kMaxCapacity = (1u << 31) - 1;
 
   explicit ObjectStore(const od::Dictionary& dictionary) : ObjectStore(dictionary, Options{}) {}
   ObjectStore(const od::Dictionary& dictionary, Options options);
@@ -66,8 +72,15 @@ class ObjectStore {
   Slot* slot(std::uint16_t index, std::uint8_t subindex) noexcept;
   bool contains(std::uint16_t index) const noexcept;
 
+  // Bytes currently valid: the capacity, or a string's length.
+  std::uint32_t length(const Slot& s) const noexcept {
+    return s.variable() ? load_le<std::uint32_t>(buffer_.data() + s.offset - kLengthPrefix) : s.capacity;
+  }
+  // The index of the object a slot (one of slots()) belongs to.
+  std::uint16_t index_of(const Slot& s) const noexcept;
+
   // Current bytes of an entry (empty if it does not exist).
-  ConstBytes value(const Slot& s) const noexcept { return {buffer_.data() + s.offset, s.length}; }
+  ConstBytes value(const Slot& s) const noexcept { return {buffer_.data() + s.offset, length(s)}; }
   ConstBytes value(std::uint16_t index, std::uint8_t subindex) const noexcept;
   // Writable view of the whole capacity (application-side fast path).
   // Writes through it are not counted in generation(): its users are the
@@ -91,7 +104,7 @@ class ObjectStore {
   template <typename T>
   T get(const Slot& s) const noexcept {
     static_assert(std::is_arithmetic_v<T>);
-    const ConstBytes b = value(s);
+    const ConstBytes b{buffer_.data() + s.offset, s.capacity};  // a number's length is its capacity
     if constexpr (std::is_same_v<T, float>) {
       return std::bit_cast<float>(static_cast<std::uint32_t>(load_bits(b, 32, false)));
     } else if constexpr (std::is_same_v<T, double>) {

@@ -54,8 +54,7 @@ ParameterStore::ParameterStore(ObjectStore& store, std::string path, StorageQuot
   store.set_hooks(kRestoreDefaults, this);
 }
 
-bool ParameterStore::persistent(const ObjectStore::Slot& slot) noexcept {
-  const std::uint16_t index = slot.index;
+bool ParameterStore::persistent(const ObjectStore::Slot& slot, std::uint16_t index) noexcept {
   return slot.entry->access.writable() && !slot.entry->access.is_const && index != kStoreParameters &&
          index != kRestoreDefaults;
 }
@@ -64,11 +63,12 @@ std::vector<std::uint8_t> ParameterStore::serialize() const {
   std::vector<std::uint8_t> out(kFileHeader);
   std::uint32_t count = 0;
   for (const ObjectStore::Slot& s : store_.slots()) {
-    if (!persistent(s)) continue;
+    const std::uint16_t index = store_.index_of(s);
+    if (!persistent(s, index)) continue;
     const ConstBytes v = store_.value(s);
     std::uint8_t rec[kRecordHeader];
     ByteWriter w(rec);
-    w.u16(s.index);
+    w.u16(index);
     w.u8(s.entry->subindex);
     w.u32(static_cast<std::uint32_t>(v.size()));
     out.insert(out.end(), rec, rec + kRecordHeader);
@@ -183,7 +183,7 @@ Expected<std::size_t, std::string> ParameterStore::load() noexcept {
       const std::uint8_t sub = r.u8();
       const ConstBytes value = r.bytes(r.u32());
       ObjectStore::Slot* s = store_.slot(index, sub);
-      if (s && persistent(*s) && store_.assign(*s, value)) ++applied;
+      if (s && persistent(*s, index) && store_.assign(*s, value)) ++applied;
     }
     return applied;
   } catch (const std::exception& e) {

@@ -47,7 +47,7 @@ class ParameterStore final : public ObjectHooks {
   Expected<void, std::string> remove() const noexcept;
 
   // Entries that go into the file: writable, not const, not 1010h/1011h.
-  static bool persistent(const ObjectStore::Slot& slot) noexcept;
+  static bool persistent(const ObjectStore::Slot& slot, std::uint16_t index) noexcept;
 
   Expected<void, SdoAbort> on_write(ObjectStore& store, const WriteRequest& request) noexcept override;
   void after_write(ObjectStore& store, std::uint16_t index, std::uint8_t subindex) noexcept override;

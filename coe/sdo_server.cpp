@@ -76,7 +76,8 @@ Expected<void, SdoAbort> SdoServer::check_target(std::uint16_t index, std::uint8
   if (complete_access) {
     if (!complete_access_supported_) return fail(SdoAbort::UnsupportedAccess);
     // Complete access starts at subindex 0 or 1 of an ARRAY/RECORD (ETG.1000.6 §5.6.2.1.2).
-    if (sub > 1 || s0->code == od::ObjectCode::Var) return fail(SdoAbort::UnsupportedAccess);
+    const od::Object* object = store_.dictionary().find(index);
+    if (sub > 1 || object == nullptr || object->code == od::ObjectCode::Var) return fail(SdoAbort::UnsupportedAccess);
     return {};
   }
   if (!store_.slot(index, sub)) return fail(SdoAbort::NoSubindex);

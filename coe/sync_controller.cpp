@@ -56,7 +56,7 @@ void SyncController::install() noexcept {
   // UNSIGNED32 as the dictionaries define it: its 4 value bytes are the
   // value, read in place each free-run cycle (issue 8).
   constexpr std::uint32_t kU32 = sizeof(std::uint32_t);
-  cycle_bytes_ = cycle_slot_ != nullptr && cycle_slot_->capacity == kU32 && cycle_slot_->length == kU32 &&
+  cycle_bytes_ = cycle_slot_ != nullptr && cycle_slot_->capacity == kU32 && store_.length(*cycle_slot_) == kU32 &&
                          !od::is_signed(cycle_slot_->entry->type)
                      ? store_.value(*cycle_slot_).data()
                      : nullptr;

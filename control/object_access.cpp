@@ -210,7 +210,7 @@ Expected<json, ControlError> write_object(coe::ObjectStore& store, std::uint16_t
                                               s->entry->name, coe::describe(ok.error()))));
       default:
         return fail(control_error(error_code::kBadValue, fmt::format("{}: {} bytes for a {}-byte entry: {}", at,
-                                                                     bytes->size(), s->capacity,
+                                                                     bytes->size(), std::uint32_t{s->capacity},
                                                                      coe::describe(ok.error()))));
     }
   }

@@ -86,7 +86,7 @@ void each(const Tuple& t, Fn&& fn) {
 // The entry's value bytes when they hold exactly a T (integral), else null.
 template <typename T>
 std::uint8_t* same_width(coe::ObjectStore& store, coe::ObjectStore::Slot* s) noexcept {
-  if (s == nullptr || !std::is_integral_v<T> || s->capacity != sizeof(T) || s->length != sizeof(T)) return nullptr;
+  if (s == nullptr || !std::is_integral_v<T> || s->capacity != sizeof(T) || store.length(*s) != sizeof(T)) return nullptr;
   return store.storage(*s).data();
 }
 

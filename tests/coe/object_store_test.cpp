@@ -38,7 +38,7 @@ TEST_F(ObjectStoreTest, DefaultsAreLoaded) {
   auto name = store.value(0x1008, 0);
   EXPECT_EQ(std::string(name.begin(), name.end()), "ecat test");
   EXPECT_EQ(store.slot(0x2002, 0)->capacity, 65536u);
-  EXPECT_EQ(store.slot(0x2002, 0)->length, 0u);
+  EXPECT_EQ(store.length(*store.slot(0x2002, 0)), 0u);
 }
 
 TEST_F(ObjectStoreTest, TypedSetAndSignExtension) {
@@ -105,6 +105,42 @@ TEST_F(ObjectStoreTest, VariableLengthStrings) {
   EXPECT_EQ(store.value(0x2002, 0).size(), 5u);
   store.reset_to_defaults();
   EXPECT_EQ(store.value(0x2002, 0).size(), 0u);
+}
+
+// A string's length lives in the value buffer before its value: writing one
+// leaves its neighbours' values alone, and a 1008h default keeps its length.
+TEST_F(ObjectStoreTest, StringLengthsDoNotTouchOtherValues) {
+  const std::vector<std::uint8_t> before(store.value(0x1008, 0).begin(), store.value(0x1008, 0).end());
+  const std::uint32_t device_type = store.get<std::uint32_t>(0x1000, 0);
+  std::vector<std::uint8_t> text(65536, 0x55);
+  ASSERT_TRUE(store.write({0x2002, 0, text}));
+  EXPECT_EQ(store.length(*store.slot(0x2002, 0)), 65536u);
+  ASSERT_TRUE(store.write({0x2002, 0, ConstBytes{}}));
+  EXPECT_EQ(store.length(*store.slot(0x2002, 0)), 0u);
+  EXPECT_EQ(std::vector<std::uint8_t>(store.value(0x1008, 0).begin(), store.value(0x1008, 0).end()), before);
+  EXPECT_EQ(store.length(*store.slot(0x1008, 0)), 9u);  // "ecat test"
+  EXPECT_EQ(store.get<std::uint32_t>(0x1000, 0), device_type);
+  for (const ObjectStore::Slot& s : store.slots()) {
+    const std::vector<std::uint8_t> v(store.value(s).begin(), store.value(s).end());
+    if (s.variable()) continue;
+    EXPECT_EQ(v.size(), s.capacity);
+  }
+}
+
+// Every slot names its object: the index the store files it under.
+TEST_F(ObjectStoreTest, IndexOfEverySlot) {
+  std::size_t n = 0;
+  for (const od::Object& o : device.dictionary.objects()) {
+    for (const od::Entry& e : o.entries) {
+      const ObjectStore::Slot* s = store.slot(o.index, e.subindex);
+      ASSERT_NE(s, nullptr);
+      EXPECT_EQ(store.index_of(*s), o.index);
+      EXPECT_EQ(s->entry, &e);
+      ++n;
+    }
+  }
+  EXPECT_EQ(n, store.slots().size());
+  static_assert(sizeof(void*) != 8 || sizeof(ObjectStore::Slot) == 16, "one slot per entry and slave: 16 bytes");
 }
 
 }  // namespace
