@@ -227,7 +227,10 @@ void append_device(pugi::xml_node devices, const od::DeviceDescription& d) {
     if (sm.max_size) attr(n, "MaxSize", std::to_string(sm.max_size));
     if (sm.default_size) attr(n, "DefaultSize", std::to_string(sm.default_size));
     attr(n, "StartAddress", esi_hex(sm.start_address, kIndexDigits));
-    attr(n, "ControlByte", esi_hex(sm.control, 2));
+    // An unused SM (an Sm with neither use nor ControlByte, kept so that the
+    // SMs after it keep their numbers) is written as it was read: a
+    // ControlByte on an Sm without text gives it a use (esi_reader_device.cpp).
+    if (sm.type != od::SmType::Unused || sm.control != 0) attr(n, "ControlByte", esi_hex(sm.control, 2));
     attr(n, "Enable", sm.enable ? "1" : "0");
     n.text().set(sm_text(sm.type));
   }

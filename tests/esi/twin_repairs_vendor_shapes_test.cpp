@@ -252,5 +252,26 @@ TEST(TwinVendorShapes, ASmTypeMissingFromAGappedArrayIsTheSmsType) {
   EXPECT_TRUE(judged.has_value()) << judged.error();
 }
 
+// An Sm with neither a use nor a ControlByte nor a StartAddress (a shape
+// fuzz_twin_judge made; ETG.2000 makes every Sm attribute optional) is an
+// unused SM that keeps the numbers of those after it. The twin's ESI writes
+// it without a ControlByte, which would give it a use (ControlByte 00h:
+// Inputs) and an address outside the process RAM on the next import.
+TEST(TwinVendorShapes, AnSmWithoutUseOrControlByteStaysUnused) {
+  const std::string text = esi(R"(
+        <Sm Enable="1" DefaultSize="512" />
+        <Sm MinSize="140" MaxSize="140" DefaultSize="140" StartAddress="#x1900" ControlByte="#x22" Enable="1">MBoxIn</Sm>)");
+  Read r = read(text);
+  ASSERT_EQ(r.d.sync_managers.size(), 2u);
+  EXPECT_EQ(r.d.sync_managers[0].type, od::SmType::Unused);
+  EXPECT_EQ(r.d.sync_managers[1].type, od::SmType::MailboxIn);
+  auto judged = judge_twin(r.d);
+  ASSERT_TRUE(judged.has_value()) << judged.error();
+  // Its size is not kept: the device file writes no unused SM, its loader
+  // fills the gap with an empty one.
+  EXPECT_NE(judged->esi.find(R"(<Sm StartAddress="#x0000" Enable="1"></Sm>)"), std::string::npos)
+      << judged->esi.substr(judged->esi.find("<Sm"), 300);
+}
+
 }  // namespace
 }  // namespace ecat::esi
