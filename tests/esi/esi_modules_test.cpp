@@ -29,6 +29,32 @@ od::DeviceDescription coupler() {
   return d ? std::move(*d) : od::DeviceDescription{};
 }
 
+// One modular device in an ESI: `device` (its Sm, PDO, Mailbox and Slots
+// elements) follows GroupType on line 11; `modules` is the Modules element's
+// content.
+std::string modular_esi(const std::string& product_code, const std::string& revision, const std::string& type,
+                        const std::string& name, const std::string& device, const std::string& modules) {
+  return R"(<?xml version="1.0"?>
+<EtherCATInfo Version="1.2">
+  <Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode=")" + product_code + R"(" RevisionNo=")" + revision + R"(">)" + type + R"(</Type>
+        <Name>)" + name + R"(</Name>
+        <GroupType>G</GroupType>
+)" + device + R"(
+      </Device>
+    </Devices>
+    <Modules>
+)" + modules + R"(
+    </Modules>
+  </Descriptions>
+</EtherCATInfo>
+)";
+}
+
 TEST(EsiModules, SlotsAndModulesAsEtg2000) {
   const std::string esi = write_esi(coupler());
   pugi::xml_document doc;
@@ -146,17 +172,7 @@ TEST(EsiModules, ReaderRoundTrip) {
 // does not describe (as ETG's own Modules/Slots example has them) get
 // process-data objects in the module and move with the slot.
 TEST(EsiModules, DependOnSlotEntriesWithoutObjects) {
-  const std::string esi = R"(<?xml version="1.0"?>
-<EtherCATInfo Version="1.2">
-  <Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
-  <Descriptions>
-    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
-    <Devices>
-      <Device Physics="YY">
-        <Type ProductCode="#x10000" RevisionNo="#x0">Drive1</Type>
-        <Name>Drive</Name>
-        <GroupType>G</GroupType>
-        <Sm MinSize="128" MaxSize="128" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+  const std::string esi = modular_esi("#x10000", "#x0", "Drive1", "Drive", R"(        <Sm MinSize="128" MaxSize="128" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
         <Sm MinSize="128" MaxSize="128" DefaultSize="128" StartAddress="#x1400" ControlByte="#x22" Enable="1">MBoxIn</Sm>
         <Sm StartAddress="#x1800" ControlByte="#x64" Enable="1">Outputs</Sm>
         <Sm StartAddress="#x1c00" ControlByte="#x20" Enable="1">Inputs</Sm>
@@ -164,11 +180,7 @@ TEST(EsiModules, DependOnSlotEntriesWithoutObjects) {
         <Slots SlotPdoIncrement="16" SlotIndexIncrement="#x800">
           <Slot MinInstances="1" MaxInstances="1"><Name>Axis 1</Name><ModuleIdent Default="1">#x100</ModuleIdent></Slot>
           <Slot MinInstances="1" MaxInstances="1"><Name>Axis 2</Name><ModuleIdent Default="1">#x100</ModuleIdent></Slot>
-        </Slots>
-      </Device>
-    </Devices>
-    <Modules>
-      <Module>
+        </Slots>)", R"(      <Module>
         <Type ModuleIdent="#x0100">Position Mode</Type>
         <Name>CSP</Name>
         <RxPdo Fixed="true" Sm="2">
@@ -179,11 +191,7 @@ TEST(EsiModules, DependOnSlotEntriesWithoutObjects) {
           <Index DependOnSlot="true">#x1a00</Index><Name>Inputs</Name>
           <Entry><Index DependOnSlot="true">#x6064</Index><SubIndex>0</SubIndex><BitLen>32</BitLen><Name>Position</Name><DataType>DINT</DataType></Entry>
         </TxPdo>
-      </Module>
-    </Modules>
-  </Descriptions>
-</EtherCATInfo>
-)";
+      </Module>)");
   std::vector<EsiWarning> warnings;
   auto d = read_esi_string(esi, "etg-shaped.xml", {}, &warnings);
   ASSERT_TRUE(d.has_value()) << d.error().to_string();
@@ -219,17 +227,7 @@ TEST(EsiModules, DependOnSlotEntriesWithoutObjects) {
 // ESI -> twin -> ESI is a fixed point (before, 1C13h was 1A02h 1A00h 1A01h
 // on the first read and 1A00h 1A01h 1A02h on the second).
 TEST(EsiModules, ARenumberedDevicePdoTakesItsPlaceInIndexOrder) {
-  const std::string esi = R"(<?xml version="1.0"?>
-<EtherCATInfo Version="1.2">
-  <Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
-  <Descriptions>
-    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
-    <Devices>
-      <Device Physics="YY">
-        <Type ProductCode="#x2" RevisionNo="#x1">Coupler</Type>
-        <Name>Coupler</Name>
-        <GroupType>G</GroupType>
-        <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+  const std::string esi = modular_esi("#x2", "#x1", "Coupler", "Coupler", R"(        <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
         <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1080" ControlByte="#x22" Enable="1">MBoxIn</Sm>
         <Sm StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
         <Sm StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>
@@ -240,22 +238,14 @@ TEST(EsiModules, ARenumberedDevicePdoTakesItsPlaceInIndexOrder) {
         <Slots SlotIndexIncrement="#x10" SlotPdoIncrement="1">
           <Slot MinInstances="1" MaxInstances="1"><Name>Port 1</Name><ModuleIdent Default="1">#x00020002</ModuleIdent></Slot>
           <Slot MinInstances="1" MaxInstances="1"><Name>Port 2</Name><ModuleIdent Default="1">#x00020002</ModuleIdent></Slot>
-        </Slots>
-      </Device>
-    </Devices>
-    <Modules>
-      <Module>
+        </Slots>)", R"(      <Module>
         <Type ModuleIdent="#x00020002">Port</Type>
         <Name>Port</Name>
         <TxPdo Fixed="1" Sm="3">
           <Index DependOnSlot="true">#x1A00</Index><Name>Port inputs</Name>
           <Entry><Index DependOnSlot="true">#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Input</Name><DataType>UINT</DataType></Entry>
         </TxPdo>
-      </Module>
-    </Modules>
-  </Descriptions>
-</EtherCATInfo>
-)";
+      </Module>)");
   std::vector<EsiWarning> warnings;
   auto d = read_esi_string(esi, "renumbered.xml", {}, &warnings);
   ASSERT_TRUE(d.has_value()) << d.error().to_string();
@@ -283,31 +273,13 @@ TEST(EsiModules, ARenumberedDevicePdoTakesItsPlaceInIndexOrder) {
 // Slots element, before any module is placed.
 TEST(EsiModules, DefaultModulesBeyondTheIdentListAreRefused) {
   auto esi = [](const std::string& first_min) {
-    return R"(<?xml version="1.0"?>
-<EtherCATInfo Version="1.2">
-  <Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
-  <Descriptions>
-    <Groups><Group><Type>G</Type><Name>G</Name></Group></Groups>
-    <Devices>
-      <Device Physics="YY">
-        <Type ProductCode="#x2" RevisionNo="#x1">Coupler</Type>
-        <Name>Coupler</Name>
-        <GroupType>G</GroupType>
-        <Slots>
+    return modular_esi("#x2", "#x1", "Coupler", "Coupler", R"(        <Slots>
           <Slot MinInstances=")" + first_min + R"(" MaxInstances="253"><Name>A</Name><ModuleIdent Default="1">#x1</ModuleIdent></Slot>
           <Slot MinInstances="1" MaxInstances="1"><Name>B</Name><ModuleIdent Default="1">#x1</ModuleIdent></Slot>
-        </Slots>
-      </Device>
-    </Devices>
-    <Modules>
-      <Module>
+        </Slots>)", R"(      <Module>
         <Type ModuleIdent="#x1">M</Type>
         <Name>M</Name>
-      </Module>
-    </Modules>
-  </Descriptions>
-</EtherCATInfo>
-)";
+      </Module>)");
   };
   for (const char* min : {"7000", "254"}) {
     SCOPED_TRACE(min);
