@@ -273,5 +273,39 @@ TEST(TwinVendorShapes, AnSmWithoutUseOrControlByteStaysUnused) {
       << judged->esi.substr(judged->esi.find("<Sm"), 300);
 }
 
+// 1C12h with a 32-bit subindex 0 of FFFFFFFFh (a shape fuzz_twin_judge made):
+// the assignment repair, which runs before the import's refusal, collected
+// 2^32 entries (2 GiB) to compare the list. It reads at most 255 subindices,
+// and the import then refuses the 32-bit subindex 0 at once.
+TEST(TwinVendorShapes, AnAssignmentCountBeyond255IsReadAs255) {
+  const std::string text = esi(R"(
+        <Profile><Dictionary>
+          <DataTypes>
+            <DataType><Name>UDINT</Name><BitSize>32</BitSize></DataType>
+            <DataType><Name>UINT</Name><BitSize>16</BitSize></DataType>
+            <DataType><Name>DT1C12</Name><BitSize>48</BitSize>
+              <SubItem><SubIdx>0</SubIdx><Name>Number of entries</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>0</BitOffs></SubItem>
+              <SubItem><SubIdx>1</SubIdx><Name>PDO 1</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>32</BitOffs></SubItem>
+            </DataType>
+          </DataTypes>
+          <Objects>
+            <Object><Index>#x1C12</Index><Name>RxPDO assign</Name><Type>DT1C12</Type><BitSize>48</BitSize>
+              <Info>
+                <SubItem><Name>Number of entries</Name><Info><DefaultData>FFFFFFFF</DefaultData></Info></SubItem>
+                <SubItem><Name>PDO 1</Name><Info><DefaultData>0016</DefaultData></Info></SubItem>
+              </Info>
+              <Flags><Access>ro</Access></Flags>
+            </Object>
+          </Objects>
+        </Dictionary></Profile>)" + std::string(kMailboxSms) + R"(
+        <Sm MinSize="0" MaxSize="#x80" DefaultSize="#x80" StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm MinSize="0" MaxSize="#x80" DefaultSize="#x80" StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>)" +
+                               kRxPdo);
+  auto d = read_esi_string(text, "t.xml");
+  ASSERT_FALSE(d.has_value());
+  EXPECT_NE(d.error().to_string().find("1C12h:00 has type UNSIGNED32 but must be UNSIGNED8"), std::string::npos)
+      << d.error().to_string();
+}
+
 }  // namespace
 }  // namespace ecat::esi
