@@ -32,6 +32,7 @@ constexpr unsigned kMappingIndexShift = 16, kMappingSubShift = 8;
 constexpr std::uint8_t kBitsPerByte = 8;
 constexpr std::uint8_t kIdentityEntries = 4;        // 1018h:01-04 (CiA 301)
 constexpr std::size_t kAssignBytes = 2;             // 1C1xh entries: UNSIGNED16 PDO indices
+constexpr std::size_t kSmTypeBytes = 1;             // 1C00h entries: UNSIGNED8 SM types
 constexpr std::size_t kMappingBytes = 4;            // 16xxh/1Axxh entries: UNSIGNED32
 // The highest subindex (8 bits): a subindex 0 that says more (a fuzzed UDINT
 // SI0 of 4,294,967,295 made the repairs list 2^32 entries) names no more.
@@ -697,7 +698,7 @@ class Repairer {
         // from subindex 2): the device file has every subindex up to the
         // highest, so the twin's holds the Sm's type here, as a re-import of
         // the twin's ESI would repair it.
-        if (o->entries.size() < 2 || !set_sub(*o, static_cast<std::uint8_t>(i + 1), want, 1, od::DataType::Unsigned8)) {
+        if (o->entries.size() < 2 || !set_sub(*o, static_cast<std::uint8_t>(i + 1), want, kSmTypeBytes, od::DataType::Unsigned8)) {
           continue;
         }
         warn(*o, fmt::format("1C00h:{:02X} is missing; the twin's is the type of Sm {} ({})", i + 1, i, want));

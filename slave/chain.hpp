@@ -75,10 +75,9 @@ class Chain {
   // Only a run with at least `min_slaves` candidates pending or due by time
   // in at least two 64-slave words is split; the helpers take whole words,
   // so the bits and times the chain keeps per word are written by one
-  // thread. The
-  // firmware stays on this thread while a slave writes outside itself: a
-  // VCD trace (open_trace), an external firmware, an SPI PDI, an EoE report
-  // callback, or a fault that reaches back into its catalogue
+  // thread. The firmware stays on this thread while a slave writes outside
+  // itself: a VCD trace (open_trace), an external firmware, an SPI PDI, an
+  // EoE report callback, or a fault that reaches back into its catalogue
   // (keep_firmware_serial).
   // 1: no helper (the default: the helpers spin, so the CPU time grows and
   // only the wall time can shrink). Fails when a thread cannot be started.
