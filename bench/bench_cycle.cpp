@@ -23,7 +23,9 @@ namespace {
 // and the reason given when it cannot be built.
 std::unique_ptr<DriveLine> make_line(benchmark::State& state, std::size_t branch = 0) {
   try {
-    return std::make_unique<DriveLine>(static_cast<std::size_t>(state.range(0)), DriveLine::default_device(), branch);
+    auto line = std::make_unique<DriveLine>(static_cast<std::size_t>(state.range(0)), DriveLine::default_device(), branch);
+    advise_huge_pages_from_env();
+    return line;
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return nullptr;

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "bench/bench_options.hpp"
 #include "bench/drive_line.hpp"
 #include "esi/device_loader.hpp"
 
@@ -41,6 +42,7 @@ void measure(benchmark::State& state, bool io) {
     auto dev = io ? io_device() : nullptr;
     const long before = rss_kib();
     auto line = io ? std::make_unique<DriveLine>(n, dev) : std::make_unique<DriveLine>(n);
+    advise_huge_pages_from_env();
     for (int i = 0; i < kCycles; ++i) line->cycle();
     per_slave = static_cast<double>(rss_kib() - before) / static_cast<double>(n);
     esc_kib = static_cast<double>(line->chain()[0].esc().memory_size()) / 1024.0;

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "common/huge_pages.hpp"
+
 namespace ecat::bench {
 
 // ECAT_BENCH_ITERATIONS=N runs every case exactly N iterations (once), so a
@@ -17,6 +19,15 @@ inline void iterations_from_env(benchmark::internal::Benchmark* b) {
     const long long n = std::strtoll(s, nullptr, 10);
     if (n > 0) b->Iterations(n);
   }
+}
+
+// Once a case has built its chain: the heap on 2 MiB pages, as ecat-slave
+// does (common/huge_pages.hpp); ECAT_BENCH_SMALL_PAGES=1 leaves it on 4 KiB
+// pages, so that one binary measures both (docs/performance.md "Session 19").
+inline void advise_huge_pages_from_env() {
+  const char* s = std::getenv("ECAT_BENCH_SMALL_PAGES");
+  if (s != nullptr && std::string(s) == "1") return;
+  (void)advise_heap_huge_pages();
 }
 
 }  // namespace ecat::bench
