@@ -96,6 +96,9 @@ class Chain {
   }
   // Whether keep_firmware_serial was called (ecat-slave's statistics say so).
   bool firmware_kept_serial() const noexcept { return serial_forced_; }
+  // Whether every slave's firmware may run on any thread (VirtualSlave::
+  // runs_apart; slave/lane_choice.hpp asks before it chooses two).
+  bool slaves_run_apart() const noexcept;
   // The runs (after a frame, or a due poll's batch) split over the lanes.
   std::uint64_t split_runs() const noexcept { return split_runs_; }
   // The candidates the helpers took (not this thread): SpinWorkers::helped.
@@ -226,8 +229,6 @@ class Chain {
   static void run_word(void* chain, std::size_t k, unsigned lane) noexcept;
   static void poll_word(void* chain, std::size_t k, unsigned lane) noexcept;
   static void note_word(void* chain, std::size_t k, unsigned lane) noexcept;
-  // Whether every slave's firmware may run on any thread (set_firmware_threads).
-  bool slaves_run_apart() const noexcept;
   // poll() of every slave, and of the due ones (set_polling_due); the
   // latter computes the earliest deadline only when `next` is wanted.
   // Each returns the earliest deadline, kNoDeadline when none (no optional

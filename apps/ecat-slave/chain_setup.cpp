@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/huge_pages.hpp"
+#include "slave/lane_choice.hpp"
 
 namespace ecat::app {
 
@@ -89,17 +90,28 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
 }
 
 Expected<void, std::string> start_firmware_threads(slave::Chain& chain, const SlaveProgramOptions& options) {
-  if (auto ok = chain.set_firmware_threads(options.firmware_threads); !ok) return ok;
   cpu_set_t allowed;
   CPU_ZERO(&allowed);
-  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0 && !options.quiet) {
-    const auto cpus = static_cast<unsigned>(CPU_COUNT(&allowed));
-    if (options.firmware_threads > cpus) {
-      std::fprintf(stderr,
-                   "ecat-slave: warning: --firmware-threads %u on %u CPU(s): the helpers spin between frames and "
-                   "will take the loop's CPU time\n",
-                   options.firmware_threads, cpus);
-    }
+  const bool known = sched_getaffinity(0, sizeof allowed, &allowed) == 0;
+  const unsigned cpus = known ? static_cast<unsigned>(CPU_COUNT(&allowed)) : 1u;
+  unsigned threads = options.firmware_threads;
+  if (options.firmware_threads_auto) {
+    slave::LaneHost host;
+    host.cpus = cpus;
+    host.realtime = options.rt_priority > 0;
+    host.slaves = chain.size();
+    host.slaves_run_apart = chain.slaves_run_apart();
+    if (slave::round_trip_decides(host)) host.round_trip = slave::cache_line_round_trip();
+    const slave::LaneChoice choice = slave::choose_firmware_threads(host);
+    threads = choice.threads;
+    if (!options.quiet) fmt::print(stderr, "ecat-slave: --firmware-threads auto: {} ({})\n", threads, choice.reason);
+  }
+  if (auto ok = chain.set_firmware_threads(threads); !ok) return ok;
+  if (known && threads > cpus && !options.quiet) {
+    std::fprintf(stderr,
+                 "ecat-slave: warning: --firmware-threads %u on %u CPU(s): the helpers spin between frames and "
+                 "will take the loop's CPU time\n",
+                 threads, cpus);
   }
   return {};
 }

@@ -149,11 +149,14 @@ int main(int argc, char** argv) {
                  "timeout; "
                  "0 = never; docs/e2e.md)")
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{60'000'000}));
-  cli.add_option("--firmware-threads", o.firmware_threads,
+  std::string firmware_threads = "1";
+  cli.add_option("--firmware-threads", firmware_threads,
                  "Run the slaves' firmware on N threads: the loop's and N-1 helpers that spin between frames "
                  "(more CPU time for less wall time; the same frames as one thread; off with --trace; default 1; "
-                 "docs/performance.md \"Firmware lanes\")")
-      ->check(CLI::Range(1u, 64u));
+                 "docs/performance.md \"Firmware lanes\"). auto: 2 when the chain has 192 slaves or more, the "
+                 "process two CPUs (three with --rt-priority) and the cores pass a cache line there and back in "
+                 "250 ns or less, else 1; the choice and why are printed")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(1u, 64u));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
   auto* trace = cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");
@@ -195,6 +198,11 @@ int main(int argc, char** argv) {
   if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty() && o.pdi.empty()) {
     std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out, --udp or --pdi (see --help)\n");
     return kExitUsage;
+  }
+  if (firmware_threads == "auto") {
+    o.firmware_threads_auto = true;
+  } else {
+    o.firmware_threads = static_cast<unsigned>(std::stoul(firmware_threads));  // checked: 1..64
   }
   for (auto& f : split_commas(chain)) o.device_files.push_back(f);
   if (!topology.empty()) {

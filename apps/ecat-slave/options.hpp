@@ -105,7 +105,10 @@ struct SlaveProgramOptions {
       std::chrono::duration_cast<std::chrono::microseconds>(slave::kDefaultMaxFrameAge).count();
   // --firmware-threads N: the slaves' firmware on N threads
   // (slave::Chain::set_firmware_threads); 1: the loop's thread alone.
+  // --firmware-threads auto: 1 or 2 chosen from the host and the chain
+  // (slave/lane_choice.hpp).
   unsigned firmware_threads = 1;
+  bool firmware_threads_auto = false;
   std::string trace_vcd;
   std::string plot_svg;
   std::vector<double> ppm;  // per slave oscillator error

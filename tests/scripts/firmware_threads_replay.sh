@@ -7,7 +7,9 @@
 # file, and the two-thread run did split its firmware (its statistics:
 # split-runs > 0): the SYNC0 polls before the frames find all 200 drives due (at least
 # Chain::kMinSplitSlaves).
-# Then more threads than CPUs (a warning) and the option's errors.
+# --firmware-threads auto gives the same replies whichever it chooses, and
+# says what it chose and why. Then more threads than CPUs (a warning) and
+# the option's errors.
 # Usage: firmware_threads_replay.sh SRCDIR BUILDDIR   (exit 77 = skipped)
 set -uo pipefail
 build=${2:?builddir}
@@ -40,6 +42,21 @@ splits=$(sed -n 's/^firmware-threads 2 split-runs \([0-9]*\) .*/\1/p' "$out/slav
 grep -q '^firmware-threads' "$out/slave1" && fail "one thread prints a firmware-threads line"
 echo "replayed: $(grep '^frames' "$out/slave1" | cut -d' ' -f1-2); two threads: $(grep '^firmware-threads' "$out/slave2")"
 
+# auto on the 200 drives: 1 or 2 by the host (CPUs, the cores' round trip),
+# the reason printed, the replies those of one thread.
+timeout 120 "$slave" --pcap-in "$out/cap.pcap" --pcap-out "$out/auto.pcap" --count $n \
+  --firmware-threads auto > "$out/slave-auto" 2>&1 \
+  || fail "--firmware-threads auto: ecat-slave exit $?: $(tail -5 "$out/slave-auto")"
+chosen=$(sed -n 's/^ecat-slave: --firmware-threads auto: \([12]\) (.*)$/\1/p' "$out/slave-auto")
+[ -n "$chosen" ] || fail "auto printed no choice: $(head -5 "$out/slave-auto")"
+cmp -s "$out/out1.pcap" "$out/auto.pcap" || fail "the replies with auto ($chosen) differ from one thread's"
+if [ "$chosen" = 2 ]; then
+  grep -q '^firmware-threads 2 split-runs' "$out/slave-auto" || fail "auto chose 2 but runs one thread"
+  grep -q "auto: 2 ($n slaves, [0-9]* CPUs, a cache line between the cores and back in [0-9]* ns)" "$out/slave-auto" \
+    || fail "auto 2 without its reason: $(grep auto "$out/slave-auto")"
+fi
+echo "auto: $(grep 'auto:' "$out/slave-auto")"
+
 # More threads than CPUs: a warning (the helpers spin), and the run goes on
 # (an empty capture: only its global header).
 printf '\xd4\xc3\xb2\xa1\x02\x00\x04\x00\x00\x00\x00\x00\x00\x00\x00\x00\xff\xff\x00\x00\x01\x00\x00\x00' > "$out/empty.pcap"
@@ -51,9 +68,15 @@ else
 fi
 "$slave" --pcap-in "$out/empty.pcap" --pcap-out "$out/e.pcap" --firmware-threads 1 > "$out/one" 2>&1
 grep -q "warning" "$out/one" && fail "a warning with one thread: $(cat "$out/one")"
+# auto with one slave: one thread, whatever the host.
+"$slave" --pcap-in "$out/empty.pcap" --pcap-out "$out/e.pcap" --firmware-threads auto > "$out/auto1" 2>&1 \
+  || fail "--firmware-threads auto, one slave: exit $?: $(cat "$out/auto1")"
+grep -q "^ecat-slave: --firmware-threads auto: 1 (1 slave(s): fewer than the 192 a run needs to be split)$" "$out/auto1" \
+  || fail "auto with one slave: $(cat "$out/auto1")"
 
-# The option's range: 0 and 65 are refused by name, before anything runs.
-for bad in 0 65; do
+# The option's range: 0, 65 and a word other than auto are refused by name,
+# before anything runs.
+for bad in 0 65 fast; do
   if "$slave" --pcap-in "$out/cap.pcap" --pcap-out "$out/bad.pcap" --firmware-threads $bad > "$out/bad" 2>&1; then
     fail "--firmware-threads $bad accepted"
   fi

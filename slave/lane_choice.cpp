@@ -1,0 +1,101 @@
+#include "slave/lane_choice.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "slave/chain.hpp"
+
+namespace ecat::slave {
+namespace {
+
+constexpr unsigned kLanes = 2;
+// A SCHED_FIFO loop leaves a CPU to the rest of the host (a master beside it).
+constexpr unsigned kCpusForRealtimeLanes = 3;
+
+// cache_line_round_trip: the clock is read every kTripsPerLook trips, and a
+// round stops after kMaxRound.
+constexpr unsigned kTripsPerLook = 16;
+constexpr Nanoseconds kMaxRound = std::chrono::milliseconds(20);
+
+unsigned cpus_needed(const LaneHost& host) noexcept { return host.realtime ? kCpusForRealtimeLanes : kLanes; }
+
+}  // namespace
+
+bool round_trip_decides(const LaneHost& host) noexcept {
+  return host.cpus >= cpus_needed(host) && host.slaves >= Chain::kMinSplitSlaves && host.slaves_run_apart;
+}
+
+LaneChoice choose_firmware_threads(const LaneHost& host) {
+  if (host.cpus < cpus_needed(host)) {
+    return {1, host.realtime ? fmt::format("{} CPU(s) with --rt-priority: a spinning FIFO helper would take the CPU "
+                                           "the rest of the host needs ({} needed)",
+                                           host.cpus, kCpusForRealtimeLanes)
+                             : fmt::format("{} CPU(s): the helper would take the loop's own", host.cpus)};
+  }
+  if (host.slaves < Chain::kMinSplitSlaves) {
+    return {1, fmt::format("{} slave(s): fewer than the {} a run needs to be split", host.slaves,
+                           Chain::kMinSplitSlaves)};
+  }
+  if (!host.slaves_run_apart) {
+    return {1, "a slave's firmware writes outside itself (a trace, an SPI PDI or an external firmware)"};
+  }
+  if (!host.round_trip) return {1, "the cores' round trip was not measured"};
+  const auto ns = host.round_trip->count();
+  if (*host.round_trip > kMaxLaneRoundTrip) {
+    return {1, fmt::format("a cache line between the cores and back takes {} ns, more than {} ns: two threads "
+                           "would be slower than one",
+                           ns, kMaxLaneRoundTrip.count())};
+  }
+  return {kLanes, fmt::format("{} slaves, {} CPUs, a cache line between the cores and back in {} ns", host.slaves,
+                              host.cpus, ns)};
+}
+
+Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds) {
+  trips = std::max(trips, 1u);
+  rounds = std::max(rounds, 1u);
+  alignas(64) std::atomic<std::uint64_t> ball{0};
+  std::atomic<bool> done{false};
+  // The other thread answers every odd value with the next even one.
+  std::thread other([&] {
+    std::uint64_t answered = 0;
+    while (!done.load(std::memory_order_relaxed)) {
+      const std::uint64_t v = ball.load(std::memory_order_acquire);
+      if (v != answered && (v & 1) != 0) {
+        ball.store(v + 1, std::memory_order_release);
+        answered = v + 1;
+      }
+    }
+  });
+  std::vector<Nanoseconds> per_trip;
+  per_trip.reserve(rounds);
+  std::uint64_t v = 0;
+  for (unsigned r = 0; r < rounds; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    Nanoseconds elapsed{0};
+    unsigned done_trips = 0;
+    while (done_trips < trips) {
+      ball.store(++v, std::memory_order_release);
+      while (ball.load(std::memory_order_acquire) != v + 1) {
+      }
+      ++v;
+      // A host too busy to run the other thread ends the round early (its
+      // figure is then that of a slow host, as it should be), never a hang.
+      if (++done_trips % kTripsPerLook == 0) {
+        elapsed = std::chrono::steady_clock::now() - start;
+        if (elapsed > kMaxRound) break;
+      }
+    }
+    elapsed = std::chrono::steady_clock::now() - start;
+    per_trip.push_back(elapsed / done_trips);
+  }
+  done.store(true);
+  other.join();
+  std::nth_element(per_trip.begin(), per_trip.begin() + per_trip.size() / 2, per_trip.end());
+  return per_trip[per_trip.size() / 2];
+}
+
+}  // namespace ecat::slave
