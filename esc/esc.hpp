@@ -154,6 +154,9 @@ class Esc final : public Pdi {
   // (0x1000 + EscConfig::process_ram_size); nothing beyond is stored.
   const std::uint8_t* memory() const noexcept { return mem_.get(); }
   std::size_t memory_size() const noexcept { return ram_end(); }
+  // The bytes of its mapping: memory_size() and room for the largest colour
+  // offset, the same for every colour (esc/esc_memory.cpp).
+  std::size_t memory_mapped() const noexcept { return mem_.get_deleter().size; }
   // Raw little-endian register value without side effects (the DC block is
   // read through DcUnit as a PDI read); bytes beyond the RAM read as 0.
   std::uint16_t register_u16(std::uint16_t address) const noexcept;

@@ -16,7 +16,11 @@
 // same register of the next - the CPU takes such a pair for one address
 // until it has compared them in full, and the load waits. The offset is
 // less than a page and the registers end at 0x0FFF, so the pages an ESC
-// touches stay as many.
+// touches stay as many. Every mapping has room for the largest offset,
+// whatever the block's own, so the ESCs of a chain map equal sizes: with
+// size + offset (with 8 KiB of RAM 3 pages for colour 0, 4 for the others) the 1000-drive
+// CSP cycle took 1.05-1.08x the CPU time at the same simulated cache
+// misses (docs/performance.md "Session 19: ESC mappings of one size").
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -26,10 +30,15 @@
 #include "esc/esc.hpp"
 
 namespace ecat::esc {
+namespace {
+
+constexpr std::size_t kLargestOffset = EscConfig::kMemoryColourStep * (EscConfig::kMemoryColours - 1);
+
+}  // namespace
 
 std::unique_ptr<std::uint8_t[], Esc::MemoryUnmap> Esc::map_memory(std::size_t size, unsigned colour) {
   const std::size_t offset = EscConfig::kMemoryColourStep * (colour % EscConfig::kMemoryColours);
-  const std::size_t mapped = size + offset;
+  const std::size_t mapped = size + kLargestOffset;
   void* p = ::mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED) throw std::bad_alloc();
   return std::unique_ptr<std::uint8_t[], MemoryUnmap>(static_cast<std::uint8_t*>(p) + offset, MemoryUnmap{mapped});

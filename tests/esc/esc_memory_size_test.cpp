@@ -31,8 +31,9 @@ TEST(EscMemorySize, BacksRegistersAndConfiguredRamOnly) {
 }
 
 // EscConfig::memory_colour: the block starts colour x 64 bytes into its
-// (page-aligned) mapping, colours taken modulo 8; the memory behaves the same
-// (zero at power-on, registers and RAM as without a colour).
+// (page-aligned) mapping, colours taken modulo 8, and the mapping has the
+// same size whatever the colour; the memory behaves the same (zero at
+// power-on, registers and RAM as without a colour).
 TEST(EscMemorySize, ColourOffsetsTheBlockByCacheLines) {
   constexpr std::uintptr_t kPage = 4096;
   for (unsigned colour : {0u, 1u, 3u, 7u, 8u, 13u}) {
@@ -42,6 +43,8 @@ TEST(EscMemorySize, ColourOffsetsTheBlockByCacheLines) {
     const auto at = reinterpret_cast<std::uintptr_t>(line[0].memory());
     EXPECT_EQ(at % kPage, 64u * (colour % 8u)) << colour;
     EXPECT_EQ(line[0].memory_size(), reg::kProcessRam + 8 * kOneKiB);
+    // Every colour maps the same bytes: the block and room for colour 7.
+    EXPECT_EQ(line[0].memory_mapped(), reg::kProcessRam + 8 * kOneKiB + 7 * 64) << colour;
     assign_stations(line);
     const auto last = static_cast<std::uint16_t>(line[0].memory_size() - 2);
     EXPECT_EQ(transact(line.segment, Command::Fpwr, fp(kStation, last), Data{0x12, 0x34}).wkc, 1);
