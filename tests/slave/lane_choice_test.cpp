@@ -4,6 +4,7 @@
 #include <sched.h>
 
 #include <chrono>
+#include <string>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -23,6 +24,14 @@ LaneHost roomy() {
   h.slaves_run_apart = true;
   h.round_trip = nanoseconds(90);
   return h;
+}
+
+// One thread, for `reason`, decided before any round trip is measured.
+void expect_one_before_measuring(const LaneHost& h, const std::string& reason) {
+  EXPECT_FALSE(round_trip_decides(h));
+  const LaneChoice c = choose_firmware_threads(h);
+  EXPECT_EQ(c.threads, 1u);
+  EXPECT_EQ(c.reason, reason);
 }
 
 TEST(LaneChoice, TwoThreadsWhenTheCoresAreCloseAndTheChainLongEnough) {
@@ -55,30 +64,21 @@ TEST(LaneChoice, OneThreadWithoutAMeasuredRoundTrip) {
 TEST(LaneChoice, OneThreadBelowTheSplitThreshold) {
   LaneHost h = roomy();
   h.slaves = Chain::kMinSplitSlaves - 1;
-  EXPECT_FALSE(round_trip_decides(h));
-  const LaneChoice c = choose_firmware_threads(h);
-  EXPECT_EQ(c.threads, 1u);
-  EXPECT_EQ(c.reason, "191 slave(s): fewer than the 192 a run needs to be split");
+  expect_one_before_measuring(h, "191 slave(s): fewer than the 192 a run needs to be split");
 }
 
 TEST(LaneChoice, OneThreadOnOneCpu) {
   LaneHost h = roomy();
   h.cpus = 1;
-  EXPECT_FALSE(round_trip_decides(h));
-  const LaneChoice c = choose_firmware_threads(h);
-  EXPECT_EQ(c.threads, 1u);
-  EXPECT_EQ(c.reason, "1 CPU(s): the helper would take the loop's own");
+  expect_one_before_measuring(h, "1 CPU(s): the helper would take the loop's own");
 }
 
 TEST(LaneChoice, ARealtimeLoopLeavesACpuToTheHost) {
   LaneHost h = roomy();
   h.realtime = true;
-  EXPECT_FALSE(round_trip_decides(h));
-  const LaneChoice c = choose_firmware_threads(h);
-  EXPECT_EQ(c.threads, 1u);
-  EXPECT_EQ(c.reason,
-            "2 CPU(s) with --rt-priority: a spinning FIFO helper would take the CPU the rest of the host needs "
-            "(3 needed)");
+  expect_one_before_measuring(h,
+                              "2 CPU(s) with --rt-priority: a spinning FIFO helper would take the CPU the rest of "
+                              "the host needs (3 needed)");
   h.cpus = 3;
   EXPECT_TRUE(round_trip_decides(h));
   EXPECT_EQ(choose_firmware_threads(h).threads, 2u);
@@ -87,10 +87,7 @@ TEST(LaneChoice, ARealtimeLoopLeavesACpuToTheHost) {
 TEST(LaneChoice, OneThreadWhenASlaveWritesOutsideItself) {
   LaneHost h = roomy();
   h.slaves_run_apart = false;
-  EXPECT_FALSE(round_trip_decides(h));
-  const LaneChoice c = choose_firmware_threads(h);
-  EXPECT_EQ(c.threads, 1u);
-  EXPECT_EQ(c.reason, "a slave's firmware writes outside itself (a trace, an SPI PDI or an external firmware)");
+  expect_one_before_measuring(h, "a slave's firmware writes outside itself (a trace, an SPI PDI or an external firmware)");
 }
 
 // Both threads of the probe on one CPU: the other thread runs only when the
