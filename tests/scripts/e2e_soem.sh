@@ -8,6 +8,8 @@
 #      DC delay measurement by ec_configdc, FRMW of the system time per cycle);
 #  (b) the chain of the 4 seed drives: the same three runs (the Yaskawa SII asks
 #      for LRD/LWR instead of LRW, so SOEM exchanges in two datagrams).
+#  (b2) 199 I/O slaves with the firmware on two threads (--firmware-threads 2):
+#      simple_ng, 10000 cycles, the runs split.
 # Checks: slaves found and named as the SII says, SafeOp reached, the CoE PDO
 # map printed, every object of the dictionary described without SDO error
 # (only "subindex does not exist" for gaps in 1C32h/1C33h), "Operational state
@@ -150,9 +152,10 @@ check_op() {
 # simple_ng (SOEM 2.x): Op, then 10000 iterations "Iteration N: T usec  WKC W
 # O: .. I: .. T: .."; it prints "wrong (expected E)" for a short WKC, so
 # every iteration must show exactly the expected WKC (given: 3 per slave with
-# outputs and inputs, LRW).
+# outputs and inputs, LRW). PRINTED: the WKC simple_ng itself expects, when
+# it differs from the one every frame must carry (case b2).
 check_op_ng() {
-  local name=$1 want=$2
+  local name=$1 want=$2 printed=${3:-$2}
   soem_run "$name" 150 "$simple_ng" || e2e_fail "$name: simple_ng exit $?"
   expect_line "$name" 'all slaves are now operational$' "Op not reached"
   local iters exact late
@@ -160,7 +163,7 @@ check_op_ng() {
   exact=$(grep -cE "^Iteration +[0-9]+: +[0-9]+ usec  WKC $want  O:" "$E2E_TMP/$name.log")
   # Late: the round trip took SOEM's whole 2 ms timeout, so a frame (or one of
   # the frames, when the map needs several) was not back: WKC -1 or partial.
-  late=$(grep -E "^Iteration +[0-9]+: +[0-9]+ usec  WKC -?[0-9]+ wrong \(expected $want\)$" "$E2E_TMP/$name.log" \
+  late=$(grep -E "^Iteration +[0-9]+: +[0-9]+ usec  WKC -?[0-9]+ wrong \(expected $printed\)$" "$E2E_TMP/$name.log" \
     | awk '$3 >= 2000' | wc -l)
   [ "$iters" -eq 10000 ] && [ $((exact + late)) -eq 10000 ] && [ "$late" -le "$late_max" ] \
     || e2e_fail "$name: $iters iterations, $exact with WKC $want, $late late (WKC -1; at most $late_max)"
@@ -250,6 +253,35 @@ if e2e_start_slave chain "${slave_rt[@]}" --chain "$chain"; then
   e2e_check_no_watchdog_during_run chain
 else
   e2e_fail "(b) slave chain did not start"
+fi
+
+# (b2) 199 I/O slaves (SOEM's EC_MAXSLAVE of 200 leaves 199) with their
+# firmware on two threads (issue 30 item 3, docs/performance.md "Firmware
+# lanes"): simple_ng takes them to Op and runs 10000 cycles, the slave's firmware runs split
+# (split-runs > 0 at exit), no watchdog. Neither side at a SCHED_FIFO
+# priority: the helper spins, and a FIFO helper on a 2-CPU host would take
+# the master's CPU. Needs 2 CPUs.
+if [ -n "$simple_ng" ] && [ "$(nproc)" -ge 2 ]; then
+  if e2e_start_slave lanes --device "$src/tests/data/devices/io-32ch.xml" --count 199 --firmware-threads 2; then
+    fifo_master=("${master_rt[@]}")
+    master_rt=()
+    # The map is 796 output, 796 input and 199 mailbox-status bytes (SOEM 2.x
+    # reads each slave's SM1 status through the process data), in two frames:
+    # the first has every output and the inputs of slaves 1-167 (3 each, 2 for
+    # slaves 168-199: 565), the second the other inputs and every status byte
+    # (1 each: 199). simple_ng expects 597 (outputs x 2 + inputs) and takes more.
+    check_op_ng st_lanes_ng 764 597
+    master_rt=("${fifo_master[@]}")
+    e2e_stop "$E2E_SLAVE_PID"
+    check_slave_returned_all lanes
+    e2e_check_no_watchdog_during_run lanes > /dev/null
+    splits=$(sed -n 's/^firmware-threads 2 split-runs \([0-9]*\) .*/\1/p' "$E2E_TMP/lanes.log")
+    [ -n "$splits" ] && [ "$splits" -gt 0 ] \
+      || e2e_fail "lanes: the firmware never ran split: $(grep '^firmware-threads' "$E2E_TMP/lanes.log")"
+    echo "lanes: $(grep '^firmware-threads' "$E2E_TMP/lanes.log")"
+  else
+    e2e_fail "(b2) slave with two firmware threads did not start"
+  fi
 fi
 
 # (c) SOEM 2.x eni_test: the master built with SOEM's sample ENI
