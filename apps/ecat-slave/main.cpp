@@ -11,6 +11,8 @@
 #include "apps/ecat-slave/options.hpp"
 #include "apps/ecat-slave/runners.hpp"
 #include "esi/esi_reader.hpp"
+#include "slave/chain.hpp"
+#include "slave/lane_choice.hpp"
 
 namespace {
 
@@ -151,11 +153,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{60'000'000}));
   std::string firmware_threads = "1";
   cli.add_option("--firmware-threads", firmware_threads,
-                 "Run the slaves' firmware on N threads: the loop's and N-1 helpers that spin between frames "
-                 "(more CPU time for less wall time; the same frames as one thread; off with --trace; default 1; "
-                 "docs/performance.md \"Firmware lanes\"). auto: 2 when the chain has 192 slaves or more, the "
-                 "process two CPUs (three with --rt-priority) and the cores pass a cache line there and back in "
-                 "250 ns or less, else 1; the choice and why are printed")
+                 fmt::format("Run the slaves' firmware on N threads: the loop's and N-1 helpers that spin between "
+                             "frames (more CPU time for less wall time; the same frames as one thread; off with "
+                             "--trace; default 1; docs/performance.md \"Firmware lanes\"). auto: 2 when the chain "
+                             "has {} slaves or more, the process two CPUs (three with --rt-priority) and the cores "
+                             "pass a cache line there and back in {} ns or less, else 1; the choice and why are "
+                             "printed",
+                             ecat::slave::Chain::kMinSplitSlaves, ecat::slave::kMaxLaneRoundTrip.count()))
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1u, 64u));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
   auto* trace = cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
