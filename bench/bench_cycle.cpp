@@ -5,10 +5,9 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
-#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <string>
-#include <thread>
 
 #include "bench/bench_options.hpp"
 #include "bench/drive_line.hpp"

@@ -47,7 +47,8 @@ struct HugePageAdvice {
 // at either end stay as they are, so the resident size grows only by the
 // unused 4 KiB pages inside whole ones. Call once, after set-up: the heap
 // grown afterwards is not advised. Nothing to do (advised empty) when the heap
-// holds no whole 2 MiB page, or the kernel has THP off ("never"); an error
+// holds no whole 2 MiB page or the kernel has no transparent huge pages; with
+// them switched off ("never") the advice is given and has no effect. An error
 // only when /proc/self/maps cannot be read or madvise refuses.
 Expected<HugePageAdvice, std::string> advise_heap_huge_pages();
 

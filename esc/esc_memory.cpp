@@ -18,9 +18,10 @@
 // less than a page and the registers end at 0x0FFF, so the pages an ESC
 // touches stay as many. Every mapping has room for the largest offset,
 // whatever the block's own, so the ESCs of a chain map equal sizes: with
-// size + offset (with 8 KiB of RAM 3 pages for colour 0, 4 for the others) the 1000-drive
-// CSP cycle took 1.05-1.08x the CPU time at the same simulated cache
-// misses (docs/performance.md "Session 19: ESC mappings of one size").
+// size + offset (with 8 KiB of RAM, 3 pages for colour 0 and 4 for the
+// others) the 1000-drive CSP cycle took 1.05-1.08x the CPU time at the same
+// simulated cache misses (docs/performance.md "Session 19: ESC mappings of
+// one size").
 #include <sys/mman.h>
 #include <unistd.h>
 
