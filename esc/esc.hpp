@@ -166,6 +166,14 @@ class Esc final : public Pdi {
     return dc_;
   }
   const DcUnit& dc() const noexcept { return dc_; }
+  // Whether anything accessed this ESC from outside a frame since the last
+  // take_in_accesses(). The segment's dirty set says the same until the
+  // segment reads the ESC again at its next frame; this tells a user that
+  // takes the ESC's state in after its own firmware ran (slave::Chain)
+  // whether any access came after that (issue 30: the one-drive cycle
+  // noted its slave twice, for its own firmware's accesses).
+  bool accessed() const noexcept { return hook_.accessed; }
+  void take_in_accesses() noexcept { hook_.accessed = false; }
   // SM n; one this ESC does not have (n >= the count in 0x0005) is a
   // disabled SM whose registers are what those registers read (0, status
   // 0x30).
@@ -227,6 +235,7 @@ class Esc final : public Pdi {
   void apply_route_passes(const LinePass& p) noexcept;
   void touch() noexcept {
     sync_pass();
+    hook_.accessed = true;
     if (hook_.dirty_word != nullptr) *hook_.dirty_word |= hook_.dirty_bit;
   }
 

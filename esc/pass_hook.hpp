@@ -61,6 +61,11 @@ struct PassHook {
   std::uint64_t* dirty_word = nullptr;  // the word of the segment's dirty set
   std::uint64_t dirty_bit = 0;
   std::uint32_t index = 0;   // position in the line
+  // Accessed from outside a frame since the segment's user last took the
+  // ESC's state in (Esc::accessed): set by every such access, as the dirty
+  // bit is, but cleared by that user, not the segment. (In the padding
+  // after `index`: the Esc's members after the hook stay where they were.)
+  bool accessed = false;
   std::uint64_t synced = 0;  // the LinePass::frame its times include
 };
 

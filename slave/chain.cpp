@@ -174,6 +174,7 @@ void Chain::note(std::size_t i, Notes& notes) noexcept {
   } else {
     pending_[i / 64] &= ~bit;
   }
+  slaves_[i]->esc().take_in_accesses();
   notes.set(*this, i, s.visit_at(), s.next_deadline());
 }
 
@@ -186,7 +187,9 @@ void Chain::note_touched() noexcept {
   const std::span<const std::uint64_t> entered = segment_.entered();
   for (std::size_t w = 0; w < pending_.size(); ++w) {
     for (std::uint64_t bits = dirty[w] | entered[w]; bits != 0; bits &= bits - 1) {
-      note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)));
+      const std::size_t i = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+      // Dirty for its own firmware's or poll's accesses only: noted after them.
+      if ((entered[w] & (std::uint64_t{1} << (i % 64))) != 0 || slaves_[i]->esc().accessed()) note(i);
     }
   }
 }

@@ -239,8 +239,9 @@ class Chain {
   Nanoseconds poll_due(Nanoseconds now, bool next) noexcept;
   // Notes again the slaves changed since their last note other than by this
   // chain's polls and firmware runs: a frame entered their ESC (before
-  // run_firmware saw it) or anything accessed it from outside a frame (the
-  // segment's dirty set: a PDI host, a fault, a test).
+  // run_firmware saw it) or anything accessed it from outside a frame after
+  // that note (a PDI host, a fault, a test: in the segment's dirty set and
+  // esc::Esc::accessed, which a note clears).
   void note_touched() noexcept;
   std::uint8_t next_colour() const noexcept;
 

@@ -22,12 +22,14 @@
 #include <memory>
 #include <optional>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "common/le.hpp"
 #include "esc/access_side.hpp"
 #include "esc/dc/dc_unit.hpp"
 #include "esc/registers.hpp"
+#include "esc/dc/dc_registers.hpp"
 #include "master/coe_client.hpp"
 #include "tests/slave/inprocess_fixture.hpp"
 
@@ -320,6 +322,77 @@ TEST(ChainPoll, DuePollingGivesTheSameFramesEventsAndRegistersAsPollingEverySlav
     all.chain[i].esc().dc().read(0, b, end, esc::Side::Pdi);
     EXPECT_EQ(a, b) << "slave " << i;
   }
+}
+
+}  // namespace
+}  // namespace ecat::test
+
+namespace ecat::test {
+namespace {
+
+// Issue 30: a slave's own firmware accesses its ESC whenever it runs, and
+// the chain takes the slave's times in right after (Chain::note); an access
+// from outside after that (here through an Esc& kept from before, as a PDI
+// host or a test holds one) must still make the next poll look at the
+// slave again, although the ESC was already marked as accessed for the
+// segment by the firmware (esc::Segment::accessed, not its dirty set). The
+// access starts SYNC0 over the PDI (the master gave it the sync unit): the
+// due chain's polls must return the deadlines, and the pulse come at its
+// start time, as with a chain that polls every slave.
+TEST(ChainPoll, AnAccessAfterTheSlavesOwnFirmwareRanIsSeenByTheNextPoll) {
+  constexpr std::size_t kSlave = 2;
+  constexpr std::uint32_t kLeadNs = 200'000;
+  constexpr int kMaxPolls = 50;
+  constexpr std::uint16_t kAlPreOp = 0x0002;
+  std::array<std::vector<Nanoseconds>, 2> deadlines;
+  std::array<std::vector<SyncEdge>, 2> edges;
+  std::array<std::uint64_t, 2> start{};
+  for (int k = 0; k < 2; ++k) {
+    InProcess p;
+    p.chain.set_polling_due(k == 0);
+    p.add_default(kSlaves);
+    ASSERT_TRUE(p.master.scan());
+    const std::uint16_t station = p.master.slave(kSlave).station_address;
+    ASSERT_TRUE(p.master.fpwr_u8(station, esc::reg::kDcBase + esc::dcreg::kCyclicUnitControl,
+                                 esc::dcreg::kSyncOwnerPdi));
+    esc::Esc& outside = p.chain[kSlave].esc();
+    SyncLog log(edges[k], kSlave);
+    outside.dc().set_observer(&log);
+    // A frame that makes the slave's firmware run (an AL control event):
+    // it refuses PreOp without mailbox SMs, writing the AL status and code
+    // through the PDI, and the chain notes it.
+    ASSERT_TRUE(p.master.fpwr_u16(station, esc::reg::kAlControl, kAlPreOp));
+    ASSERT_EQ(std::as_const(p.chain)[kSlave].status().code, esc::AlStatusCode::InvalidMailboxConfigurationPreOp);
+    // What was due by now ran: no slave is due by time at the next poll.
+    const std::optional<Nanoseconds> before = p.chain.poll(p.clock.now());
+    ASSERT_TRUE(!before || *before > p.clock.now() + std::chrono::nanoseconds(kLeadNs));
+    // From outside the chain, over the PDI: SYNC0 every cycle from 200 µs on.
+    std::uint8_t now[8]{};
+    outside.read(esc::reg::kDcBase + esc::dcreg::kSystemTime, now);
+    start[k] = load_le<std::uint64_t>(now) + kLeadNs;
+    std::uint8_t cycle[4]{};
+    store_le<std::uint32_t>(cycle, kCycleNs);
+    outside.write(esc::reg::kDcBase + esc::dcreg::kSync0CycleTime, cycle);
+    std::uint8_t at[8]{};
+    store_le<std::uint64_t>(at, start[k]);
+    outside.write(esc::reg::kDcBase + esc::dcreg::kStartTimeCyclicOperation, at);
+    const std::uint8_t on[] = {esc::dcreg::kActivateSyncUnit | esc::dcreg::kActivateSync0};
+    outside.write(esc::reg::kDcBase + esc::dcreg::kActivation, on);
+    // Poll at each deadline returned, as ecat-slave does on a quiet wire,
+    // until the first pulse.
+    for (int n = 0; n < kMaxPolls && edges[k].empty(); ++n) {
+      const std::optional<Nanoseconds> next = p.chain.poll(p.clock.now());
+      if (!next) break;
+      deadlines[k].push_back(*next);
+      p.clock.set(std::max(p.clock.now(), *next));
+    }
+    outside.dc().set_observer(nullptr);
+    ASSERT_FALSE(edges[k].empty()) << (k == 0 ? "due" : "all") << ": no SYNC0 pulse";
+  }
+  EXPECT_EQ(deadlines[0], deadlines[1]);
+  EXPECT_EQ(edges[0], edges[1]);
+  EXPECT_EQ(start[0], start[1]);
+  EXPECT_TRUE(edges[0].front().level);
 }
 
 }  // namespace
