@@ -76,10 +76,8 @@ class ProcessData {
   }
   void rebuild(const ProcessDataImage& image, Plan& p) noexcept;
 
-  // Compiled into read_outputs/write_inputs, their only callers (issue 30:
-  // a call per SM and direction cost the cycle its register saves).
-  [[gnu::always_inline]] inline void read_sm(esc::Pdi& pdi, std::size_t k) noexcept;
-  [[gnu::always_inline]] inline void write_sm(esc::Pdi& pdi, std::size_t k) noexcept;
+  void read_sm(esc::Pdi& pdi, std::size_t k) noexcept;
+  void write_sm(esc::Pdi& pdi, std::size_t k) noexcept;
 
   ObjectStore& store_;
   PdoConfig& config_;

@@ -234,18 +234,15 @@ class Chain {
   // Each returns the earliest deadline, kNoDeadline when none (no optional
   // returned through a call: common/clock.hpp).
   Nanoseconds poll_every(Nanoseconds now) noexcept;
-  // One of them, as the modes say (`next`: poll_due's). poll_due and
-  // note_touched are compiled into their callers (this file only): each
-  // call's register saves were ~20 instructions of a one-drive cycle of
-  // ~3,900 (issue 30, docs/performance.md "Session 20").
+  // One of them, as the modes say (`next`: poll_due's).
   Nanoseconds poll_at(Nanoseconds now, bool next) noexcept;
-  [[gnu::always_inline]] inline Nanoseconds poll_due(Nanoseconds now, bool next) noexcept;
+  Nanoseconds poll_due(Nanoseconds now, bool next) noexcept;
   // Notes again the slaves changed since their last note other than by this
   // chain's polls and firmware runs: a frame entered their ESC (before
   // run_firmware saw it) or anything accessed it from outside a frame after
   // that note (a PDI host, a fault, a test: in the segment's dirty set and
   // esc::Esc::accessed, which a note clears).
-  [[gnu::always_inline]] inline void note_touched() noexcept;
+  void note_touched() noexcept;
   std::uint8_t next_colour() const noexcept;
 
   const Clock& clock_;
