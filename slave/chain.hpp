@@ -205,7 +205,8 @@ class Chain {
   // Runs slave i's firmware if a frame left it work; keeps what it waits for.
   template <class Notes>
   void after_frame(std::size_t i, Nanoseconds now, Notes& notes) noexcept;
-  // Keeps slave i's pending bit, its wake time and its next deadline.
+  // Keeps slave i's pending bit, its wake time and its next deadline, and
+  // takes in its ESC's accesses so far (esc::Esc::take_in_accesses).
   template <class Notes>
   void note(std::size_t i, Notes& notes) noexcept;
   void note(std::size_t i) noexcept {
