@@ -136,7 +136,7 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
 
 void Chain::rescanned() noexcept {
   rescan_ = false;
-  split_ok_ = lanes_ && !serial_forced_ && slaves_run_apart();
+  split_ok_ = lanes_ && !serial_forced_ && !split_paused_ && slaves_run_apart();
   // A split run lists its words without allocating (slaves may have been
   // added since set_firmware_threads); without room, no split.
   if (split_ok_ && split_words_.capacity() < pending_.size()) {

@@ -96,6 +96,13 @@ class Chain {
   }
   // Whether keep_firmware_serial was called (ecat-slave's statistics say so).
   bool firmware_kept_serial() const noexcept { return serial_forced_; }
+  // Paused, every run stays on this thread (the helpers go to sleep after
+  // their idle spin) until resumed; the frames are the same either way. The
+  // --firmware-threads auto judge (slave/lane_judge.hpp) switches it.
+  // Resuming takes effect at the next run, which asks every slave once (a
+  // rescan: the split's conditions are checked again there).
+  void pause_split(bool paused) noexcept;
+  bool split_paused() const noexcept { return split_paused_; }
   // Whether every slave's firmware may run on any thread (VirtualSlave::
   // runs_apart; slave/lane_choice.hpp asks before it chooses two).
   bool slaves_run_apart() const noexcept;
@@ -287,6 +294,7 @@ class Chain {
   std::uint64_t split_runs_ = 0;
   Nanoseconds split_now_{0};
   bool serial_forced_ = false;  // keep_firmware_serial
+  bool split_paused_ = false;   // pause_split
   // Every slave asked and polled every time: nothing reads the pending
   // bits and times, so they are not kept (BM_Cycle_CspFullPass).
   bool untracked() const noexcept { return ask_all_ && poll_all_; }

@@ -94,6 +94,16 @@ void Chain::note_word(void* chain, std::size_t k, unsigned lane) noexcept {
   for (; bits != 0; bits &= bits - 1) c.note(w * 64 + static_cast<std::size_t>(std::countr_zero(bits)), c.lane_notes_[lane]);
 }
 
+void Chain::pause_split(bool paused) noexcept {
+  if (paused == split_paused_) return;
+  split_paused_ = paused;
+  if (paused) {
+    split_ok_ = false;
+  } else {
+    rescan_ = true;  // rescanned() decides split_ok_ and reserves the word list's room
+  }
+}
+
 bool Chain::slaves_run_apart() const noexcept {
   return std::all_of(slaves_.begin(), slaves_.end(), [](const auto& s) { return s->runs_apart(); });
 }
