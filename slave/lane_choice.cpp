@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -16,10 +17,10 @@ constexpr unsigned kLanes = 2;
 // A SCHED_FIFO loop leaves a CPU to the rest of the host (a master beside it).
 constexpr unsigned kCpusForRealtimeLanes = 3;
 
-// cache_line_round_trip: the clock is read every kTripsPerLook trips, and a
-// round stops after kMaxRound.
+// cache_line_round_trip: the clock is read every kTripsPerLook trips, and
+// every kSpinsPerLook spins inside a trip.
 constexpr unsigned kTripsPerLook = 16;
-constexpr Nanoseconds kMaxRound = std::chrono::milliseconds(20);
+constexpr unsigned kSpinsPerLook = 1024;
 
 unsigned cpus_needed(const LaneHost& host) noexcept { return host.realtime ? kCpusForRealtimeLanes : kLanes; }
 
@@ -54,18 +55,23 @@ LaneChoice choose_firmware_threads(const LaneHost& host) {
                               host.cpus, ns)};
 }
 
-Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds) {
+Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds, Nanoseconds max_round) {
   trips = std::max(trips, 1u);
   rounds = std::max(rounds, 1u);
-  alignas(64) std::atomic<std::uint64_t> ball{0};
-  std::atomic<bool> done{false};
+  // Shared with the other thread, which is left behind (detached) when it
+  // never ran: joining it would wait for the scheduler as long as the trip.
+  struct Court {
+    alignas(64) std::atomic<std::uint64_t> ball{0};
+    std::atomic<bool> done{false};
+  };
+  const auto court = std::make_shared<Court>();
   // The other thread answers every odd value with the next even one.
-  std::thread other([&] {
+  std::thread other([court] {
     std::uint64_t answered = 0;
-    while (!done.load(std::memory_order_relaxed)) {
-      const std::uint64_t v = ball.load(std::memory_order_acquire);
+    while (!court->done.load(std::memory_order_relaxed)) {
+      const std::uint64_t v = court->ball.load(std::memory_order_acquire);
       if (v != answered && (v & 1) != 0) {
-        ball.store(v + 1, std::memory_order_release);
+        court->ball.store(v + 1, std::memory_order_release);
         answered = v + 1;
       }
     }
@@ -73,27 +79,39 @@ Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds) {
   std::vector<Nanoseconds> per_trip;
   per_trip.reserve(rounds);
   std::uint64_t v = 0;
-  for (unsigned r = 0; r < rounds; ++r) {
+  bool answered = true;  // false: a trip was never answered within max_round
+  for (unsigned r = 0; r < rounds && answered; ++r) {
     const auto start = std::chrono::steady_clock::now();
     Nanoseconds elapsed{0};
     unsigned done_trips = 0;
     while (done_trips < trips) {
-      ball.store(++v, std::memory_order_release);
-      while (ball.load(std::memory_order_acquire) != v + 1) {
-      }
-      ++v;
+      court->ball.store(++v, std::memory_order_release);
       // A host too busy to run the other thread ends the round early (its
-      // figure is then that of a slow host, as it should be), never a hang.
+      // figure is then that of a slow host, as it should be), never a hang
+      // and never longer than max_round, even inside a trip.
+      for (unsigned spins = 1; court->ball.load(std::memory_order_acquire) != v + 1; ++spins) {
+        if (spins % kSpinsPerLook == 0 && std::chrono::steady_clock::now() - start > max_round) {
+          answered = false;
+          break;
+        }
+      }
+      if (!answered) break;
+      ++v;
       if (++done_trips % kTripsPerLook == 0) {
         elapsed = std::chrono::steady_clock::now() - start;
-        if (elapsed > kMaxRound) break;
+        if (elapsed > max_round) break;
       }
     }
     elapsed = std::chrono::steady_clock::now() - start;
-    per_trip.push_back(elapsed / done_trips);
+    // An unanswered trip took at least the whole round.
+    per_trip.push_back(answered ? elapsed / done_trips : elapsed);
   }
-  done.store(true);
-  other.join();
+  court->done.store(true);
+  if (answered) {
+    other.join();
+  } else {
+    other.detach();
+  }
   std::nth_element(per_trip.begin(), per_trip.begin() + per_trip.size() / 2, per_trip.end());
   return per_trip[per_trip.size() / 2];
 }

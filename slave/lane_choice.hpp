@@ -46,7 +46,11 @@ LaneChoice choose_firmware_threads(const LaneHost& host);
 // The median time of a cache line from this thread to a second one and
 // back (an atomic this thread writes and the other answers), over `rounds`
 // rounds of `trips` round trips on the real clock: what the lanes'
-// hand-off and the ESC lines a helper wrote cost each time.
-Nanoseconds cache_line_round_trip(unsigned trips = 2000, unsigned rounds = 5);
+// hand-off and the ESC lines a helper wrote cost each time. A round ends
+// after `max_round` whatever it did (a host too busy to run the second
+// thread then reads as a far core).
+inline constexpr Nanoseconds kMaxRoundTripRound = std::chrono::milliseconds(20);
+Nanoseconds cache_line_round_trip(unsigned trips = 2000, unsigned rounds = 5,
+                                  Nanoseconds max_round = kMaxRoundTripRound);
 
 }  // namespace ecat::slave
