@@ -3,6 +3,8 @@
 #include <arpa/inet.h>
 #include <sched.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 
 #include <fmt/format.h>
@@ -89,34 +91,50 @@ Expected<std::unique_ptr<slave::Chain>, std::string> make_chain(const SlaveProgr
   return chain;
 }
 
-Expected<void, std::string> start_firmware_threads(slave::Chain& chain, const SlaveProgramOptions& options) {
+Expected<std::unique_ptr<slave::LaneJudge>, std::string> start_firmware_threads(slave::Chain& chain,
+                                                                                const SlaveProgramOptions& options,
+                                                                                const Clock* judge_clock) {
   cpu_set_t allowed;
   CPU_ZERO(&allowed);
   const bool known = sched_getaffinity(0, sizeof allowed, &allowed) == 0;
   const unsigned cpus = known ? static_cast<unsigned>(CPU_COUNT(&allowed)) : 1u;
   unsigned threads = options.firmware_threads;
+  std::unique_ptr<slave::LaneJudge> judge;
   if (options.firmware_threads_auto) {
     slave::LaneHost host;
     host.cpus = cpus;
     host.realtime = options.rt_priority > 0;
     host.slaves = chain.size();
     host.slaves_run_apart = chain.slaves_run_apart();
-    if (slave::round_trip_decides(host)) host.round_trip = slave::cache_line_round_trip();
+    const bool measured = slave::round_trip_decides(host);
+    if (measured) host.round_trip = slave::cache_line_round_trip();
     const slave::LaneChoice choice = slave::choose_firmware_threads(host);
     threads = choice.threads;
-    if (!options.quiet) fmt::print(stderr, "ecat-slave: --firmware-threads auto: {} ({})\n", threads, choice.reason);
+    std::string again;
+    if (measured && judge_clock != nullptr && options.firmware_threads_recheck_s > 0) {
+      slave::LaneJudge::Settings s;
+      s.every = std::chrono::duration_cast<Nanoseconds>(std::chrono::duration<double>(options.firmware_threads_recheck_s));
+      judge = std::make_unique<slave::LaneJudge>(threads > 1, judge_clock->now(), s);
+      again = fmt::format("; judged again every {} s while running", options.firmware_threads_recheck_s);
+    }
+    if (!options.quiet) {
+      fmt::print(stderr, "ecat-slave: --firmware-threads auto: {} ({}){}\n", threads, choice.reason, again);
+    }
   }
-  if (auto ok = chain.set_firmware_threads(threads); !ok) return ok;
+  // Judged: the helper is there for the trials of two threads, asleep while paused.
+  const unsigned started = judge ? std::max(threads, 2u) : threads;
+  if (auto ok = chain.set_firmware_threads(started); !ok) return fail(ok.error());
+  if (judge && !judge->split()) chain.pause_split(true);
   if (known && threads > cpus && !options.quiet) {
     std::fprintf(stderr,
                  "ecat-slave: warning: --firmware-threads %u on %u CPU(s): the helpers spin between frames and "
                  "will take the loop's CPU time\n",
                  threads, cpus);
   }
-  return {};
+  return judge;
 }
 
-std::string format_stats(const slave::Chain& chain) {
+std::string format_stats(const slave::Chain& chain, const slave::LaneJudge* judge) {
   const slave::ChainStats& s = chain.stats();
   std::string out = fmt::format(
       "frames {} returned {} malformed {} lost {} datagrams {} wkc-sum {} stale-dropped {}\n", s.frames_received,
@@ -124,9 +142,17 @@ std::string format_stats(const slave::Chain& chain) {
   if (chain.firmware_threads() > 1) {
     // --firmware-threads: the firmware runs split over the threads, the
     // 64-slave words the helpers took, and whether something kept it serial.
-    out += fmt::format("firmware-threads {} split-runs {} helper-words {}{}\n", chain.firmware_threads(),
+    out += fmt::format("firmware-threads {} split-runs {} helper-words {}{}", chain.firmware_threads(),
                        chain.split_runs(), chain.helped_words(),
                        chain.firmware_kept_serial() ? " kept-serial (a fault's ESM guard)" : "");
+    // --firmware-threads auto, judged while running: the way now, the
+    // trials so far and the last one's verdict.
+    if (judge) {
+      out += fmt::format(" auto {} trials {} switches {}", chain.split_paused() ? "1" : "2", judge->trials(),
+                         judge->switches());
+      if (judge->last_trial()) out += fmt::format(" last: {}", judge->last_trial()->reason);
+    }
+    out += "\n";
   }
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const slave::SlaveStatus st = chain[i].status();

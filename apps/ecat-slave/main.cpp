@@ -161,6 +161,12 @@ int main(int argc, char** argv) {
                              "printed",
                              ecat::slave::Chain::kMinSplitSlaves, ecat::slave::kMaxLaneRoundTrip.count()))
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1u, 64u));
+  cli.add_option("--firmware-threads-recheck", o.firmware_threads_recheck_s,
+                 "With --firmware-threads auto in a live run: every SECONDS, run the firmware the other way "
+                 "(1 or 2 threads) for half a second between two half seconds of the way in force, and take it "
+                 "when it took at most 0.9x the wall time per frame; the statistics show each verdict (default "
+                 "10; 0 = only the start's choice)")
+      ->check(CLI::Range(0.0, 3600.0));
   cli.add_option("--ppm", ppm, "Comma-separated DC oscillator errors per slave in ppm (e.g. 100,-50)");
   auto* trace = cli.add_option("--trace", o.trace_vcd, "Write a VCD trace of SYNC pulses, SM events and ESM states");
   cli.add_option("--plot", o.plot_svg, "Write an SVG plot of the first drive's motion at exit");

@@ -109,6 +109,10 @@ struct SlaveProgramOptions {
   // (slave/lane_choice.hpp).
   unsigned firmware_threads = 1;
   bool firmware_threads_auto = false;
+  // --firmware-threads-recheck S: with auto, a live run judges one thread
+  // against two again every S seconds (slave/lane_judge.hpp); 0: the
+  // start's choice stays.
+  double firmware_threads_recheck_s = 10.0;
   std::string trace_vcd;
   std::string plot_svg;
   std::vector<double> ppm;  // per slave oscillator error

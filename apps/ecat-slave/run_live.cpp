@@ -18,6 +18,7 @@
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
 #include "slave/fault_catalogue.hpp"
+#include "slave/lane_choice.hpp"
 #include "slave/faults/reply_faults.hpp"
 #include "transport/raw_socket_transport.hpp"
 #include "transport/udp_transport.hpp"
@@ -78,6 +79,10 @@ Expected<std::vector<SlavePort>, std::string> named_links(const SlaveProgramOpti
 // Longest wait for a frame, so signals and timers are seen promptly even
 // when ppoll is not interrupted.
 constexpr Nanoseconds kMaxWait = std::chrono::milliseconds(50);
+// --firmware-threads auto: the round trip looked at before a trial of two
+// threads - 256 trips (~25 us with the cores close), ended after 1 ms.
+constexpr unsigned kTrialProbeTrips = 256;
+constexpr Nanoseconds kTrialProbe = std::chrono::milliseconds(1);
 
 struct Medium {
   std::unique_ptr<transport::Transport> transport;
@@ -164,8 +169,8 @@ std::string format_udp_stats(const transport::UdpStats& s) {
                      s.datagrams_accepted, s.refused_source, s.length_mismatch, s.replies_refused);
 }
 
-void print_stats(const slave::Chain& line, const transport::UdpTransport* udp) {
-  std::string out = format_stats(line);
+void print_stats(const slave::Chain& line, const transport::UdpTransport* udp, const slave::LaneJudge* judge) {
+  std::string out = format_stats(line, judge);
   if (udp) out += format_udp_stats(udp->stats());
   std::fputs(out.c_str(), stderr);
 }
@@ -180,6 +185,33 @@ void send_held_replies(slave::FaultCatalogue& faults, Nanoseconds now, std::span
     if (auto s = out.send(buffer.first(held->length)); !s && !quiet) {
       std::fprintf(stderr, "ecat-slave: send failed: %s\n", std::string(transport::describe(s.error())).c_str());
     }
+  }
+}
+
+// --firmware-threads auto, judged while running: one frame's firmware wall
+// time (`busy`: the polls before the frame and the run after it) to the
+// judge, whose way the chain then takes; a switch is said on stderr.
+void judge_frame(slave::LaneJudge& judge, slave::Chain& line, Nanoseconds now, Nanoseconds busy,
+                 std::uint64_t& splits_seen, bool quiet) {
+  // Before a trial of two threads, the cores' round trip (a few hundred
+  // trips, at most kTrialProbe): with the helper's CPU taken or the cores
+  // far apart, a trial would stall the master's frames (measured beside a
+  // CPU hog: frames of 26 ms) for nothing.
+  if (!judge.split() && judge.trial_due(now)) {
+    const Nanoseconds trip = slave::cache_line_round_trip(kTrialProbeTrips, 1, kTrialProbe);
+    if (trip > slave::kMaxLaneRoundTrip) {
+      judge.skip_trial(now, fmt::format("no trial of 2 threads: a cache line between the cores and back takes {} ns, "
+                                        "more than {} ns",
+                                        trip.count(), slave::kMaxLaneRoundTrip.count()));
+    }
+  }
+  const bool split_ran = line.split_runs() != splits_seen;
+  splits_seen = line.split_runs();
+  const std::uint32_t switches = judge.switches();
+  if (!judge.add(now, busy, split_ran)) return;
+  line.pause_split(!judge.split());
+  if (!quiet && judge.switches() != switches) {
+    std::fprintf(stderr, "ecat-slave: --firmware-threads auto: %s\n", judge.last_trial()->reason.c_str());
   }
 }
 
@@ -201,10 +233,14 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       return 1;
     }
   }
-  if (auto ok = start_firmware_threads(**chain, o); !ok) {
-    std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
+  auto lanes = start_firmware_threads(**chain, o, &clock);
+  if (!lanes) {
+    std::fprintf(stderr, "ecat-slave: %s\n", lanes.error().c_str());
     return 1;
   }
+  const std::unique_ptr<slave::LaneJudge> lane_judge = std::move(*lanes);
+  Nanoseconds firmware_busy{0};  // for lane_judge: since the last frame's judge_frame
+  std::uint64_t splits_seen = 0;
   if (o.cpu >= 0) {
     if (auto ok = pin_to_cpu(o.cpu); !ok) {
       std::fprintf(stderr, "ecat-slave: %s\n", ok.error().c_str());
@@ -398,7 +434,9 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       drained = false;  // look for the next queued frame before time moves on
       // A frame older than the master waits for is lost on the wire: not
       // passed, not answered, counted (Chain::admit, --max-frame-age).
-      const std::optional<Nanoseconds> admitted = line.admit(r->arrival, clock.now());
+      const Nanoseconds received = clock.now();
+      const std::optional<Nanoseconds> admitted = line.admit(r->arrival, received);
+      if (lane_judge) firmware_busy += clock.now() - received;  // the due polls before the frame
       if (!admitted) continue;
       const Nanoseconds at = *admitted;
       std::span<std::uint8_t> frame(buffer.data(), r->length);
@@ -413,7 +451,14 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
         }
       }
       send_held_replies(faults, clock.now(), buffer, t, medium->redundant.get(), o.quiet);
+      const Nanoseconds firmware_start = lane_judge ? clock.now() : Nanoseconds{0};
       line.run_firmware(at);
+      if (lane_judge) {
+        const Nanoseconds firmware_end = clock.now();
+        judge_frame(*lane_judge, line, firmware_end, firmware_busy + (firmware_end - firmware_start), splits_seen,
+                    o.quiet);
+        firmware_busy = Nanoseconds{0};
+      }
       if (host) host->notify(at);
       continue;
     }
@@ -426,7 +471,9 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     }
     drained = r.error() == transport::TransportError::Timeout;
     send_held_replies(faults, clock.now(), buffer, t, medium->redundant.get(), o.quiet);
-    deadline = line.poll(clock.now());
+    const Nanoseconds poll_start = clock.now();
+    deadline = line.poll(poll_start);
+    if (lane_judge) firmware_busy += clock.now() - poll_start;  // SYNC0's application cycles, watchdogs
     if (host) {
       host->notify(clock.now());  // SYNC pulses and events of the timers just run
       // The firmware's accesses may have armed a watchdog or changed events.
@@ -448,7 +495,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
       g_print_stats = 0;
       next_stats = clock.now() + stats_period;
-      print_stats(line, medium->udp);
+      print_stats(line, medium->udp, lane_judge.get());
     }
   }
   int status = 0;
@@ -462,7 +509,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       status = 1;
     }
   }
-  if (!o.quiet) print_stats(line, medium->udp);
+  if (!o.quiet) print_stats(line, medium->udp, lane_judge.get());
   if (*control && (*control)->scenario) {
     scenario::ScenarioRunner& run = *(*control)->scenario;
     run.abort(clock.now(), "ecat-slave was stopped before the scenario was over");
