@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <memory>
 #include <thread>
 #include <vector>
 
@@ -60,24 +59,36 @@ Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds, Nanoseconds m
   rounds = std::max(rounds, 1u);
   // Shared with the other thread, which is left behind (detached) when it
   // never ran: joining it would wait for the scheduler as long as the trip.
+  // Whichever of the two lets go of it last deletes it.
   struct Court {
     alignas(64) std::atomic<std::uint64_t> ball{0};
     std::atomic<bool> done{false};
-  };
-  const auto court = std::make_shared<Court>();
-  // The other thread answers every odd value with the next even one.
-  std::thread other([court] {
-    std::uint64_t answered = 0;
-    while (!court->done.load(std::memory_order_relaxed)) {
-      const std::uint64_t v = court->ball.load(std::memory_order_acquire);
-      if (v != answered && (v & 1) != 0) {
-        court->ball.store(v + 1, std::memory_order_release);
-        answered = v + 1;
-      }
+    std::atomic<unsigned> holders{2};
+    static void let_go(Court* c) noexcept {
+      if (c->holders.fetch_sub(1, std::memory_order_acq_rel) == 1) delete c;
     }
-  });
+  };
   std::vector<Nanoseconds> per_trip;
   per_trip.reserve(rounds);
+  Court* const court = new Court;
+  // The other thread answers every odd value with the next even one.
+  std::thread other;
+  try {
+    other = std::thread([court] {
+      std::uint64_t answered = 0;
+      while (!court->done.load(std::memory_order_relaxed)) {
+        const std::uint64_t v = court->ball.load(std::memory_order_acquire);
+        if (v != answered && (v & 1) != 0) {
+          court->ball.store(v + 1, std::memory_order_release);
+          answered = v + 1;
+        }
+      }
+      Court::let_go(court);
+    });
+  } catch (...) {
+    delete court;
+    throw;
+  }
   std::uint64_t v = 0;
   bool answered = true;  // false: a trip was never answered within max_round
   for (unsigned r = 0; r < rounds && answered; ++r) {
@@ -112,6 +123,7 @@ Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds, Nanoseconds m
   } else {
     other.detach();
   }
+  Court::let_go(court);
   std::nth_element(per_trip.begin(), per_trip.begin() + per_trip.size() / 2, per_trip.end());
   return per_trip[per_trip.size() / 2];
 }
