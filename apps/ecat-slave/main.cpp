@@ -145,6 +145,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 99));
   cli.add_option("--cpu", o.cpu, "Pin the process to this CPU")->check(CLI::NonNegativeNumber);
   cli.add_flag("--busy-poll", o.busy_poll, "Poll the socket without sleeping (lowest latency, one core busy)");
+  cli.add_option("--spin-us", o.spin_us,
+                 "After each frame, poll the socket without sleeping for this many microseconds before the loop "
+                 "may sleep again: the next frames of the master's cycle find it awake (default 0)")
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{1'000'000}));
   cli.add_option("--max-frame-age", o.max_frame_age_us,
                  "A frame that waited in the socket longer than US microseconds (kernel receive stamp against "
                  "now) is lost on the wire: dropped unprocessed and counted (default 1000 = half of SOEM's frame "

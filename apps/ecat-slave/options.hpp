@@ -98,6 +98,9 @@ struct SlaveProgramOptions {
   int rt_priority = 0;
   int cpu = -1;
   bool busy_poll = false;
+  // --spin-us N: after each frame, look at the socket without sleeping for
+  // N microseconds before the loop may sleep again (0: sleep at once).
+  std::int64_t spin_us = 0;
   // --max-frame-age US: a frame taken from the socket more than this long
   // after the kernel stamped it is lost on the wire (slave/frame_age.hpp,
   // docs/e2e.md "Stale frames"); 0: never dropped.

@@ -347,9 +347,11 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   unsigned next_port = 0;
   std::optional<Nanoseconds> deadline = line.poll(clock.now());
   bool drained = true;
+  const Nanoseconds spin = std::chrono::microseconds(o.spin_us);
+  Nanoseconds spin_until{0};  // --spin-us: no sleep before this time
   while (!g_stop) {
     Nanoseconds wait = kMaxWait;
-    if (!drained || o.busy_poll) {
+    if (!drained || o.busy_poll || (spin.count() > 0 && clock.now() < spin_until)) {
       wait = Nanoseconds{0};
     } else if (deadline) {
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
@@ -460,6 +462,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
         firmware_busy = Nanoseconds{0};
       }
       if (host) host->notify(at);
+      if (spin.count() > 0) spin_until = clock.now() + spin;
       continue;
     }
     // A datagram dropped by policy (UDP source or length) is no error: time
