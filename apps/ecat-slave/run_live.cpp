@@ -18,8 +18,8 @@
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
 #include "slave/fault_catalogue.hpp"
-#include "slave/lane_choice.hpp"
 #include "slave/faults/reply_faults.hpp"
+#include "slave/lane_choice.hpp"
 #include "transport/raw_socket_transport.hpp"
 #include "transport/udp_transport.hpp"
 
