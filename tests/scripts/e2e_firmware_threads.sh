@@ -19,6 +19,20 @@ slave_pid=""
 trap '[ -n "$slave_pid" ] && kill -9 "$slave_pid" 2> /dev/null; rm -rf "$out"' EXIT
 status=0
 fail() { echo "FAIL: $*"; status=1; }
+# stop_slave PREFIX LOG: SIGTERM, then a clean exit within 5 s (the helpers
+# block signals, so the loop thread takes it).
+stop_slave() {
+  kill -TERM "$slave_pid"
+  for _ in $(seq 50); do kill -0 "$slave_pid" 2> /dev/null || break; sleep 0.1; done
+  if kill -0 "$slave_pid" 2> /dev/null; then
+    fail "${1}ecat-slave still running 5 s after SIGTERM"
+  else
+    wait "$slave_pid"
+    local src=$?
+    [ "$src" -eq 0 ] || fail "${1}ecat-slave exit $src after SIGTERM: $(tail -3 "$2")"
+    slave_pid=""
+  fi
+}
 n=250
 port=$((36100 + $$ % 400))
 
@@ -36,16 +50,7 @@ for _ in $(seq 50); do grep -q '^firmware-threads' "$out/slave" && break; sleep 
 line=$(grep '^firmware-threads' "$out/slave" | tail -1)
 splits=$(sed -n 's/^firmware-threads 2 split-runs \([0-9]*\) .*/\1/p' <<< "$line")
 [ -n "$splits" ] && [ "$splits" -gt 0 ] || fail "no firmware run split over the two threads: '$line'"
-kill -TERM "$slave_pid"
-for _ in $(seq 50); do kill -0 "$slave_pid" 2> /dev/null || break; sleep 0.1; done
-if kill -0 "$slave_pid" 2> /dev/null; then
-  fail "ecat-slave still running 5 s after SIGTERM"
-else
-  wait "$slave_pid"
-  src=$?
-  [ "$src" -eq 0 ] || fail "ecat-slave exit $src after SIGTERM: $(tail -3 "$out/slave")"
-  slave_pid=""
-fi
+stop_slave "" "$out/slave"
 echo "$n drives in Op over UDP; $line"
 
 # --firmware-threads auto judged while running (slave/lane_judge.hpp): a
@@ -71,14 +76,5 @@ else
   # One CPU, or a chain that may not split: chosen once, nothing to judge.
   echo "auto not judged on this host: $choice"
 fi
-kill -TERM "$slave_pid"
-for _ in $(seq 50); do kill -0 "$slave_pid" 2> /dev/null || break; sleep 0.1; done
-if kill -0 "$slave_pid" 2> /dev/null; then
-  fail "auto: ecat-slave still running 5 s after SIGTERM"
-else
-  wait "$slave_pid"
-  src=$?
-  [ "$src" -eq 0 ] || fail "auto: ecat-slave exit $src after SIGTERM: $(tail -3 "$out/auto")"
-  slave_pid=""
-fi
+stop_slave "auto: " "$out/auto"
 exit $status
