@@ -15,7 +15,9 @@
 // mean of the two A windows: the A B A order cancels a load that rises or
 // falls steadily over the trial, and the margin keeps a noisy host from
 // switching back and forth. No verdict when a window saw fewer than
-// `min_frames` frames (a master that stopped or paused), or when no run
+// `min_frames` frames that took less than half of it (a master that
+// stopped or paused; a way so slow that its frames fill the window counts
+// with fewer: two threads on one CPU took 7.5 ms a frame), or when no run
 // was split in the split windows (the chain's busy slaves were too few to
 // split: both ways ran the same code).
 //

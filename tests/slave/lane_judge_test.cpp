@@ -240,6 +240,28 @@ TEST(LaneJudge, ASkippedTrialWaitsAWholePeriod) {
   EXPECT_TRUE(j.trial_due(milliseconds(2000)));
 }
 
+// Both threads pinned to one CPU (taskset, measured: 66 frames in 500 ms,
+// 7.5 ms each, the master waiting): the way in force passes 5 frames a
+// window here, 20 ms each, but they fill its windows, so they count, and
+// the trial of one thread (16 us every millisecond) wins.
+TEST(LaneJudge, FewFramesThatFillTheirWindowStillCount) {
+  LaneJudge j(true, Nanoseconds{0}, quick());
+  Nanoseconds now{0};
+  while (j.trials() == 0) {
+    const bool split = j.split();
+    const Nanoseconds cost = split ? milliseconds(20) : microseconds(16);
+    j.add(now, cost, split);
+    now += split ? milliseconds(20) : milliseconds(1);
+  }
+  ASSERT_TRUE(j.last_trial());
+  EXPECT_TRUE(j.last_trial()->decided) << j.last_trial()->reason;
+  EXPECT_EQ(j.last_trial()->frames_before, 5u);
+  EXPECT_FALSE(j.split());
+  EXPECT_EQ(j.last_trial()->reason,
+            "16.0 us per frame on 1 thread against 20000.0 us on 2 threads (its windows 20000.0 and 20000.0): now 1 "
+            "thread");
+}
+
 TEST(LaneJudge, NoVerdictFromTooFewFrames) {
   LaneJudge j(false, Nanoseconds{0}, quick());
   Nanoseconds now{0};
