@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
                              "printed",
                              ecat::slave::Chain::kMinSplitSlaves, ecat::slave::kMaxLaneRoundTrip.count()))
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1u, 64u));
-  cli.add_option("--firmware-threads-recheck", o.firmware_threads_recheck_s,
+  auto* recheck = cli.add_option("--firmware-threads-recheck", o.firmware_threads_recheck_s,
                  "With --firmware-threads auto in a live run: every SECONDS, run the firmware the other way "
                  "(1 or 2 threads) for half a second between two half seconds of the way in force, and take it "
                  "when it took at most 0.9x the wall time per frame; the statistics show each verdict (default "
@@ -217,6 +217,10 @@ int main(int argc, char** argv) {
     o.firmware_threads_auto = true;
   } else {
     o.firmware_threads = static_cast<unsigned>(std::stoul(firmware_threads));  // checked: 1..64
+  }
+  if (recheck->count() > 0 && !o.firmware_threads_auto) {
+    std::fprintf(stderr, "ecat-slave: --firmware-threads-recheck needs --firmware-threads auto (see --help)\n");
+    return kExitUsage;
   }
   for (auto& f : split_commas(chain)) o.device_files.push_back(f);
   if (!topology.empty()) {
