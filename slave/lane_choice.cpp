@@ -90,39 +90,30 @@ Nanoseconds cache_line_round_trip(unsigned trips, unsigned rounds, Nanoseconds m
     throw;
   }
   std::uint64_t v = 0;
-  bool answered = true;  // false: a trip was never answered within max_round
-  // The first trip only says that the other thread runs: its start-up (a
-  // halted vCPU to wake, a CPU to be given) is no trip. Not answered within
-  // max_round, the host reads as a far core.
-  {
-    const auto start = std::chrono::steady_clock::now();
+  // Serves the ball (the next odd value) and waits for its answer, at most
+  // until `start` + max_round: false when none came (a host too busy to run
+  // the other thread then reads as a far core, never a hang).
+  const auto trip = [&](std::chrono::steady_clock::time_point start) noexcept {
     court->ball.store(++v, std::memory_order_release);
     for (unsigned spins = 1; court->ball.load(std::memory_order_acquire) != v + 1; ++spins) {
-      if (spins % kSpinsPerLook == 0 && std::chrono::steady_clock::now() - start > max_round) {
-        answered = false;
-        per_trip.push_back(std::chrono::steady_clock::now() - start);
-        break;
-      }
+      if (spins % kSpinsPerLook == 0 && std::chrono::steady_clock::now() - start > max_round) return false;
     }
     ++v;
-  }
+    return true;
+  };
+  // The first trip only says that the other thread runs: its start-up (a
+  // halted vCPU to wake, a CPU to be given) is no trip.
+  const auto handshake = std::chrono::steady_clock::now();
+  bool answered = trip(handshake);  // false: a trip was never answered within max_round
+  if (!answered) per_trip.push_back(std::chrono::steady_clock::now() - handshake);
   for (unsigned r = 0; r < rounds && answered; ++r) {
     const auto start = std::chrono::steady_clock::now();
     Nanoseconds elapsed{0};
     unsigned done_trips = 0;
     while (done_trips < trips) {
-      court->ball.store(++v, std::memory_order_release);
-      // A host too busy to run the other thread ends the round early (its
-      // figure is then that of a slow host, as it should be), never a hang
-      // and never longer than max_round, even inside a trip.
-      for (unsigned spins = 1; court->ball.load(std::memory_order_acquire) != v + 1; ++spins) {
-        if (spins % kSpinsPerLook == 0 && std::chrono::steady_clock::now() - start > max_round) {
-          answered = false;
-          break;
-        }
-      }
+      answered = trip(start);
       if (!answered) break;
-      ++v;
+      // A busy host ends the round early: its figure is that of a slow host.
       if (++done_trips % kTripsPerLook == 0) {
         elapsed = std::chrono::steady_clock::now() - start;
         if (elapsed > max_round) break;
