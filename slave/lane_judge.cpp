@@ -8,6 +8,7 @@ namespace ecat::slave {
 namespace {
 
 constexpr double kNsPerUs = 1000.0;
+constexpr double kNsPerMs = 1000.0 * kNsPerUs;
 // too_dear: the least part of a window the other way is allowed the first
 // window's time for, and the least it runs before its mean per frame counts.
 constexpr double kLeastShare = 0.1;
@@ -30,13 +31,8 @@ bool LaneJudge::add(Nanoseconds now, Nanoseconds busy, bool split_ran) {
   // Frames that stopped for longer than a window in the middle of a trial
   // (a master that paused): its windows no longer compare like with like.
   if (phase_ != Phase::Steady && now - last_sample_ > settings_.window) {
-    Trial t;
-    t.split_before = in_force_;
-    t.reason = fmt::format("no verdict: no frame for {:.1f} ms during the trial",
-                           static_cast<double>((now - last_sample_).count()) / (kNsPerUs * kNsPerUs));
-    last_ = std::move(t);
-    ++trials_;
-    enter(Phase::Steady, now);
+    skip_trial(now, fmt::format("no verdict: no frame for {:.1f} ms during the trial",
+                                static_cast<double>((now - last_sample_).count()) / kNsPerMs));
   }
   last_sample_ = now;
   if (phase_ == Phase::Steady) {
@@ -61,7 +57,7 @@ bool LaneJudge::add(Nanoseconds now, Nanoseconds busy, bool split_ran) {
       enter(Phase::After, now);
       break;
     case Phase::After:
-      finish(now);
+      end_trial(verdict(), now);
       break;
     case Phase::Steady:
       break;
@@ -73,13 +69,10 @@ void LaneJudge::skip_trial(Nanoseconds now, std::string reason) {
   Trial t;
   t.split_before = in_force_;
   t.reason = std::move(reason);
-  last_ = std::move(t);
-  ++trials_;
-  enter(Phase::Steady, now);
+  end_trial(std::move(t), now);
 }
 
-void LaneJudge::finish(Nanoseconds now) {
-  Trial t = verdict();
+void LaneJudge::end_trial(Trial t, Nanoseconds now) {
   ++trials_;
   if (t.switched) {
     in_force_ = !in_force_;
@@ -114,11 +107,9 @@ void LaneJudge::give_up(Nanoseconds now) {
   t.reason = fmt::format("{} took {:.1f} us in {} frame(s) ({:.1f} ms into its trial), more than {}x what {} took "
                          "in as long or per frame: trial ended early, stays on {}",
                          threads_of(!in_force_), static_cast<double>(current_.busy.count()) / kNsPerUs,
-                         current_.frames, static_cast<double>((now - phase_start_).count()) / (kNsPerUs * kNsPerUs),
+                         current_.frames, static_cast<double>((now - phase_start_).count()) / kNsPerMs,
                          settings_.give_up, threads_of(in_force_), threads_of(in_force_));
-  last_ = std::move(t);
-  ++trials_;
-  enter(Phase::Steady, now);
+  end_trial(std::move(t), now);
 }
 
 LaneJudge::Trial LaneJudge::verdict() const {

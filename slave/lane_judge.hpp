@@ -111,7 +111,8 @@ class LaneJudge {
   bool trying() const noexcept { return phase_ == Phase::Other; }
   // Moves to `next` at `now`, with an empty window.
   void enter(Phase next, Nanoseconds now) noexcept;
-  void finish(Nanoseconds now);
+  // Counts the trial `t`, takes the other way if it says so, and waits a period.
+  void end_trial(Trial t, Nanoseconds now);
   Trial verdict() const;
   // In the other way's window: whether it has already cost too much (give_up).
   bool too_dear(Nanoseconds now) const noexcept;
