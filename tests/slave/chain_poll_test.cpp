@@ -324,18 +324,12 @@ TEST(ChainPoll, DuePollingGivesTheSameFramesEventsAndRegistersAsPollingEverySlav
   }
 }
 
-}  // namespace
-}  // namespace ecat::test
-
-namespace ecat::test {
-namespace {
-
 // Issue 30: a slave's own firmware accesses its ESC whenever it runs, and
 // the chain takes the slave's times in right after (Chain::note); an access
 // from outside after that (here through an Esc& kept from before, as a PDI
 // host or a test holds one) must still make the next poll look at the
-// slave again, although the ESC was already marked as accessed for the
-// segment by the firmware (esc::Segment::accessed, not its dirty set). The
+// slave again, although the segment's dirty set already held the ESC from
+// the firmware's own accesses (what tells is esc::Esc::accessed). The
 // access starts SYNC0 over the PDI (the master gave it the sync unit): the
 // due chain's polls must return the deadlines, and the pulse come at its
 // start time, as with a chain that polls every slave.
@@ -343,7 +337,7 @@ TEST(ChainPoll, AnAccessAfterTheSlavesOwnFirmwareRanIsSeenByTheNextPoll) {
   constexpr std::size_t kSlave = 2;
   constexpr std::uint32_t kLeadNs = 200'000;
   constexpr int kMaxPolls = 50;
-  constexpr std::uint16_t kAlPreOp = 0x0002;
+  constexpr auto kAlPreOp = static_cast<std::uint16_t>(esc::AlState::PreOp);
   std::array<std::vector<Nanoseconds>, 2> deadlines;
   std::array<std::vector<SyncEdge>, 2> edges;
   std::array<std::uint64_t, 2> start{};

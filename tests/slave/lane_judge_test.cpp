@@ -183,10 +183,6 @@ TEST(LaneJudge, GivesUpWhenTheFramesThinOutAndEachCostsMore) {
             "as long or per frame: trial ended early, stays on 1 thread");
 }
 
-// Every tenth frame carries the drives' application cycles (200 us), the
-// others 20 us, either way: a trial that starts with such a frame goes on
-// (the allowance is never less than 1.5x what the first window took in a
-// tenth of its length: 570 us) and ends with no switch.
 // A cycle of 27 frames, the first carrying every drive's application
 // cycle (200 us, the others 2 us), the same either way: the mean of the
 // trial's first 10 frames is 2.3x the cycle's, but the mean per frame
@@ -207,6 +203,10 @@ TEST(LaneJudge, TheMeanOfAFewFramesOfACycleIsNoReasonToGiveUp) {
   EXPECT_FALSE(j.last_trial()->switched);
 }
 
+// Every tenth frame carries the drives' application cycles (200 us), the
+// others 20 us, either way: a trial that starts with such a frame goes on
+// (the allowance is never less than 1.5x what the first window took in a
+// tenth of its length: 570 us) and ends with no switch.
 TEST(LaneJudge, AHeavyFrameAtTheStartOfTheTrialIsNoReasonToGiveUp) {
   LaneJudge j(false, Nanoseconds{0}, quick());
   Nanoseconds now{0};
