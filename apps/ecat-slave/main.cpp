@@ -1,6 +1,7 @@
 // ecat-slave: a virtual EtherCAT slave, or a chain of them, on a network
 // interface (raw Ethernet), over UDP (ETG.1000.4 EtherCAT-in-UDP), or
 // replaying a master's pcap capture. See README.md and --help.
+#include <chrono>
 #include <cstdio>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include "apps/ecat-slave/options.hpp"
 #include "apps/ecat-slave/runners.hpp"
 #include "esi/esi_reader.hpp"
+#include "slave/burst_spin.hpp"
 #include "slave/chain.hpp"
 #include "slave/lane_choice.hpp"
 
@@ -145,10 +147,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 99));
   cli.add_option("--cpu", o.cpu, "Pin the process to this CPU")->check(CLI::NonNegativeNumber);
   cli.add_flag("--busy-poll", o.busy_poll, "Poll the socket without sleeping (lowest latency, one core busy)");
-  cli.add_option("--spin-us", o.spin_us,
-                 "After each frame, poll the socket without sleeping for this many microseconds before the loop "
-                 "may sleep again: the next frames of the master's cycle find it awake (default 0)")
-      ->check(CLI::Range(std::int64_t{0}, std::int64_t{1'000'000}));
+  std::string spin_us = "auto";
+  cli.add_option("--spin-us", spin_us,
+                 fmt::format("After each frame, poll the socket without sleeping for this many microseconds before "
+                             "the loop may sleep again: the next frames of the master's cycle find it awake (0: "
+                             "sleep at once). auto (the default): twice the longest time the master took to send "
+                             "the next frame of a burst among the last {} frames, at most {} us; 0 when the "
+                             "frames come one a cycle (docs/e2e.md \"Frames in bursts\")",
+                             ecat::slave::BurstSpin::kHistory,
+                             std::chrono::duration_cast<std::chrono::microseconds>(ecat::slave::BurstSpin::kBurstGap).count()))
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(std::int64_t{0}, std::int64_t{1'000'000}));
   cli.add_option("--max-frame-age", o.max_frame_age_us,
                  "A frame that waited in the socket longer than US microseconds (kernel receive stamp against "
                  "now) is lost on the wire: dropped unprocessed and counted (default 1000 = half of SOEM's frame "
@@ -212,6 +220,10 @@ int main(int argc, char** argv) {
   if (o.iface.empty() && o.pcap_in.empty() && o.udp.empty() && o.pdi.empty()) {
     std::fprintf(stderr, "ecat-slave: choose one of --iface, --pcap-in/--pcap-out, --udp or --pdi (see --help)\n");
     return kExitUsage;
+  }
+  if (spin_us != "auto") {
+    o.spin_auto = false;
+    o.spin_us = std::stoll(spin_us);  // checked: 0..1000000
   }
   if (firmware_threads == "auto") {
     o.firmware_threads_auto = true;

@@ -100,7 +100,10 @@ struct SlaveProgramOptions {
   bool busy_poll = false;
   // --spin-us N: after each frame, look at the socket without sleeping for
   // N microseconds before the loop may sleep again (0: sleep at once).
+  // --spin-us auto (the default): as long as the master's frames come in
+  // bursts (slave/burst_spin.hpp).
   std::int64_t spin_us = 0;
+  bool spin_auto = true;
   // --max-frame-age US: a frame taken from the socket more than this long
   // after the kernel stamped it is lost on the wire (slave/frame_age.hpp,
   // docs/e2e.md "Stale frames"); 0: never dropped.

@@ -1,5 +1,6 @@
 #include <poll.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "apps/ecat-slave/realtime.hpp"
 #include "apps/ecat-slave/runners.hpp"
 #include "common/frame.hpp"
+#include "slave/burst_spin.hpp"
 #include "slave/fault_catalogue.hpp"
 #include "slave/faults/reply_faults.hpp"
 #include "slave/lane_choice.hpp"
@@ -169,8 +171,11 @@ std::string format_udp_stats(const transport::UdpStats& s) {
                      s.datagrams_accepted, s.refused_source, s.length_mismatch, s.replies_refused);
 }
 
-void print_stats(const slave::Chain& line, const transport::UdpTransport* udp, const slave::LaneJudge* judge) {
+// `spin`: the --spin-us line, after the chain's first.
+void print_stats(const slave::Chain& line, const transport::UdpTransport* udp, const slave::LaneJudge* judge,
+                 const std::string& spin) {
   std::string out = format_stats(line, judge);
+  out.insert(std::min(out.find('\n') + 1, out.size()), spin);
   if (udp) out += format_udp_stats(udp->stats());
   std::fputs(out.c_str(), stderr);
 }
@@ -348,10 +353,15 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   std::optional<Nanoseconds> deadline = line.poll(clock.now());
   bool drained = true;
   const Nanoseconds spin = std::chrono::microseconds(o.spin_us);
+  slave::BurstSpin burst;     // --spin-us auto
   Nanoseconds spin_until{0};  // --spin-us: no sleep before this time
+  const auto spin_line = [&] {
+    return o.spin_auto ? fmt::format("spin-us auto {} (the last frame's)\n", burst.spin().count() / 1000)
+                       : fmt::format("spin-us {}\n", o.spin_us);
+  };
   while (!g_stop) {
     Nanoseconds wait = kMaxWait;
-    if (!drained || o.busy_poll || (spin.count() > 0 && clock.now() < spin_until)) {
+    if (!drained || o.busy_poll || clock.now() < spin_until) {
       wait = Nanoseconds{0};
     } else if (deadline) {
       wait = std::clamp(*deadline - clock.now(), Nanoseconds{0}, kMaxWait);
@@ -437,6 +447,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       // A frame older than the master waits for is lost on the wire: not
       // passed, not answered, counted (Chain::admit, --max-frame-age).
       const Nanoseconds received = clock.now();
+      if (o.spin_auto) burst.frame_arrived(r->arrival.value_or(received));
       const std::optional<Nanoseconds> admitted = line.admit(r->arrival, received);
       if (lane_judge) firmware_busy += clock.now() - received;  // the due polls before the frame
       if (!admitted) continue;
@@ -462,7 +473,8 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
         firmware_busy = Nanoseconds{0};
       }
       if (host) host->notify(at);
-      if (spin.count() > 0) spin_until = clock.now() + spin;
+      const Nanoseconds done = clock.now();
+      spin_until = done + (o.spin_auto ? burst.frame_done(done) : spin);
       continue;
     }
     // A datagram dropped by policy (UDP source or length) is no error: time
@@ -498,7 +510,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
     if (g_print_stats || (stats_period.count() > 0 && clock.now() >= next_stats)) {
       g_print_stats = 0;
       next_stats = clock.now() + stats_period;
-      print_stats(line, medium->udp, lane_judge.get());
+      print_stats(line, medium->udp, lane_judge.get(), spin_line());
     }
   }
   int status = 0;
@@ -512,7 +524,7 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
       status = 1;
     }
   }
-  if (!o.quiet) print_stats(line, medium->udp, lane_judge.get());
+  if (!o.quiet) print_stats(line, medium->udp, lane_judge.get(), spin_line());
   if (*control && (*control)->scenario) {
     scenario::ScenarioRunner& run = *(*control)->scenario;
     run.abort(clock.now(), "ecat-slave was stopped before the scenario was over");

@@ -83,9 +83,9 @@ for bad in 0 65 fast; do
   grep -q -- "--firmware-threads" "$out/bad" || fail "--firmware-threads $bad: error does not name the option: $(cat "$out/bad")"
 done
 # --firmware-threads-recheck (seconds, 0..3600, only with auto) and --spin-us
-# (0..1,000,000): out of range or without auto, refused by name.
+# (auto or 0..1,000,000): out of range or without auto, refused by name.
 for bad in "--firmware-threads-recheck -1" "--firmware-threads-recheck 3601" "--firmware-threads-recheck 5 --firmware-threads 2" \
-  "--spin-us -1" "--spin-us 1000001"; do
+  "--spin-us -1" "--spin-us 1000001" "--spin-us often"; do
   # shellcheck disable=SC2086  # the option and its value are two words
   if "$slave" --pcap-in "$out/cap.pcap" --pcap-out "$out/bad.pcap" $bad > "$out/bad" 2>&1; then
     fail "$bad accepted"
