@@ -233,6 +233,14 @@ class Esc final : public Pdi {
   }
   void apply_pass() noexcept;
   void apply_route_passes(const LinePass& p) noexcept;
+  // A frame that maps a run of ESCs (an LRW of a long line) finds each one
+  // cold: its lines were last read a cycle ago, a thousand ESCs back. The
+  // segment asks for them a few ESCs ahead of the pass (Segment::carry_line,
+  // esc/logical_access.hpp): first the object's lines the pass reads, then
+  // those its pointers lead to. A prefetch never faults and changes nothing
+  // but the caches (issue 30 item 1, docs/performance.md "Session 22").
+  inline void prefetch_pass_object() const noexcept;
+  inline void prefetch_pass_targets() const noexcept;
   void touch() noexcept {
     sync_pass();
     hook_.accessed = true;

@@ -249,6 +249,11 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
   bool back = false;        // turned back by an ESC whose port 1 is closed
   for (std::size_t i = index_.next(0); i < n; i = index_.next(i + 1)) {
     Esc* esc = escs_[i];
+    // The lines of the ESCs a few ahead (Esc::prefetch_pass_object): on a
+    // mapped run the next ones are entered too; elsewhere a few lines are
+    // fetched for nothing.
+    if (i + kPrefetchObjectAhead < n) escs_[i + kPrefetchObjectAhead]->prefetch_pass_object();
+    if (i + kPrefetchTargetsAhead < n) escs_[i + kPrefetchTargetsAhead]->prefetch_pass_targets();
     esc->sync_pass();
     if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
       passed = reached = i;

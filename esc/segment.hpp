@@ -201,6 +201,12 @@ class Segment {
   // index kept up to date after every entered ESC more (issue 30: the
   // one-slave FPRD cost 205 instructions at 49fab26, 610 with the index).
   static constexpr std::size_t kSkipFrom = 4;
+  // How many ESCs ahead of the pass carry_line asks for an ESC's object
+  // lines, and for the lines its pointers lead to (Esc::prefetch_pass_object):
+  // a mapped ESC's pass is some 20-40 ns, an L3 hit about as long; measured
+  // at 1000 drives (docs/performance.md "Session 22").
+  static constexpr std::size_t kPrefetchObjectAhead = 4;
+  static constexpr std::size_t kPrefetchTargetsAhead = 2;
   Delivery carry_ports(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;
   // carry_ports from the frame's arrival at port `p` of slave `n` at time
   // `t`, the walk's step `step`; with `resume`, its processing unit has

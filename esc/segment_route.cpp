@@ -270,6 +270,10 @@ Delivery Segment::carry_route_as(DatagramView first, std::size_t count, Nanoseco
     const std::size_t i = r.units[o];
     const RouteEvent& u = r.events[r.unit_event[o]];
     Esc* esc = escs_[i];
+    if constexpr (!all) {  // as carry_line: the units a few ahead in route order
+      if (o + kPrefetchObjectAhead < units) escs_[r.units[o + kPrefetchObjectAhead]]->prefetch_pass_object();
+      if (o + kPrefetchTargetsAhead < units) escs_[r.units[o + kPrefetchTargetsAhead]]->prefetch_pass_targets();
+    }
     esc->sync_pass();
     if constexpr (!all) {
       for (std::size_t k = 0; k < auto_increments_; ++k) {
