@@ -35,7 +35,7 @@ void BurstSpin::frame_arrived(Nanoseconds arrival) noexcept {
 Nanoseconds BurstSpin::frame_done(Nanoseconds done) noexcept {
   last_done_ = done;
   have_done_ = true;
-  if (burst_gaps_ == 0) {
+  if (burst_gaps_ == 0 || burst_gaps_ * kBurstShareIn < filled_ * kBurstShareOf) {
     spin_ = Nanoseconds{0};
     return spin_;
   }

@@ -1,6 +1,7 @@
-// slave::BurstSpin (ecat-slave --spin-us auto): the spin after a frame is
-// twice the longest burst gap of the last frames, at most kBurstGap, and
-// none for frames that come one a cycle.
+// slave::BurstSpin (ecat-slave --spin-us auto): while half of the last
+// frames came in bursts, the spin after a frame is twice the gap three in
+// four of their burst gaps stay within, at most kBurstGap; none for frames
+// that come one a cycle, now and then two.
 #include "slave/burst_spin.hpp"
 
 #include <algorithm>
@@ -90,7 +91,7 @@ TEST(BurstSpin, AFrameAlreadyQueuedHasAGapOfZero) {
 TEST(BurstSpin, TheSpinIsAtMostTheBurstGap) {
   BurstSpin s;
   Nanoseconds now{0};
-  EXPECT_EQ(BurstSpin::kBurstGap, burst(s, now, 3, microseconds(150)));
+  EXPECT_EQ(BurstSpin::kBurstGap, burst(s, now, 3, microseconds(75)));
   // A gap of exactly kBurstGap is still a burst gap; one nanosecond more is not.
   BurstSpin edge;
   Nanoseconds t{0};
@@ -107,8 +108,8 @@ TEST(BurstSpin, ThreeInFourBurstGapsSetTheSpin) {
   Nanoseconds now{0};
   (void)burst(s, now, 1, microseconds(1000));  // no gap: the first frame
   EXPECT_EQ(microseconds(40), burst(s, now, 12, microseconds(20)));
-  EXPECT_EQ(microseconds(40), burst(s, now, 4, microseconds(90)));   // 4 of 16 late
-  EXPECT_EQ(microseconds(180), burst(s, now, 1, microseconds(90)));  // 5 of 17
+  EXPECT_EQ(microseconds(40), burst(s, now, 4, microseconds(45)));  // 4 of 16 late
+  EXPECT_EQ(microseconds(90), burst(s, now, 1, microseconds(45)));  // 5 of 17
   EXPECT_EQ(microseconds(40), burst(s, now, BurstSpin::kHistory, microseconds(20)));
 }
 
@@ -120,21 +121,34 @@ TEST(BurstSpin, QueuedFramesWithALateOneNowAndThenGiveNoSpin) {
   Nanoseconds now{0};
   for (int cycle = 0; cycle < 100; ++cycle) {
     (void)burst(s, now, 1, microseconds(950));
-    ASSERT_EQ(Nanoseconds{0}, burst(s, now, 1, cycle % 10 == 5 ? microseconds(85) : Nanoseconds{0}, microseconds(15)))
+    ASSERT_EQ(Nanoseconds{0}, burst(s, now, 1, cycle % 10 == 5 ? microseconds(45) : Nanoseconds{0}, microseconds(15)))
         << "cycle " << cycle;
     ASSERT_EQ(Nanoseconds{0}, burst(s, now, 1, Nanoseconds{-microseconds(10)}, microseconds(15)))
         << "cycle " << cycle;
   }
 }
 
-// A master that stops sending bursts: once kHistory frames came one a
-// cycle, the loop sleeps at once again.
-TEST(BurstSpin, NoBurstAmongTheLastFramesNoSpin) {
+// A master that stops sending bursts: once fewer than half of the last
+// frames came in bursts, the loop sleeps at once again.
+TEST(BurstSpin, AMasterThatStopsSendingBurstsStopsTheSpin) {
   BurstSpin s;
   Nanoseconds now{0};
-  EXPECT_EQ(microseconds(40), burst(s, now, 30, microseconds(20)));
-  EXPECT_EQ(microseconds(40), burst(s, now, BurstSpin::kHistory - 1, microseconds(1000)));
-  EXPECT_EQ(Nanoseconds{0}, burst(s, now, 1, microseconds(1000)));
+  EXPECT_EQ(microseconds(40), burst(s, now, 30, microseconds(20)));  // 29 burst gaps in 30 frames
+  EXPECT_EQ(microseconds(40), burst(s, now, 28, microseconds(1000)));  // 29 in 58
+  EXPECT_EQ(Nanoseconds{0}, burst(s, now, 1, microseconds(1000)));     // 29 in 59
+}
+
+// ecat-bench-ping's master: one frame a millisecond, and now and then,
+// after a late one, the next right behind it (a gap of 50 us). Those few
+// burst gaps must not make the loop spin after every frame (the first form
+// of the rule did, and the spinning vCPU delayed the master's wake-up: p99
+// 31-46 us -> 120-232 us).
+TEST(BurstSpin, ACatchUpNowAndThenIsNoBurst) {
+  BurstSpin s;
+  Nanoseconds now{0};
+  for (int i = 0; i < 1000; ++i) {
+    ASSERT_EQ(Nanoseconds{0}, burst(s, now, 1, i % 20 == 19 ? microseconds(50) : microseconds(990))) << "frame " << i;
+  }
 }
 
 // The spin kept by moves in a sorted window equals the rule computed from
@@ -152,9 +166,9 @@ TEST(BurstSpin, EveryFrameEqualsTheRuleComputedFromScratch) {
     switch (rng() % 6) {
       case 0: step = -static_cast<std::int64_t>(rng() % 20'000); break;    // queued
       case 1: step = 1'000'000; break;                                     // the next cycle
-      case 2: step = BurstSpin::kBurstGap.count() + (rng() % 3) - 1; break;  // the edge
+      case 2: step = BurstSpin::kBurstGap.count() + static_cast<std::int64_t>(rng() % 3) - 1; break;  // the edge
       case 3: step = 25'000; break;                                        // equal gaps
-      default: step = static_cast<std::int64_t>(rng() % 220'000); break;
+      default: step = static_cast<std::int64_t>(rng() % 120'000); break;
     }
     const Nanoseconds arrival = now + Nanoseconds{step};
     s.frame_arrived(arrival);
@@ -169,7 +183,7 @@ TEST(BurstSpin, EveryFrameEqualsTheRuleComputedFromScratch) {
     }
     std::sort(burst.begin(), burst.end());
     Nanoseconds want{0};
-    if (!burst.empty()) {
+    if (!burst.empty() && 2 * burst.size() >= window.size()) {
       const std::size_t k = (burst.size() * 3 + 3) / 4 - 1;
       want = std::min(Nanoseconds{2 * burst[k]}, BurstSpin::kBurstGap);
     }
