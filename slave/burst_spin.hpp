@@ -30,6 +30,7 @@
 // every frame: the round trip's p99 went from 31-46 us to 120-232 us. Hence
 // the half of the frames, the three in four (a late frame now and then does
 // not raise the spin), and the 100 us bound.
+//
 // Pure and time-injected: the loop gives the times, the tests give theirs.
 #pragma once
 
