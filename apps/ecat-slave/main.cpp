@@ -151,12 +151,11 @@ int main(int argc, char** argv) {
   cli.add_option("--spin-us", spin_us,
                  fmt::format("After each frame, poll the socket without sleeping for this many microseconds before "
                              "the loop may sleep again: the next frames of the master's cycle find it awake (0: "
-                             "sleep at once). auto (the default): while at least half of the last {} frames came "
-                             "within {} us of the answer before (the master's cycle is a burst of frames), twice "
-                             "the time three in four of those took, at most {} us; else 0 (docs/e2e.md \"Frames "
+                             "sleep at once). auto (the default): while at least half of the last {0} frames came "
+                             "within {1} us of the answer before (the master's cycle is a burst of frames), twice "
+                             "the time three in four of those took, at most {1} us; else 0 (docs/e2e.md \"Frames "
                              "in bursts\")",
                              ecat::slave::BurstSpin::kHistory,
-                             std::chrono::duration_cast<std::chrono::microseconds>(ecat::slave::BurstSpin::kBurstGap).count(),
                              std::chrono::duration_cast<std::chrono::microseconds>(ecat::slave::BurstSpin::kBurstGap).count()))
       ->check(CLI::IsMember({"auto"}) | CLI::Range(std::int64_t{0}, std::int64_t{1'000'000}));
   cli.add_option("--max-frame-age", o.max_frame_age_us,

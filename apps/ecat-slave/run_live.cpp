@@ -356,7 +356,8 @@ int run_live(const SlaveProgramOptions& o, std::vector<od::DeviceDescription> de
   slave::BurstSpin burst;     // --spin-us auto
   Nanoseconds spin_until{0};  // --spin-us: no sleep before this time
   const auto spin_line = [&] {
-    return o.spin_auto ? fmt::format("spin-us auto {} (the last frame's)\n", burst.spin().count() / 1000)
+    return o.spin_auto ? fmt::format("spin-us auto {} (the last frame's)\n",
+                                   std::chrono::duration_cast<std::chrono::microseconds>(burst.spin()).count())
                        : fmt::format("spin-us {}\n", o.spin_us);
   };
   while (!g_stop) {
