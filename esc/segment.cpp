@@ -326,22 +326,34 @@ Delivery Segment::carry_line(DatagramView first, std::size_t count, Nanoseconds 
 // for the next frame that skips.
 Delivery Segment::carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
-  if (escs_.empty() || !master_[0].up) [[unlikely]] return d;
+  const std::size_t n = escs_.size();
+  if (n == 0 || !master_[0].up) [[unlikely]] return d;
   index_stale_ = true;
   if (passes_pending_) [[unlikely]] {  // frames of the skipping path passed ESCs by
     for (Esc* e : escs_) e->sync_pass();
     passes_pending_ = false;
   }
+  return n == 1 ? carry_one(first, count, now) : carry_dense_line(first, count, now);
+}
+
+// The ESCs entered are always the first `reached` (or up to the one that
+// lost or destroyed the frame): their entered bits are set once, after the
+// loop, not per ESC (issue 30: 10 instructions an ESC).
+Delivery Segment::carry_dense_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+  Delivery d;
   const std::size_t n = escs_.size();
+  Esc* const* const escs = escs_.data();
   std::size_t reached = n;  // went on out of the last ESC's port 1 unless turned back
-  for (std::size_t i = 0; i < n; ++i) {
-    Esc* esc = escs_[i];
+  Nanoseconds t = now;      // when the frame reaches ESC i's port 0
+  for (std::size_t i = 0; i < n; ++i, t += out_step_) {
+    Esc* esc = escs[i];
     if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
+      index_.entered_first(i);
       esc->frame_at_closed_port(kUpstreamPort);  // a closed port takes nothing in
       return d;
     }
-    index_.entered(i);
-    if (!esc->process_datagrams(first, count, now + out_step_ * static_cast<std::int64_t>(i))) [[unlikely]] {
+    if (!esc->process_datagrams(first, count, t)) [[unlikely]] {
+      index_.entered_first(i + 1);
       d.outcome = Delivery::Outcome::Destroyed;
       return d;
     }
@@ -350,18 +362,45 @@ Delivery Segment::carry_dense(DatagramView first, std::size_t count, Nanoseconds
       reached = i + 1;
       break;
     }
-    if (route == Esc::LineRoute::Lost) [[unlikely]] return d;
+    if (route == Esc::LineRoute::Lost) [[unlikely]] {
+      index_.entered_first(i + 1);
+      return d;
+    }
   }
-  const auto r = static_cast<std::int64_t>(reached);
-  const Nanoseconds turned = now + out_step_ * r;
-  for (std::size_t i = 0; i + 1 < reached; ++i) {
-    escs_[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort),
-                                   turned + back_step_ * (r - 2 - static_cast<std::int64_t>(i)));
+  index_.entered_first(reached);
+  // Out of the last reached ESC's port 1 at `turned`; ESC i's port 1 sees
+  // it back after reached - 2 - i more hops.
+  const Nanoseconds turned = now + out_step_ * static_cast<std::int64_t>(reached);
+  Nanoseconds back = turned + back_step_ * (static_cast<std::int64_t>(reached) - 2);
+  for (std::size_t i = 0; i + 1 < reached; ++i, back -= back_step_) {
+    escs[i]->dc_.on_frame_arrival(static_cast<int>(kDownstreamPort), back);
   }
   d.outcome = Delivery::Outcome::Returned;
   d.master_port = 0;
-  d.at = turned + back_step_ * (r - 1) - hop_delay_;
+  d.at = turned + back_step_ * (static_cast<std::int64_t>(reached) - 1) - hop_delay_;
   d.processed = static_cast<unsigned>(reached);
+  return d;
+}
+
+// carry_dense for a segment of one ESC (the virtual slave of most runs):
+// no loop, and nothing to hand back on the way home.
+Delivery Segment::carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+  Delivery d;
+  Esc* const esc = escs_.front();
+  if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
+    esc->frame_at_closed_port(kUpstreamPort);
+    return d;
+  }
+  index_.entered_first(1);
+  if (!esc->process_datagrams(first, count, now)) [[unlikely]] {
+    d.outcome = Delivery::Outcome::Destroyed;
+    return d;
+  }
+  if (esc->line_route_ == Esc::LineRoute::Lost) [[unlikely]] return d;
+  d.outcome = Delivery::Outcome::Returned;
+  d.master_port = 0;
+  d.at = now + out_step_ - hop_delay_;
+  d.processed = 1;
   return d;
 }
 

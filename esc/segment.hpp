@@ -189,6 +189,8 @@ class Segment {
   // The line without skipping: every ESC entered until the frame turns back
   // (inline in send).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  [[gnu::noinline]] Delivery carry_dense_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  [[gnu::always_inline]] inline Delivery carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Out of send's hot path: a malformed frame, and the port walks.
   [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
   [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,

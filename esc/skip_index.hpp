@@ -115,6 +115,12 @@ class SkipIndex {
   // ESCs a frame entered since the last take_entered() (bit i: ESC i):
   // the slave layer runs the firmware of these only (slave::Chain).
   void entered(std::size_t i) noexcept { entered_[i / kWordBits] |= bit(i); }
+  // ESCs 0 .. count - 1 (a frame that entered every ESC up to one).
+  void entered_first(std::size_t count) noexcept {
+    std::uint64_t* w = entered_.data();
+    for (; count >= kWordBits; count -= kWordBits) *w++ = ~std::uint64_t{0};
+    if (count != 0) *w |= (std::uint64_t{1} << count) - 1;
+  }
   void entered_all() noexcept;
   std::span<std::uint64_t> entered_words() noexcept { return entered_; }
 

@@ -348,6 +348,31 @@ TEST(SegmentSkip, LrwOverEveryEscIsDenseAndTheNextFrameStillSkips) {
 // opened again by its loop bits, a cable cut and restored - is seen by the
 // next frame exactly as by the line that enters every ESC. Frames that pass
 // the changed ESC by come before and after each change.
+// A frame that enters every ESC (a broadcast) sets the entered bits of the
+// ESCs up to the one that turns it back, and no others, whether that is the
+// first ESC, one inside a word of the index or at its edges (the dense loop
+// sets them in one go after the pass; segments of one ESC take their own path).
+TEST(SegmentSkip, BroadcastEntersTheEscsUpToTheOneThatTurnsItBack) {
+  for (const std::size_t turn : {std::size_t{0}, std::size_t{1}, std::size_t{62}, std::size_t{63}, std::size_t{64},
+                                 kSlaves - 2, kSlaves - 1}) {
+    Line line(kSlaves);
+    // Port 1 of ESC `turn` closed (DL control 0x0101 loop bits 3:2 = 11).
+    ASSERT_EQ(transact(line.segment, Command::Apwr, ap(static_cast<std::uint16_t>(turn), reg::kDlControl + 1),
+                       Data{0x0C}).wkc, 1);
+    for (std::uint64_t& w : line.segment.entered()) w = 0;
+    EXPECT_EQ(transact(line.segment, Command::Brd, reg::kAlStatus, 2).wkc, turn + 1) << "turned at " << turn;
+    const std::span<std::uint64_t> entered = line.segment.entered();
+    for (std::size_t i = 0; i < kSlaves; ++i) {
+      const bool bit = (entered[i / 64] >> (i % 64) & 1) != 0;
+      EXPECT_EQ(bit, i <= turn) << "slave " << i << ", turned at " << turn;
+    }
+  }
+  Line one(1);
+  for (std::uint64_t& w : one.segment.entered()) w = 0;
+  EXPECT_EQ(transact(one.segment, Command::Brd, reg::kAlStatus, 2).wkc, 1);
+  EXPECT_EQ(one.segment.entered()[0], 1u);
+}
+
 TEST(SegmentSkip, AddressingChangedBetweenFramesIsSeenByTheNextFrame) {
   Twin t;
   set_up(t);
