@@ -189,8 +189,11 @@ class Segment {
   // The line without skipping: every ESC entered until the frame turns back
   // (inline in send).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  // Its two bodies, out of line: with the one-ESC body inline in send the
+  // one-ESC frames took 0.94-0.97x the time, but the one-drive cycle 1.07x
+  // in every round (the code's layout; docs/performance.md "Session 23").
   [[gnu::noinline]] Delivery carry_dense_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
-  [[gnu::always_inline]] inline Delivery carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  [[gnu::noinline]] Delivery carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Out of send's hot path: a malformed frame, and the port walks.
   [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
   [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,
