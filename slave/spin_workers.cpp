@@ -75,7 +75,17 @@ void SpinWorkers::run(Task task, void* context, std::size_t count) noexcept {
   // Every k is claimed. A helper that claimed one raised busy_ before its
   // claim, which this thread's last load of claim_ saw: it is counted here
   // until its call has returned.
-  while (busy_.load(std::memory_order_seq_cst) != 0) cpu_relax();
+  // A call takes microseconds; a helper still busy after kSpinsBeforeYield
+  // pauses was most likely preempted inside it (a host with fewer free cores
+  // than threads): the caller lets the scheduler run it instead of spinning
+  // out its own time slice.
+  for (std::uint32_t spins = 0; busy_.load(std::memory_order_seq_cst) != 0;) {
+    if (++spins < kSpinsBeforeYield) {
+      cpu_relax();
+    } else {
+      std::this_thread::yield();
+    }
+  }
 }
 
 bool SpinWorkers::take_one(unsigned lane) noexcept {
@@ -105,7 +115,14 @@ void SpinWorkers::help(unsigned lane) noexcept {
       continue;
     }
     if (++idle < kSpinsBeforeSleep) {
-      cpu_relax();
+      // Now and then the core is offered to another thread that may be
+      // waiting for it (the loop thread, where the host gives the process
+      // fewer cores than threads); with none, the yield returns at once.
+      if (idle % kSpinsBeforeYield == 0) {
+        std::this_thread::yield();
+      } else {
+        cpu_relax();
+      }
       continue;
     }
     const std::uint32_t seen = wake_.load(std::memory_order_seq_cst);

@@ -9,9 +9,10 @@
 // state gives the same result either way.
 //
 // Between batches the helpers spin (a frame's firmware is a few
-// microseconds: waking a sleeping thread costs more than the work), and
-// after about 1.5 ms without work they sleep on a futex until the
-// next batch. The caller never waits for a helper to wake: it takes every k
+// microseconds: waking a sleeping thread costs more than the work),
+// offering their core to any other thread that waits for it every
+// kSpinsBeforeYield pauses, and after about 1.5 ms without work they sleep
+// on a futex until the next batch. The caller never waits for a helper to wake: it takes every k
 // itself when none is there, and waits only for calls a helper has begun.
 // Nothing allocates after construction. The helpers block every signal, so
 // a signal sent to the process interrupts the loop thread's wait.
@@ -36,6 +37,13 @@ class SpinWorkers {
   // of the next cycle's first batch (with 16 k it slept every cycle and took
   // half as many words in e2e_firmware_threads).
   static constexpr std::uint32_t kSpinsBeforeSleep = 1u << 16;
+  // Pause instructions between two offers of the core (std::this_thread::
+  // yield): by a helper without work, and by the caller still waiting for a
+  // helper's call (about 25 us here; a firmware call takes a few). Where
+  // the host gives the process fewer cores than threads, a spinning helper
+  // otherwise kept the loop thread from its core: docs/performance.md
+  // "Session 23" (BM_Cycle_CspLanesOneCore).
+  static constexpr std::uint32_t kSpinsBeforeYield = 1u << 10;
 
   // `helpers` threads besides the caller's (lanes 1..helpers).
   explicit SpinWorkers(unsigned helpers);
