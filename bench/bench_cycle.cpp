@@ -3,7 +3,6 @@
 // and every drive's firmware and application cycle (bench/drive_line.hpp).
 // Target: 100 drives <= 9 µs per cycle on one core, linear in N.
 #include <benchmark/benchmark.h>
-#include <sched.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -112,36 +111,6 @@ BENCHMARK(BM_Cycle_CspLanes)
     ->Args({200, 2})
     ->Args({1000, 1})
     ->Args({1000, 2})
-    ->UseRealTime()
-    ->Unit(benchmark::kMicrosecond);
-
-// The same on a host that gives the process one core (or whose other cores
-// are busy): the whole process is bound to the core it starts on, the
-// helper shares it with the loop thread. Two threads are then worth nothing,
-// but they must cost nothing either: a helper that spins through its idle
-// time takes the loop thread's core from it (85 us a cycle of 200 drives
-// against 50 with one thread, until the helper offered its core now and
-// then: docs/performance.md "Session 23").
-void BM_Cycle_CspLanesOneCore(benchmark::State& state) {
-  cpu_set_t all;
-  cpu_set_t one;
-  if (sched_getaffinity(0, sizeof all, &all) != 0) {
-    state.SkipWithError("sched_getaffinity failed");
-    return;
-  }
-  CPU_ZERO(&one);
-  CPU_SET(sched_getcpu(), &one);
-  if (sched_setaffinity(0, sizeof one, &one) != 0) {
-    state.SkipWithError("sched_setaffinity failed");
-    return;
-  }
-  BM_Cycle_CspLanes(state);  // the helpers are started here, bound to that core too
-  (void)sched_setaffinity(0, sizeof all, &all);
-}
-BENCHMARK(BM_Cycle_CspLanesOneCore)
-    ->Apply(iterations_from_env)
-    ->Args({200, 1})
-    ->Args({200, 2})
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 

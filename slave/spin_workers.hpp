@@ -42,7 +42,7 @@ class SpinWorkers {
   // helper's call (about 25 us here; a firmware call takes a few). Where
   // the host gives the process fewer cores than threads, a spinning helper
   // otherwise kept the loop thread from its core: docs/performance.md
-  // "Session 23" (BM_Cycle_CspLanesOneCore).
+  // "Session 23" (taskset -c 0 with BM_Cycle_CspLanes).
   static constexpr std::uint32_t kSpinsBeforeYield = 1u << 10;
 
   // `helpers` threads besides the caller's (lanes 1..helpers).
