@@ -44,11 +44,6 @@ void SkipIndex::set_spans(std::size_t i, const Spans& spans, std::size_t count) 
   }
 }
 
-// The bits of ESCs 0..size()-1 in one of the bit vectors.
-void SkipIndex::set_every(std::vector<std::uint64_t>& words) const noexcept {
-  for (std::size_t i = 0; i < size_; ++i) words[i / kWordBits] |= bit(i);
-}
-
 void SkipIndex::must_visit_all() noexcept { set_every(must_); }
 
 void SkipIndex::all_dirty() noexcept { set_every(dirty_); }

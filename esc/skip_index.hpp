@@ -116,17 +116,18 @@ class SkipIndex {
   // the slave layer runs the firmware of these only (slave::Chain).
   void entered(std::size_t i) noexcept { entered_[i / kWordBits] |= bit(i); }
   // ESCs 0 .. count - 1 (a frame that entered every ESC up to one).
-  void entered_first(std::size_t count) noexcept {
-    std::uint64_t* w = entered_.data();
-    for (; count >= kWordBits; count -= kWordBits) *w++ = ~std::uint64_t{0};
-    if (count != 0) *w |= (std::uint64_t{1} << count) - 1;
-  }
+  void entered_first(std::size_t count) noexcept { set_first(entered_.data(), count); }
   void entered_all() noexcept;
   std::span<std::uint64_t> entered_words() noexcept { return entered_; }
 
  private:
   void rebuild_spans() noexcept;
-  void set_every(std::vector<std::uint64_t>& words) const noexcept;
+  // Sets bits 0 .. count - 1 of `words`, a whole word at a time.
+  static void set_first(std::uint64_t* words, std::size_t count) noexcept {
+    for (; count >= kWordBits; count -= kWordBits) *words++ = ~std::uint64_t{0};
+    if (count != 0) *words |= (std::uint64_t{1} << count) - 1;
+  }
+  void set_every(std::vector<std::uint64_t>& words) const noexcept { set_first(words.data(), size_); }
 
   std::size_t size_ = 0;
   std::vector<std::uint64_t> must_;
