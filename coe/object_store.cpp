@@ -18,6 +18,11 @@ std::uint32_t capacity_of(const od::Entry& e, const ObjectStore::Options& option
   return std::max<std::uint32_t>(1, (e.bit_length + 7u) / 8u);
 }
 
+// Copied by the PDO images every cycle: a mappable number.
+bool is_cyclic(const ObjectStore::Slot& s) noexcept {
+  return !s.variable() && (s.entry->access.rx_mappable() || s.entry->access.tx_mappable());
+}
+
 }  // namespace
 
 ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : dictionary_(dictionary) {
@@ -26,7 +31,6 @@ ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : di
   for (const od::Object& o : dictionary.objects()) entries += o.entries.size();
   slots_.reserve(entries);
   objects_.reserve(dictionary.size());
-  std::uint32_t offset = 0;
   for (const od::Object& o : dictionary.objects()) {
     ObjectRange r;
     r.index = o.index;
@@ -35,16 +39,28 @@ ObjectStore::ObjectStore(const od::Dictionary& dictionary, Options options) : di
       Slot s;
       s.entry = &e;
       s.is_string = od::is_string(e.type) ? 1 : 0;
-      if (s.variable()) offset += kLengthPrefix;
-      s.offset = offset;
       s.capacity = std::min(capacity_of(e, options), kMaxCapacity) & kMaxCapacity;
-      offset += s.capacity;
       max_capacity_ = std::max(max_capacity_, s.capacity);
       slots_.push_back(s);
     }
     r.count = static_cast<std::uint16_t>(o.entries.size());
     objects_.push_back(r);
   }
+  // The values the cyclic copies touch every cycle (the PDO-mappable numbers)
+  // first and side by side, the rest after them: a drive's process data then
+  // lies in a few cache lines instead of across the whole buffer (issue 30
+  // item 1: the lines a drive touches per cycle at 1000 drives).
+  std::uint32_t offset = 0;
+  auto place = [&](bool cyclic) {
+    for (Slot& s : slots_) {
+      if (is_cyclic(s) != cyclic) continue;
+      if (s.variable()) offset += kLengthPrefix;
+      s.offset = offset;
+      offset += s.capacity;
+    }
+  };
+  place(true);
+  place(false);
   buffer_.assign(offset, 0);
   reset_to_defaults();
 }

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <utility>
+#include <vector>
 
 #include "tests/coe/test_device.hpp"
 
@@ -141,6 +144,34 @@ TEST_F(ObjectStoreTest, IndexOfEverySlot) {
   }
   EXPECT_EQ(n, store.slots().size());
   static_assert(sizeof(void*) != 8 || sizeof(ObjectStore::Slot) == 16, "one slot per entry and slave: 16 bytes");
+}
+
+// The PDO-mappable numbers (6000h/6001h inputs, 7000h-7002h outputs) lie at
+// the front of the value buffer, side by side in index order, the rest after
+// them (issue 30 item 1: a drive's cyclic values in few cache lines); no two
+// values (nor a string's length before its value) share a byte.
+TEST_F(ObjectStoreTest, MappableNumbersLieFirstAndTogether) {
+  const std::pair<std::uint16_t, std::uint32_t> kFront[] = {
+      {0x6000, 0}, {0x6001, 4}, {0x7000, 5}, {0x7001, 7}, {0x7002, 8}};
+  for (const auto& [index, offset] : kFront) {
+    const ObjectStore::Slot* s = store.slot(index, 0);
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(s->offset, offset) << std::hex << index;
+    EXPECT_EQ(store.values() + s->offset, store.storage(*store.slot(index, 0)).data());
+  }
+  EXPECT_EQ(store.get<std::uint32_t>(0x6000, 0), 0x11223344u);
+  EXPECT_EQ(store.get<std::uint8_t>(0x6001, 0), 0x55u);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;  // [begin, end) incl. a string's length
+  for (const ObjectStore::Slot& s : store.slots()) {
+    if (s.entry->access.rx_mappable() || s.entry->access.tx_mappable()) continue;
+    EXPECT_GE(s.offset, 12u) << std::hex << store.index_of(s);
+    spans.emplace_back(s.offset - (s.variable() ? ObjectStore::kLengthPrefix : 0), s.offset + s.capacity);
+  }
+  for (const auto& [index, offset] : kFront) {
+    spans.emplace_back(offset, offset + store.slot(index, 0)->capacity);
+  }
+  std::sort(spans.begin(), spans.end());
+  for (std::size_t i = 1; i < spans.size(); ++i) EXPECT_LE(spans[i - 1].second, spans[i].first) << i;
 }
 
 }  // namespace
