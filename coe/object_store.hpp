@@ -87,6 +87,11 @@ class ObjectStore {
   // cyclic copies (the RxPDO copy, the drive binding), which track their
   // own entries.
   Bytes storage(Slot& s) noexcept { return {buffer_.data() + s.offset, s.capacity}; }
+  // The value buffer itself: slot s's bytes begin at values() + s.offset.
+  // Stable for the life of the store; for the cyclic copies that keep an
+  // entry's offset (4 bytes) instead of a pointer (8) per entry and drive.
+  // Writes through it are not counted in generation() either.
+  std::uint8_t* values() noexcept { return buffer_.data(); }
   // Counts the writes through set/assign/write/reset_to_defaults: a value
   // that did not change since a reader saw the same generation was written by
   // none of them (issue 8: the drive binding copies the unmapped entries

@@ -83,11 +83,10 @@ void each(const Tuple& t, Fn&& fn) {
   each(t, fn, std::make_index_sequence<std::tuple_size_v<Tuple>>{});
 }
 
-// The entry's value bytes when they hold exactly a T (integral), else null.
+// Whether the entry's value bytes hold exactly a T (integral).
 template <typename T>
-std::uint8_t* same_width(coe::ObjectStore& store, coe::ObjectStore::Slot* s) noexcept {
-  if (s == nullptr || !std::is_integral_v<T> || s->capacity != sizeof(T) || store.length(*s) != sizeof(T)) return nullptr;
-  return store.storage(*s).data();
+bool same_width(const coe::ObjectStore& store, const coe::ObjectStore::Slot& s) noexcept {
+  return std::is_integral_v<T> && s.capacity == sizeof(T) && store.length(s) == sizeof(T);
 }
 
 template <typename T>
@@ -124,16 +123,21 @@ DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency) n
 
 DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency, const od::AxisLayout& layout,
                            unsigned axis) noexcept
-    : store_(store), emergency_(emergency), layout_(layout), axis_(axis), multi_axis_(layout.axes > 1) {
+    : store_(store), values_(store.values()), emergency_(emergency), layout_(layout), axis_(axis),
+      multi_axis_(layout.axes > 1) {
+  auto at = [&]<typename T>(const coe::ObjectStore::Slot* s, const T*) {
+    if (s == nullptr) return kAbsent;
+    return same_width<T>(store_, *s) ? s->offset : kConvert;
+  };
   each(kInputs, [&](const auto& fld, std::size_t i) {
     using T = std::remove_cvref_t<decltype(std::declval<I&>().*fld.member)>;
     in_[i] = store_.slot(layout_.object_index(axis_, fld.index), fld.subindex);
-    in_bytes_[i] = same_width<T>(store_, in_[i]);
+    in_at_[i] = at(in_[i], static_cast<const T*>(nullptr));
   });
   each(kOutputs, [&](const auto& fld, std::size_t i) {
     using T = std::remove_cvref_t<decltype(std::declval<O&>().*fld.member)>;
     out_[i] = store_.slot(layout_.object_index(axis_, fld.index), fld.subindex);
-    out_bytes_[i] = same_width<T>(store_, out_[i]);
+    out_at_[i] = at(out_[i], static_cast<const T*>(nullptr));
   });
   error_register_ = store_.slot(kErrorRegister, 0);
   ip_record_ = store_.slot(layout_.object_index(axis_, kIpDataRecord), kIpDataRecordPosition);
@@ -172,10 +176,11 @@ template <std::size_t N>
 void DriveBinding::read_input(DriveInputs& in) const noexcept {
   const auto& fld = std::get<N>(kInputs);
   using T = std::remove_cvref_t<decltype(in.*fld.member)>;
-  if (const std::uint8_t* p = in_bytes_[N]) {
-    in.*fld.member = load_field<T>(p);
-  } else if (const auto* s = in_[N]) {
-    in.*fld.member = store_.get<T>(*s);
+  const std::uint32_t at = in_at_[N];
+  if (at < kConvert) {
+    in.*fld.member = load_field<T>(values_ + at);
+  } else if (at == kConvert) {
+    in.*fld.member = store_.get<T>(*in_[N]);
   }
 }
 
@@ -200,10 +205,12 @@ void DriveBinding::read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_
   }
   in.ip_record_new = ip_record_hook_.take() || ip_record_mapped_;
   auto* base = reinterpret_cast<std::uint8_t*>(&in);
-  for (std::size_t k = 0; k < mapped_count_; ++k) {
+  const std::uint8_t* const values = values_;
+  const std::size_t count = mapped_count_;
+  for (std::size_t k = 0; k < count; ++k) {
     const Mapped m = mapped_[k];
     if (m.size != 0) {
-      copy_value(base + m.field_offset, in_bytes_[m.input], m.size);
+      copy_value(base + m.field_offset, values + m.at, m.size);
     } else {
       reader(m.input)(*this, in);
     }
@@ -236,7 +243,8 @@ void DriveBinding::read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pd
       Mapped& m = mapped_[mapped_count_++];
       m = Mapped{};
       m.input = static_cast<std::uint8_t>(i);
-      if (std::endian::native == std::endian::little && in_bytes_[i] != nullptr) {
+      if (std::endian::native == std::endian::little && in_at_[i] < kConvert) {
+        m.at = in_at_[i];
         m.field_offset = static_cast<std::uint16_t>(reinterpret_cast<const std::uint8_t*>(&(layout.*fld.member)) - base);
         m.size = static_cast<std::uint8_t>(sizeof(layout.*fld.member));
       }
@@ -257,11 +265,13 @@ void DriveBinding::write_axis(const DriveOutputs& out, EmcyQueue& emergencies, N
                               std::uint8_t other_axes) noexcept {
   // Its own copy of write_objects' loop: sharing it costs the single-axis
   // cycle a call (the loop is no longer inlined there).
+  std::uint8_t* const values = values_;  // the stores below may alias values_ (bytes)
   each(kOutputs, [&](const auto& fld, std::size_t i) {
-    if (std::uint8_t* p = out_bytes_[i]) {
-      store_field(p, out.*fld.member);
-    } else if (auto* s = out_[i]) {
-      store_.set(*s, out.*fld.member);
+    const std::uint32_t a = out_at_[i];
+    if (a < kConvert) {
+      store_field(values + a, out.*fld.member);
+    } else if (a == kConvert) {
+      store_.set(*out_[i], out.*fld.member);
     }
   });
   if (!emergency_) {
@@ -283,11 +293,13 @@ void DriveBinding::write_axis(const DriveOutputs& out, EmcyQueue& emergencies, N
 }
 
 void DriveBinding::write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept {
+  std::uint8_t* const values = values_;  // the stores below may alias values_ (bytes)
   each(kOutputs, [&](const auto& fld, std::size_t i) {
-    if (std::uint8_t* p = out_bytes_[i]) {
-      store_field(p, out.*fld.member);
-    } else if (auto* s = out_[i]) {
-      store_.set(*s, out.*fld.member);
+    const std::uint32_t a = out_at_[i];
+    if (a < kConvert) {
+      store_field(values + a, out.*fld.member);
+    } else if (a == kConvert) {
+      store_.set(*out_[i], out.*fld.member);
     }
   });
   if (!emergency_) {

@@ -38,6 +38,7 @@ class IpRecordHook final : public coe::ObjectHooks {
   bool written_ = false;
 };
 
+// 64-byte aligned: its first line holds what every cycle reads.
 class DriveBinding {
  public:
   static constexpr std::size_t kInputCount = 69;
@@ -97,47 +98,55 @@ class DriveBinding {
   std::uint32_t emergencies_lost() const noexcept { return emergencies_lost_; }
 
  private:
+  // What read_cycle() and write_objects() read every cycle, together at the
+  // front of the object (issue 30 item 1: at 1000 drives each line a drive's
+  // cycle touches is a cache miss; these were spread over ten).
   coe::ObjectStore& store_;
-  coe::Emergency* emergency_;
+  std::uint8_t* values_;  // store_.values()
+  // read_cycle: the generation the inputs were last read at (kNotRead:
+  // never), the RxPDO table they were read for, and the inputs it maps.
+  std::uint64_t seen_ = kNotRead;
+  std::span<const coe::PdoItem> rx_pdo_;
+  coe::Emergency* emergency_ = nullptr;
+  IpRecordHook ip_record_hook_;
+  std::uint8_t mapped_count_ = 0;
+  bool ip_record_mapped_ = false;  // rx_pdo_ maps 60C1h:01
+  // Where each bound entry's value bytes are (an offset into values_) when
+  // they are read and written in place each cycle (the entry's width is its
+  // field's); kConvert where the value needs conversion (another width: it
+  // goes through the store), kAbsent where the device lacks the entry.
+  static constexpr std::uint32_t kAbsent = ~std::uint32_t{0};
+  static constexpr std::uint32_t kConvert = kAbsent - 1;
+  std::array<std::uint32_t, kOutputCount> out_at_{};
+  // A mapped input: where its value bytes are, the field they go to and
+  // their size (0: another width, the typed reader is called), and its index
+  // (into in_ and the reader table).
+  struct Mapped {
+    std::uint32_t at = kAbsent;
+    std::uint16_t field_offset = 0;
+    std::uint8_t size = 0;
+    std::uint8_t input = 0;
+  };
+  static_assert(kInputCount <= 0x100, "Mapped::input and mapped_count_ are one byte");
+  std::array<Mapped, kInputCount> mapped_{};
+
   std::array<coe::ObjectStore::Slot*, kInputCount> in_{};
   std::array<coe::ObjectStore::Slot*, kOutputCount> out_{};
-  // The value bytes of each bound entry whose size equals its field's, read
-  // and written in place each cycle; null where the entry needs conversion
-  // (another width), which then goes through the store.
-  std::array<std::uint8_t*, kInputCount> in_bytes_{};
-  std::array<std::uint8_t*, kOutputCount> out_bytes_{};
+  std::array<std::uint32_t, kInputCount> in_at_{};  // as out_at_
   coe::ObjectStore::Slot* error_register_ = nullptr;
   // The personality's homing current threshold (Welcon 2402h), bound in publish().
   coe::ObjectStore::Slot* homing_current_threshold_ = nullptr;
-  // read_cycle: the generation the inputs were last read at (kNotRead:
-  // never), the RxPDO table they were read for, and the inputs it maps.
   template <std::size_t N>
   void read_input(DriveInputs& in) const noexcept;
   [[gnu::noinline]] void read_all(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept;
   void write_objects(const DriveOutputs& out, EmcyQueue& emergencies, Nanoseconds now) noexcept;
   static constexpr std::uint64_t kNotRead = ~std::uint64_t{0};
-  std::uint64_t seen_ = kNotRead;
-  std::span<const coe::PdoItem> rx_pdo_;
   template <std::size_t N>
   static void read_one(const DriveBinding& b, DriveInputs& in) noexcept;
   using Reader = void (*)(const DriveBinding&, DriveInputs&) noexcept;
   static Reader reader(std::size_t i) noexcept;
-  // A mapped input: its index (into in_bytes_ and the reader table) and, when
-  // its value bytes are copied in place, the field they go to and their size
-  // (0: another width, the typed reader is called). 4 bytes, not a pointer
-  // pair: kInputCount of them per drive (issue 16 item 5).
-  struct Mapped {
-    std::uint16_t field_offset = 0;
-    std::uint8_t size = 0;
-    std::uint8_t input = 0;
-  };
-  static_assert(kInputCount <= 0x100, "Mapped::input is one byte");
-  std::array<Mapped, kInputCount> mapped_{};
-  std::size_t mapped_count_ = 0;
   DriveObjectHooks hooks_;
-  IpRecordHook ip_record_hook_;
   const coe::ObjectStore::Slot* ip_record_ = nullptr;  // 60C1h:01 of this axis
-  bool ip_record_mapped_ = false;                       // rx_pdo_ maps it
   od::AxisLayout layout_;  // set-up only (publish)
   unsigned axis_ = 1;
   bool multi_axis_ = false;

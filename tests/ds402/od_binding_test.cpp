@@ -248,6 +248,51 @@ TEST(DriveBinding, ReadCycleCopiesMappedEntriesAndTheRestAfterStoreWrites) {
   EXPECT_EQ(in.controlword, 0x0006);
 }
 
+// Entries of another width than their DriveInputs/DriveOutputs field go
+// through the store's typed access, mapped or not, every cycle: 6040h and
+// 6041h declared UNSIGNED32 here (the fields are 16 bits), 6064h INTEGER16
+// (the field is 32). Absent entries leave their fields alone.
+TEST(DriveBinding, EntriesOfAnotherWidthAreConverted) {
+  using T = od::DataType;
+  od::DeviceDescription dev;
+  auto& d = dev.dictionary;
+  var(d, 0x6040, T::Unsigned32, 32);
+  var(d, 0x6041, T::Unsigned32, 32);
+  var(d, 0x6064, T::Integer16, 16);
+  var(d, 0x607A, T::Integer32, 32);
+  coe::test::Rig rig(std::move(dev));
+  DriveBinding b(rig.store);
+  EXPECT_EQ(b.bound_inputs(), 2u);
+  EXPECT_EQ(b.bound_outputs(), 2u);
+  const std::vector<coe::PdoItem> items{{0, 0, 32, rig.store.slot(0x6040, 0)}, {4, 0, 32, rig.store.slot(0x607A, 0)}};
+  DriveInputs in;
+  in.profile_velocity = 4242;
+  b.read_cycle(in, items);  // every entry
+  for (std::uint32_t v : {0x0001000Fu, 0x00000006u, 0xFFFF0007u}) {
+    pdo_write(rig.store, 0x6040, 0, v);
+    pdo_write(rig.store, 0x607A, 0, v);
+    b.read_cycle(in, items);  // the mapped ones only
+    EXPECT_EQ(in.controlword, static_cast<std::uint16_t>(v));
+    EXPECT_EQ(in.target_position, static_cast<std::int32_t>(v));
+    EXPECT_EQ(in.profile_velocity, 4242u);
+  }
+  DriveOutputs out;
+  out.statusword = 0x1237;
+  out.position_actual = -2;
+  EmcyQueue none;
+  b.write(out, none);
+  const auto bytes = [&](std::uint16_t index) {
+    const auto v = rig.store.value(index, 0);
+    return std::vector<std::uint8_t>(v.begin(), v.end());
+  };
+  EXPECT_EQ(bytes(0x6041), (std::vector<std::uint8_t>{0x37, 0x12, 0x00, 0x00}));
+  EXPECT_EQ(bytes(0x6064), (std::vector<std::uint8_t>{0xFE, 0xFF}));
+  // The outputs' conversions count as store writes, yet not as new inputs.
+  pdo_write(rig.store, 0x6040, 0, 0x0000001F);
+  b.read_cycle(in, items);
+  EXPECT_EQ(in.controlword, 0x001F);
+}
+
 // Random store writes of every kind between cycles: read_cycle() always
 // leaves the inputs equal to a full read().
 TEST(DriveBinding, ReadCycleEqualsFullRead) {
