@@ -17,14 +17,23 @@ constexpr unsigned kBitsPerByte = 8;
 
 ProcessData::ProcessData(ObjectStore& store, PdoConfig& config)
     : store_(store),
-      config_(config),
-      buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))),
-      areas_(config.sms().size()),
-      plans_(config.sms().size()) {
-  for (std::size_t k = 0; k < plans_.size(); ++k) plans_[k].copies.reserve(config.sms()[k].image.capacity());
+      outputs_(&config.outputs()),
+      inputs_(&config.inputs()),
+      buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))) {
+  for (const PdoDirection d : {PdoDirection::Rx, PdoDirection::Tx}) {
+    for (const SmLayout& sm : config.sms()) {
+      if (sm.direction != d || !sm.checked) continue;
+      SmCopy& c = sms_.emplace_back();
+      c.image = &sm.image;
+      c.sm = sm.sm;
+      c.copies.reserve(sm.image.capacity());
+    }
+    if (d == PdoDirection::Rx) rx_count_ = sms_.size();
+  }
 }
 
-void ProcessData::rebuild(const ProcessDataImage& image, Plan& p) noexcept {
+void ProcessData::rebuild(SmCopy& p) noexcept {
+  const ProcessDataImage& image = *p.image;
   p.copies.clear();
   // Items lie in image order, packed: whole-byte items from offset 0 on
   // without a gap or a bit item cover their bytes exactly.
@@ -54,65 +63,59 @@ void ProcessData::rebuild(const ProcessDataImage& image, Plan& p) noexcept {
   p.generation = image.generation();
 }
 
-ProcessData::SmArea ProcessData::area(esc::Pdi& pdi, std::size_t k) noexcept {
-  if (layout_loaded_) return areas_[k];
+ProcessData::SmArea ProcessData::area(esc::Pdi& pdi, const SmCopy& c) noexcept {
+  if (layout_loaded_) return c.area;
   std::uint8_t raw[esc::reg::kSyncManagerStride]{};
-  pdi.read(esc::reg::sync_manager(config_.sms()[k].sm), raw);
+  pdi.read(esc::reg::sync_manager(c.sm), raw);
   return {load_le<std::uint16_t>(raw + esc::reg::sm::kStartAddress), load_le<std::uint16_t>(raw + esc::reg::sm::kLength),
           (raw[esc::reg::sm::kActivate] & bits::kSmActivateEnable) != 0};
 }
 
 void ProcessData::load_layout(esc::Pdi& pdi) noexcept {
   layout_loaded_ = false;
-  for (std::size_t k = 0; k < areas_.size(); ++k) areas_[k] = area(pdi, k);
+  for (SmCopy& c : sms_) c.area = area(pdi, c);
   layout_loaded_ = true;
 }
 
 void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
-  const auto sms = config_.sms();
-  for (std::size_t k = 0; k < sms.size(); ++k) {
-    if (sms[k].direction == PdoDirection::Rx && sms[k].checked) read_sm(pdi, k);
-  }
+  for (std::size_t k = 0; k < rx_count_; ++k) read_sm(pdi, sms_[k]);
 }
 
 void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
-  const auto sms = config_.sms();
-  for (std::size_t k = 0; k < sms.size(); ++k) {
-    if (sms[k].direction == PdoDirection::Tx && sms[k].checked) write_sm(pdi, k);
-  }
+  for (std::size_t k = rx_count_; k < sms_.size(); ++k) write_sm(pdi, sms_[k]);
 }
 
-void ProcessData::read_sm(esc::Pdi& pdi, std::size_t k) noexcept {
-  const ProcessDataImage& image = config_.sms()[k].image;
-  const SmArea sm = area(pdi, k);
+void ProcessData::read_sm(esc::Pdi& pdi, SmCopy& c) noexcept {
+  const ProcessDataImage& image = *c.image;
+  const SmArea sm = area(pdi, c);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
   // In place where the PDI can (the ESC's 3-buffer), else through buffer_.
   const std::uint8_t* buffer = pdi.read_buffer(sm.start, {buffer_.data(), sm.length}).data();
-  for (const Copy& c : plan(image, plans_[k]).copies) {
-    if (c.bytes != 0) {
-      esc::copy_small(c.value, buffer + c.at, c.bytes);
+  for (const Copy& k : plan(c).copies) {
+    if (k.bytes != 0) {
+      esc::copy_small(k.value, buffer + k.at, k.bytes);
     } else {
-      const PdoItem& item = image.items()[c.at];
-      get_bits(c.value, buffer, item.bit_position(), item.bits);
+      const PdoItem& item = image.items()[k.at];
+      get_bits(k.value, buffer, item.bit_position(), item.bits);
     }
   }
 }
 
-void ProcessData::write_sm(esc::Pdi& pdi, std::size_t k) noexcept {
-  const ProcessDataImage& image = config_.sms()[k].image;
-  const SmArea sm = area(pdi, k);
+void ProcessData::write_sm(esc::Pdi& pdi, SmCopy& c) noexcept {
+  const ProcessDataImage& image = *c.image;
+  const SmArea sm = area(pdi, c);
   if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  const Plan& p = plan(image, plans_[k]);
+  const SmCopy& p = plan(c);
   const std::span<std::uint8_t> place = pdi.write_buffer_begin(sm.start, {buffer_.data(), sm.length});
   std::uint8_t* buffer = place.data();
   // Bytes no copy writes are 0 (gaps, padding, the rest of a longer SM).
   if (p.covered != sm.length) std::memset(buffer, 0, place.size());
-  for (const Copy& c : p.copies) {
-    if (c.bytes != 0) {
-      esc::copy_small(buffer + c.at, c.value, c.bytes);
+  for (const Copy& k : p.copies) {
+    if (k.bytes != 0) {
+      esc::copy_small(buffer + k.at, k.value, k.bytes);
     } else {
-      const PdoItem& item = image.items()[c.at];
-      put_bits(buffer, item.bit_position(), c.value, item.bits);
+      const PdoItem& item = image.items()[k.at];
+      put_bits(buffer, item.bit_position(), k.value, item.bits);
     }
   }
   pdi.write_buffer_commit(sm.start, place);

@@ -37,8 +37,8 @@ class ProcessData {
   // Reads the process-data SMs (start, length, enable) once for the following cycles.
   void load_layout(esc::Pdi& pdi) noexcept;
 
-  const ProcessDataImage& outputs() const noexcept { return config_.outputs(); }
-  const ProcessDataImage& inputs() const noexcept { return config_.inputs(); }
+  const ProcessDataImage& outputs() const noexcept { return *outputs_; }
+  const ProcessDataImage& inputs() const noexcept { return *inputs_; }
 
  private:
   struct SmArea {
@@ -46,7 +46,6 @@ class ProcessData {
     std::uint16_t length = 0;
     bool enabled = false;
   };
-  SmArea area(esc::Pdi& pdi, std::size_t k) noexcept;
   // The copies of one image decoded once (issue 8): per mapped entry its
   // value bytes and its place in the SM buffer; whole bytes are copied as
   // such, other items bit by bit from their PdoItem. Rebuilt when the
@@ -61,32 +60,41 @@ class ProcessData {
     std::uint16_t bytes = 0;  // 0: bit copy of image.items()[at]
   };
   static_assert(sizeof(Copy) <= 16);
-  struct Plan {
+  // One checked process-data SM: everything a cycle reads of it but its
+  // image and its copies, in one cache line (issue 30 item 1: at 1000
+  // drives the SM list, the areas and the plans were a line each).
+  struct SmCopy {
+    const ProcessDataImage* image = nullptr;  // in config_, fixed after its construction
     std::vector<Copy> copies;
-    std::uint64_t generation = ~std::uint64_t{0};
+    std::uint64_t generation = ~std::uint64_t{0};  // of the image the copies were made from
     // Whole-byte copies that write every byte of [0, covered) and nothing
     // else: write_inputs zeroes the buffer first only when the SM is longer
     // (or the image has gaps or bit items). 0 when not so.
     std::uint32_t covered = 0;
+    SmArea area;         // from load_layout()
+    std::uint8_t sm = 0;  // its number
   };
-  // The plan for the image's current layout (rebuilt in rebuild() when it changed).
-  const Plan& plan(const ProcessDataImage& image, Plan& p) noexcept {
-    if (p.generation != image.generation()) rebuild(image, p);
-    return p;
+  static_assert(sizeof(void*) != 8 || sizeof(SmCopy) <= 64, "one cache line");
+  // The copies for the image's current layout (rebuilt when it changed).
+  const SmCopy& plan(SmCopy& c) noexcept {
+    if (c.generation != c.image->generation()) rebuild(c);
+    return c;
   }
-  void rebuild(const ProcessDataImage& image, Plan& p) noexcept;
+  void rebuild(SmCopy& c) noexcept;
+  SmArea area(esc::Pdi& pdi, const SmCopy& c) noexcept;
 
-  void read_sm(esc::Pdi& pdi, std::size_t k) noexcept;
-  void write_sm(esc::Pdi& pdi, std::size_t k) noexcept;
+  void read_sm(esc::Pdi& pdi, SmCopy& c) noexcept;
+  void write_sm(esc::Pdi& pdi, SmCopy& c) noexcept;
 
   ObjectStore& store_;
-  PdoConfig& config_;
-  std::vector<std::uint8_t> buffer_;
-  // Per process-data SM of config_.sms(), same order: its area (from
-  // load_layout()) and its copy plan.
-  std::vector<SmArea> areas_;
-  std::vector<Plan> plans_;
+  // The checked process-data SMs of config_.sms() in their order, the
+  // outputs (Rx) ones first: [0, rx_count_) read, the rest written.
+  std::vector<SmCopy> sms_;
+  std::size_t rx_count_ = 0;
   bool layout_loaded_ = false;
+  const ProcessDataImage* outputs_;
+  const ProcessDataImage* inputs_;
+  std::vector<std::uint8_t> buffer_;
 };
 
 }  // namespace ecat::coe
