@@ -20,6 +20,10 @@ ProcessData::ProcessData(ObjectStore& store, PdoConfig& config)
       outputs_(&config.outputs()),
       inputs_(&config.inputs()),
       buffer_(std::max(config.max_bytes(PdoDirection::Rx), config.max_bytes(PdoDirection::Tx))) {
+  // Room for all of them first: no reallocation leaves a hole in the heap
+  // between this slave's objects.
+  sms_.reserve(static_cast<std::size_t>(
+      std::count_if(config.sms().begin(), config.sms().end(), [](const SmLayout& sm) { return sm.checked; })));
   for (const PdoDirection d : {PdoDirection::Rx, PdoDirection::Tx}) {
     for (const SmLayout& sm : config.sms()) {
       if (sm.direction != d || !sm.checked) continue;
