@@ -64,7 +64,7 @@ class ProcessData {
   // image and its copies, in one cache line (issue 30 item 1: at 1000
   // drives the SM list, the areas and the plans were a line each).
   struct SmCopy {
-    const ProcessDataImage* image = nullptr;  // in config_, fixed after its construction
+    const ProcessDataImage* image = nullptr;  // in the PdoConfig, fixed after its construction
     std::vector<Copy> copies;
     std::uint64_t generation = ~std::uint64_t{0};  // of the image the copies were made from
     // Whole-byte copies that write every byte of [0, covered) and nothing
@@ -87,7 +87,7 @@ class ProcessData {
   void write_sm(esc::Pdi& pdi, SmCopy& c) noexcept;
 
   ObjectStore& store_;
-  // The checked process-data SMs of config_.sms() in their order, the
+  // The checked process-data SMs of the PdoConfig's sms() in their order, the
   // outputs (Rx) ones first: [0, rx_count_) read, the rest written.
   std::vector<SmCopy> sms_;
   std::size_t rx_count_ = 0;

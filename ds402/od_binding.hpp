@@ -38,7 +38,6 @@ class IpRecordHook final : public coe::ObjectHooks {
   bool written_ = false;
 };
 
-// 64-byte aligned: its first line holds what every cycle reads.
 class DriveBinding {
  public:
   static constexpr std::size_t kInputCount = 69;
