@@ -254,12 +254,16 @@ TEST(DriveBinding, ReadCycleCopiesMappedEntriesAndTheRestAfterStoreWrites) {
 // (the field is 32). Absent entries leave their fields alone.
 TEST(DriveBinding, EntriesOfAnotherWidthAreConverted) {
   using T = od::DataType;
+  struct Var {
+    std::uint16_t index;
+    od::DataType type;
+    std::uint16_t bits;
+  };
   od::DeviceDescription dev;
-  auto& d = dev.dictionary;
-  var(d, 0x6040, T::Unsigned32, 32);
-  var(d, 0x6041, T::Unsigned32, 32);
-  var(d, 0x6064, T::Integer16, 16);
-  var(d, 0x607A, T::Integer32, 32);
+  for (const Var& v : {Var{0x6040, T::Unsigned32, 32}, Var{0x6041, T::Unsigned32, 32}, Var{0x6064, T::Integer16, 16},
+                       Var{0x607A, T::Integer32, 32}}) {
+    var(dev.dictionary, v.index, v.type, v.bits);
+  }
   coe::test::Rig rig(std::move(dev));
   DriveBinding b(rig.store);
   EXPECT_EQ(b.bound_inputs(), 2u);
