@@ -181,6 +181,7 @@ class ObjectStore {
     std::uint16_t count = 0;  // subindexes 0..255 at most
   };
   const ObjectRange* range(std::uint16_t index) const noexcept;
+  std::vector<Slot*> default_image_order();  // set-up only
   SdoAbort missing(std::uint16_t index) const noexcept {
     return contains(index) ? SdoAbort::NoSubindex : SdoAbort::NoObject;
   }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 
 #include "coe/bit_copy.hpp"
 #include "coe/sm_bits.hpp"
@@ -60,6 +61,17 @@ void ProcessData::rebuild(SmCopy& p) noexcept {
     } else {
       c.at = static_cast<std::uint32_t>(i);  // below the image's capacity, a std::uint32_t
       contiguous = false;
+    }
+    // A byte copy whose SM bytes and value bytes both follow the previous
+    // one's joins it: the object store lays the default mapping's values
+    // out in image order (ObjectStore), so a default image is a few blocks.
+    if (c.bytes != 0 && !p.copies.empty()) {
+      Copy& last = p.copies.back();
+      if (last.bytes != 0 && last.at + last.bytes == c.at && last.value + last.bytes == c.value &&
+          last.bytes + c.bytes <= std::numeric_limits<std::uint16_t>::max()) {
+        last.bytes = static_cast<std::uint16_t>(last.bytes + c.bytes);
+        continue;
+      }
     }
     p.copies.push_back(c);  // within the reserved capacity: the image holds at most that many
   }

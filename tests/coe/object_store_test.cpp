@@ -146,13 +146,16 @@ TEST_F(ObjectStoreTest, IndexOfEverySlot) {
   static_assert(sizeof(void*) != 8 || sizeof(ObjectStore::Slot) == 16, "one slot per entry and slave: 16 bytes");
 }
 
-// The PDO-mappable numbers (6000h/6001h inputs, 7000h-7002h outputs) lie at
-// the front of the value buffer, side by side in index order, the rest after
-// them (issue 30 item 1: a drive's cyclic values in few cache lines); no two
+// The values the PDO copies move every cycle lie at the front of the value
+// buffer (issue 30 item 1: a drive's cyclic values in few cache lines):
+// first those the default assignment maps, in the order of their images
+// (1C12h's 1600h: 7000h, 7001h; 1C13h's 1A00h: 6000h, 6001h), so that a copy
+// plan moves each image as one block; then the other PDO-mappable numbers
+// (7002h, in 1601h, which 1C12h does not assign); then the rest. No two
 // values (nor a string's length before its value) share a byte.
 TEST_F(ObjectStoreTest, MappableNumbersLieFirstAndTogether) {
   const std::pair<std::uint16_t, std::uint32_t> kFront[] = {
-      {0x6000, 0}, {0x6001, 4}, {0x7000, 5}, {0x7001, 7}, {0x7002, 8}};
+      {0x7000, 0}, {0x7001, 2}, {0x6000, 3}, {0x6001, 7}, {0x7002, 8}};
   for (const auto& [index, offset] : kFront) {
     const ObjectStore::Slot* s = store.slot(index, 0);
     ASSERT_NE(s, nullptr);
