@@ -1,6 +1,7 @@
 #include "coe/object_store.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "coe/pdo_mapping.hpp"
@@ -26,17 +27,16 @@ bool is_cyclic(const ObjectStore::Slot& s) noexcept {
   return !s.variable() && (s.entry->access.rx_mappable() || s.entry->access.tx_mappable());
 }
 
-// A number's default, little-endian, at most 4 bytes (an assignment's PDO
-// index, a mapping's entry, a count); 0 for a missing entry.
+// A number's default, at most 4 bytes (an assignment's PDO index, a
+// mapping's entry, a count); 0 for a missing entry.
 std::uint32_t default_word(const ObjectStore::Slot* s) noexcept {
   if (s == nullptr) return 0;
   const od::Value& v = s->entry->default_value;
-  std::uint32_t w = 0;
-  for (std::size_t i = 0; i < v.size() && i < sizeof w; ++i) w |= std::uint32_t{v[i]} << (8 * i);
-  return w;
+  const std::size_t n = std::min<std::size_t>(v.size(), sizeof(std::uint32_t));
+  return static_cast<std::uint32_t>(load_bits({v.data(), n}, static_cast<unsigned>(n * 8), false));
 }
 
-constexpr std::uint16_t kSmPdoAssignCount = 32;  // 1C10h-1C2Fh
+constexpr std::uint32_t kLastSubindex = std::numeric_limits<std::uint8_t>::max();
 
 }  // namespace
 
@@ -48,11 +48,11 @@ std::vector<ObjectStore::Slot*> ObjectStore::default_image_order() {
   std::vector<bool> listed(slots_.size(), false);
   for (std::uint16_t a = kSmPdoAssignBase; a < kSmPdoAssignBase + kSmPdoAssignCount; ++a) {
     const std::uint32_t pdos = default_word(slot(a, 0));
-    for (std::uint32_t p = 1; p <= pdos && p <= 0xFF; ++p) {
+    for (std::uint32_t p = 1; p <= pdos && p <= kLastSubindex; ++p) {
       const auto pdo = static_cast<std::uint16_t>(default_word(slot(a, static_cast<std::uint8_t>(p))));
       if (!is_mapping_index(pdo)) continue;
       const std::uint32_t n = default_word(slot(pdo, 0));
-      for (std::uint32_t e = 1; e <= n && e <= 0xFF; ++e) {
+      for (std::uint32_t e = 1; e <= n && e <= kLastSubindex; ++e) {
         const PdoMappingEntry m = PdoMappingEntry::decode(default_word(slot(pdo, static_cast<std::uint8_t>(e))));
         Slot* t = m.is_gap() ? nullptr : slot(m.index, m.subindex);
         if (t == nullptr || t->variable() || listed[static_cast<std::size_t>(t - slots_.data())]) continue;

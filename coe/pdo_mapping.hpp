@@ -16,6 +16,7 @@ inline constexpr std::uint16_t kTxPdoMappingFirst = 0x1A00;
 inline constexpr std::uint16_t kTxPdoMappingLast = 0x1BFF;
 inline constexpr std::uint16_t kSmCommunicationType = 0x1C00;
 inline constexpr std::uint16_t kSmPdoAssignBase = 0x1C10;  // + SM number
+inline constexpr std::uint16_t kSmPdoAssignCount = 32;      // 1C10h-1C2Fh: SM 0-31
 inline constexpr std::uint16_t kRxPdoAssign = 0x1C12;      // SM2
 inline constexpr std::uint16_t kTxPdoAssign = 0x1C13;      // SM3
 inline constexpr unsigned kOutputsSm = 2;

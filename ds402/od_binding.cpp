@@ -83,12 +83,6 @@ void each(const Tuple& t, Fn&& fn) {
   each(t, fn, std::make_index_sequence<std::tuple_size_v<Tuple>>{});
 }
 
-// Whether the entry's value bytes hold exactly a T (integral).
-template <typename T>
-bool same_width(const coe::ObjectStore& store, const coe::ObjectStore::Slot& s) noexcept {
-  return std::is_integral_v<T> && s.capacity == sizeof(T) && store.length(s) == sizeof(T);
-}
-
 template <typename T>
 T load_field(const std::uint8_t* p) noexcept {
   return static_cast<T>(load_le<std::make_unsigned_t<T>>(p));
@@ -125,22 +119,26 @@ DriveBinding::DriveBinding(coe::ObjectStore& store, coe::Emergency* emergency, c
                            unsigned axis) noexcept
     : store_(store), values_(store.values()), emergency_(emergency), layout_(layout), axis_(axis),
       multi_axis_(layout.axes > 1) {
-  auto at = [&]<typename T>(const coe::ObjectStore::Slot* s, const T*) {
-    if (s == nullptr) return kAbsent;
-    return same_width<T>(store_, *s) ? s->offset : kConvert;
-  };
   each(kInputs, [&](const auto& fld, std::size_t i) {
     using T = std::remove_cvref_t<decltype(std::declval<I&>().*fld.member)>;
     in_[i] = store_.slot(layout_.object_index(axis_, fld.index), fld.subindex);
-    in_at_[i] = at(in_[i], static_cast<const T*>(nullptr));
+    in_at_[i] = value_at<T>(in_[i]);
   });
   each(kOutputs, [&](const auto& fld, std::size_t i) {
     using T = std::remove_cvref_t<decltype(std::declval<O&>().*fld.member)>;
     out_[i] = store_.slot(layout_.object_index(axis_, fld.index), fld.subindex);
-    out_at_[i] = at(out_[i], static_cast<const T*>(nullptr));
+    out_at_[i] = value_at<T>(out_[i]);
   });
   error_register_ = store_.slot(kErrorRegister, 0);
   ip_record_ = store_.slot(layout_.object_index(axis_, kIpDataRecord), kIpDataRecordPosition);
+}
+
+// The entry's offset when its value bytes hold exactly a T (integral).
+template <typename T>
+std::uint32_t DriveBinding::value_at(const coe::ObjectStore::Slot* s) const noexcept {
+  if (s == nullptr) return kAbsent;
+  const bool same_width = std::is_integral_v<T> && s->capacity == sizeof(T) && store_.length(*s) == sizeof(T);
+  return same_width ? s->offset : kConvert;
 }
 
 Expected<void, coe::SdoAbort> IpRecordHook::on_write(coe::ObjectStore& store,

@@ -132,6 +132,8 @@ class DriveBinding {
   std::array<coe::ObjectStore::Slot*, kInputCount> in_{};
   std::array<coe::ObjectStore::Slot*, kOutputCount> out_{};
   std::array<std::uint32_t, kInputCount> in_at_{};  // as out_at_
+  template <typename T>
+  std::uint32_t value_at(const coe::ObjectStore::Slot* s) const noexcept;  // set-up: out_at_'s encoding
   coe::ObjectStore::Slot* error_register_ = nullptr;
   // The personality's homing current threshold (Welcon 2402h), bound in publish().
   coe::ObjectStore::Slot* homing_current_threshold_ = nullptr;
