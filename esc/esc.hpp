@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -355,9 +356,13 @@ class Esc final : public Pdi {
   std::uint32_t fmmu_active_ = 0;   // bit n: FMMU n active
   // The active FMMUs decoded for the routed LRD/LWR/LRW path
   // (esc/logical_access.cpp): logical byte range, physical start and where
-  // the physical range goes - SM n (>= 0), plain RAM, or mem_read/mem_write.
+  // the physical range goes - SM n (>= 0), plain RAM, or mem_read/mem_write;
+  // a write over plain RAM that holds the byte of a 1-byte SM (watchdog
+  // trigger only, Section II 0x0802) is plain RAM that restarts the
+  // process-data watchdog when the written bytes reach that byte.
   static constexpr std::int8_t kRouteGeneral = -1;
   static constexpr std::int8_t kRouteRam = -2;
+  static constexpr std::int8_t kRouteRamWatchdog = -3;
   struct FmmuRoute {
     std::uint64_t first = 0;  // logical bytes [first, end)
     std::uint64_t end = 0;
@@ -375,6 +380,7 @@ class Esc final : public Pdi {
   // The route of one FMMU direction with its whole-buffer decoding (logical_access.cpp).
   FmmuRoute whole_route(FmmuRoute r, std::uint32_t length, bool ecat_write) const noexcept;
   void whole_events(const FmmuRoute& r) noexcept;
+  void restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept;
   FmmuRoute* routes_ = nullptr;        // [fmmu_count] read routes, route_reads_ of them in use
   FmmuRoute* write_routes_ = nullptr;  // [fmmu_count] write routes, route_writes_ in use
   unsigned route_reads_ = 0;
@@ -461,6 +467,18 @@ inline void Esc::apply(unsigned n, const SmSignals& sig) noexcept {
     store_le(m + reg::kEcatEventRequest, v);
   }
   if (sig.watchdog_trigger) restart_process_data_watchdog();
+}
+
+// Whether bytes [first, end) reach an SM that only triggers the watchdog
+// (sm_watchdog_only_).
+inline bool Esc::touches_watchdog_only_sm(std::uint32_t first, std::uint32_t end) const noexcept {
+  for (std::uint32_t left = sm_watchdog_only_; left != 0; left &= left - 1) {
+    const SyncManager& sm = sms_[static_cast<unsigned>(std::countr_zero(left))];
+    const std::uint32_t at = sm.start();
+    const std::uint32_t sm_end = at + std::max<std::uint32_t>(sm.length(), 1);
+    if (at < end && first < sm_end) return true;
+  }
+  return false;
 }
 
 inline void Esc::restart_process_data_watchdog() noexcept {

@@ -68,9 +68,9 @@ void Esc::update_fmmus() noexcept {
     if (f.read) routes_[route_reads_++] = whole_route(r, f.length, false);
     if (f.write) {
       // A write over the byte of a 1-byte SM (watchdog trigger only,
-      // Section II 0x0802) goes through mem_write, which restarts the watchdog.
+      // Section II 0x0802) restarts the watchdog as mem_write would.
       FmmuRoute w = r;
-      if (w.target == kRouteRam && touches_watchdog_only_sm(w.physical, p1)) w.target = kRouteGeneral;
+      if (w.target == kRouteRam && touches_watchdog_only_sm(w.physical, p1)) w.target = kRouteRamWatchdog;
       write_routes_[route_writes_++] = whole_route(w, f.length, true);
     }
   }

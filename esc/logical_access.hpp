@@ -11,6 +11,7 @@
 #include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
 #include "esc/registers.hpp"
+#include "esc/small_copy.hpp"
 
 namespace ecat::esc {
 
@@ -67,6 +68,14 @@ inline void Esc::prefetch_pass_targets() const noexcept {
   __builtin_prefetch(m + reg::sync_manager(0));
 }
 
+// An ECAT write of `size` bytes of plain RAM at `address` restarts the
+// process-data watchdog when it reaches the byte of a watchdog-only SM
+// (mem_write's rule, Section II 0x0802).
+inline void Esc::restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept {
+  const auto first = static_cast<std::uint32_t>(address);
+  if (touches_watchdog_only_sm(first, first + static_cast<std::uint32_t>(size))) restart_process_data_watchdog();
+}
+
 // The events of a whole-buffer SM access by ECAT (see Esc::whole_route).
 [[gnu::always_inline]] inline void Esc::whole_events(const FmmuRoute& r) noexcept {
   std::uint8_t* m = mem_.get();
@@ -105,7 +114,7 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         read_hit = sms_[n].read(Side::Ecat, static_cast<std::uint16_t>(paddr), out, sig) || read_hit;
         apply(n, sig);
       } else if (r.target == kRouteRam) {
-        std::memcpy(out.data(), mem_.get() + paddr, out.size());
+        copy_small(out.data(), mem_.get() + paddr, out.size());
         read_hit = true;
       } else {
         read_hit = mem_read(static_cast<std::uint16_t>(paddr), out, Side::Ecat) || read_hit;
@@ -127,6 +136,8 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
       if (r.target == kRouteGeneral) {
         write_hit = mem_write(static_cast<std::uint16_t>(paddr), in, Side::Ecat) || write_hit;
       } else if (ram_protected) {
+        // mem_write restarts the watchdog before it looks at the protection.
+        if (r.target == kRouteRamWatchdog) restart_watchdog_over(paddr, in.size());
         continue;
       } else if (r.whole && lo == r.first && hi == r.end) {
         sms_[static_cast<unsigned>(r.target)].ecat_write_whole(in.data());
@@ -137,8 +148,9 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         const auto n = static_cast<unsigned>(r.target);
         write_hit = sms_[n].write(Side::Ecat, static_cast<std::uint16_t>(paddr), in, sig) || write_hit;
         apply(n, sig);
-      } else {
-        std::memcpy(mem_.get() + paddr, in.data(), in.size());
+      } else {  // plain RAM
+        if (r.target == kRouteRamWatchdog) restart_watchdog_over(paddr, in.size());
+        copy_small(mem_.get() + paddr, in.data(), in.size());
         write_hit = true;
       }
     }

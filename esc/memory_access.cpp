@@ -99,16 +99,6 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
   return any;
 }
 
-bool Esc::touches_watchdog_only_sm(std::uint32_t first, std::uint32_t end) const noexcept {
-  for (std::uint32_t left = sm_watchdog_only_; left != 0; left &= left - 1) {
-    const SyncManager& sm = sms_[static_cast<unsigned>(std::countr_zero(left))];
-    const std::uint32_t at = sm.start();
-    const std::uint32_t sm_end = at + std::max<std::uint32_t>(sm.length(), 1);
-    if (at < end && first < sm_end) return true;
-  }
-  return false;
-}
-
 void Esc::peek(std::uint32_t address, std::span<std::uint8_t> out) const noexcept {
   for (std::size_t i = 0; i < out.size(); ++i) {
     const std::uint32_t a = address + static_cast<std::uint32_t>(i);

@@ -140,6 +140,36 @@ TEST_F(OneByteWdTest, RoutedLwrTriggers) {
   expect_expiry_after(3ms);
 }
 
+// A byte FMMU over four bytes of plain RAM, the last of them a 1-byte SM:
+// an LWR that writes only the first two does not restart the watchdog (the
+// bytes written, not the FMMU, decide, as for an FPWR); one that reaches
+// the SM's byte does.
+TEST_F(OneByteWdTest, RoutedLwrTriggersOnlyWhenItWritesTheSmByte) {
+  config_sm(seg(), kStation, 2, kOneByte + 3, 1, 0x64);
+  config_fmmu(seg(), kStation, 0, kLogical, 4, 0, 7, kOneByte, 0, kFmmuWrite);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical, Data{0x11, 0x22}, 3ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[kOneByte + 1], 0x22);
+  EXPECT_EQ(esc().poll(3ms), std::nullopt);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical + 2, Data{0x33, 0x44}, 4ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[kOneByte + 3], 0x44);
+  expect_expiry_after(4ms);
+}
+
+// ESC write protection (0x0031) keeps the byte as it was, but the write
+// still restarts the watchdog - through an FMMU as by FPWR (mem_write
+// restarts it before it looks at the protection).
+TEST_F(OneByteWdTest, ProtectedRamKeepsItsByteAndTheLwrStillTriggers) {
+  config_sm(seg(), kStation, 2, kOneByte, 1, 0x64);
+  config_fmmu(seg(), kStation, 0, kLogical, 1, 0, 7, kOneByte, 0, kFmmuWrite);
+  transact(seg(), Command::Fpwr, fp(kStation, reg::kEscWriteProtection), Data{0x01});
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical, Data{0x11}, 3ms).wkc, 0);
+  EXPECT_EQ(esc().memory()[kOneByte], 0x00);
+  expect_expiry_after(3ms);
+  EXPECT_EQ(transact(seg(), Command::Fpwr, fp(kStation, kOneByte), Data{0x22}, 5ms).wkc, 0);
+  EXPECT_EQ(esc().poll(5ms), 6ms);
+}
+
 TEST_F(OneByteWdTest, BitGranularLwrTriggers) {
   config_sm(seg(), kStation, 2, kOneByte, 1, 0x64);
   config_fmmu(seg(), kStation, 0, kLogical, 1, 0, 3, kOneByte, 0, kFmmuWrite);  // 4 bits
