@@ -206,6 +206,9 @@ class Segment {
   // index kept up to date after every entered ESC more (issue 30: the
   // one-slave FPRD cost 205 instructions at 49fab26, 610 with the index).
   static constexpr std::size_t kSkipFrom = 4;
+  // A logical datagram over the process data of at least 1 / kDenseShare of
+  // the ESCs takes carry_dense (Segment::maps_most).
+  static constexpr std::size_t kDenseShare = 2;
   // How many ESCs ahead of the pass carry_line asks for an ESC's object
   // lines, and for the lines its pointers lead to (Esc::prefetch_pass_object):
   // a mapped ESC's pass is some 20-40 ns, an L3 hit about as long; measured
@@ -268,9 +271,10 @@ class Segment {
   // than kMaxAutoIncrement): it enters all of them, unplanned.
   static bool enters_all(DatagramView first, std::size_t count) noexcept;
   // Whether a logical datagram of the frame spans the process data of every
-  // ESC as the index last read them (SkipIndex::maps_every_esc): skipping
-  // would pass none by. A guess that only chooses the path: both are exact.
-  bool maps_all(DatagramView first, std::size_t count) noexcept;
+  // ESC as the index last read them (SkipIndex::maps_every_esc), or of at
+  // least 1 / kDenseShare of them (SkipIndex::spans_starting_in): skipping
+  // would pass few by. A guess that only chooses the path: both are exact.
+  bool maps_most(DatagramView first, std::size_t count) noexcept;
   // Either: the frame enters every ESC of a line and skips none.
   [[gnu::noinline]] bool enters_every(DatagramView first, std::size_t count) noexcept;
   // Marks the ESCs a frame that does not enter all must enter (SkipIndex).

@@ -341,6 +341,44 @@ TEST(SegmentSkip, LrwOverEveryEscIsDenseAndTheNextFrameStillSkips) {
   t.compare("counted");
 }
 
+// An LRW over the outputs of half the slaves (35 of 70, one span each of
+// the 70 ESCs' two inside) takes the dense loop too: every ESC is entered.
+// One slave fewer, and it skips: the 34 mapped ESCs and the last one, which
+// turns the frame back. Bytes, WKC and every ESC's state match the line that
+// enters every ESC either way, and the skipping frames after a dense one
+// still see what changed.
+TEST(SegmentSkip, LrwOverHalfTheEscsIsDenseAndOneSlaveLessSkips) {
+  Twin t;
+  set_up(t);
+  Nanoseconds now{1'000'000};
+  auto outputs_of = [](std::size_t slaves, std::uint32_t seed) {
+    return [slaves, seed](TestFrame& f) {
+      Data image(4 * slaves);
+      for (std::size_t b = 0; b < image.size(); ++b) image[b] = static_cast<std::uint8_t>(seed + b);
+      f.add(Command::Lrw, 0, image);
+    };
+  };
+  auto entered = [&]() {
+    std::size_t n = 0;
+    for (const std::uint64_t w : t.fast.segment.entered()) n += static_cast<std::size_t>(std::popcount(w));
+    return n;
+  };
+  auto clear = [&]() {
+    for (std::uint64_t& w : t.fast.segment.entered()) w = 0;
+  };
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    clear();
+    t.frame(now += Nanoseconds{11'000}, outputs_of(kSlaves / 2, k), "half " + std::to_string(k));
+    EXPECT_EQ(entered(), kSlaves) << k;
+    t.compare("half " + std::to_string(k));
+    clear();
+    t.frame(now += Nanoseconds{11'000}, outputs_of(kSlaves / 2 - 1, k + 10), "half less one " + std::to_string(k));
+    EXPECT_EQ(entered(), kSlaves / 2) << k;
+    EXPECT_NE(t.fast.segment.entered()[1] & (std::uint64_t{1} << (kSlaves - 1 - 64)), 0u) << k;
+    t.compare("half less one " + std::to_string(k));
+  }
+}
+
 // What the skip index keeps of an ESC's addressing and ports (read again
 // only when the ESC's address epoch moved, issue 30 item 1): each change
 // made between two frames - a station address written by a frame, an alias
