@@ -83,6 +83,15 @@ void Esc::update_fmmus() noexcept {
   }
 }
 
+// An ECAT write of `size` bytes of plain RAM at `address` restarts the
+// process-data watchdog when it reaches the byte of a watchdog-only SM
+// (mem_write's rule, Section II 0x0802). Out of line: the frame pass that
+// inlines the routes keeps its size for the devices without such an SM.
+void Esc::restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept {
+  const auto first = static_cast<std::uint32_t>(address);
+  if (touches_watchdog_only_sm(first, first + static_cast<std::uint32_t>(size))) restart_process_data_watchdog();
+}
+
 // A route to SM n that maps exactly its buffer area, read (ecat_write =
 // false) or written by ECAT as that SM allows, is taken whole in one step;
 // its events are what SyncManager::read/write would signal for an access

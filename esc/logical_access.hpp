@@ -11,11 +11,21 @@
 #include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
 #include "esc/registers.hpp"
-#include "esc/small_copy.hpp"
 
 namespace ecat::esc {
 
 namespace logical_detail {
+// Plain RAM through a byte FMMU: one byte (the digital I/O of a
+// terminal) as a move, the rest through memcpy - a smaller body than
+// copy_small's, in a path every frame pass inlines.
+inline void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) noexcept {
+  if (n == 1) {
+    *dst = *src;
+  } else {
+    std::memcpy(dst, src, n);
+  }
+}
+
 inline std::uint16_t wkc_of(Command cmd, bool read_hit, bool write_hit) noexcept {
   std::uint16_t wkc = 0;
   if (read_hit) wkc = static_cast<std::uint16_t>(wkc + kWkcRead);
@@ -68,14 +78,6 @@ inline void Esc::prefetch_pass_targets() const noexcept {
   __builtin_prefetch(m + reg::sync_manager(0));
 }
 
-// An ECAT write of `size` bytes of plain RAM at `address` restarts the
-// process-data watchdog when it reaches the byte of a watchdog-only SM
-// (mem_write's rule, Section II 0x0802).
-inline void Esc::restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept {
-  const auto first = static_cast<std::uint32_t>(address);
-  if (touches_watchdog_only_sm(first, first + static_cast<std::uint32_t>(size))) restart_process_data_watchdog();
-}
-
 // The events of a whole-buffer SM access by ECAT (see Esc::whole_route).
 [[gnu::always_inline]] inline void Esc::whole_events(const FmmuRoute& r) noexcept {
   std::uint8_t* m = mem_.get();
@@ -114,7 +116,7 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         read_hit = sms_[n].read(Side::Ecat, static_cast<std::uint16_t>(paddr), out, sig) || read_hit;
         apply(n, sig);
       } else if (r.target == kRouteRam) {
-        copy_small(out.data(), mem_.get() + paddr, out.size());
+        logical_detail::copy_bytes(out.data(), mem_.get() + paddr, out.size());
         read_hit = true;
       } else {
         read_hit = mem_read(static_cast<std::uint16_t>(paddr), out, Side::Ecat) || read_hit;
@@ -150,7 +152,7 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         apply(n, sig);
       } else {  // plain RAM
         if (r.target == kRouteRamWatchdog) restart_watchdog_over(paddr, in.size());
-        copy_small(mem_.get() + paddr, in.data(), in.size());
+        logical_detail::copy_bytes(mem_.get() + paddr, in.data(), in.size());
         write_hit = true;
       }
     }

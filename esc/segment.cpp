@@ -449,7 +449,7 @@ bool Segment::enters_all(DatagramView first, std::size_t count) noexcept {
   }
 }
 
-bool Segment::maps_most(DatagramView first, std::size_t count) noexcept {
+[[gnu::always_inline]] inline bool Segment::maps_most(DatagramView first, std::size_t count) noexcept {
   DatagramView dg = first;
   for (std::size_t left = count;;) {
     const engine_detail::CommandTraits& traits =

@@ -108,6 +108,14 @@ void SkipIndex::mark_logical(std::uint64_t first, std::size_t size) noexcept {
   }
 }
 
+std::size_t SkipIndex::spans_starting_in(std::uint64_t first, std::size_t size) noexcept {
+  if (spans_dirty_) rebuild_spans();
+  const auto begin = sorted_first_.begin();
+  const auto end = begin + static_cast<std::ptrdiff_t>(spans_);
+  const auto from = std::lower_bound(begin, end, first);
+  return static_cast<std::size_t>(std::lower_bound(from, end, first + size) - from);
+}
+
 void SkipIndex::mark_due(Nanoseconds start, Nanoseconds hop) noexcept {
   if (size_ == 0 || min_timer_ > start + hop * static_cast<std::int64_t>(size_ - 1)) return;
   Nanoseconds earliest = Nanoseconds::max();

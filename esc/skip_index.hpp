@@ -89,13 +89,8 @@ class SkipIndex {
   // the ESCs the datagram maps (two binary searches, whatever the count; an
   // ESC with two spans inside counts twice, one whose span starts before
   // `first` not at all).
-  std::size_t spans_starting_in(std::uint64_t first, std::size_t size) noexcept {
-    if (spans_dirty_) rebuild_spans();
-    const auto begin = sorted_first_.begin();
-    const auto end = begin + static_cast<std::ptrdiff_t>(spans_);
-    const auto from = std::lower_bound(begin, end, first);
-    return static_cast<std::size_t>(std::lower_bound(from, end, first + size) - from);
-  }
+  // Out of line: the frames that never ask (FPxx, BRD) keep their path.
+  std::size_t spans_starting_in(std::uint64_t first, std::size_t size) noexcept;
 
   // --- One frame ---
   void begin_frame() noexcept;
