@@ -83,10 +83,11 @@ void Esc::update_fmmus() noexcept {
   }
 }
 
-// An ECAT write of `size` bytes of plain RAM at `address` restarts the
-// process-data watchdog when it reaches the byte of a watchdog-only SM
-// (mem_write's rule, Section II 0x0802). Out of line: the frame pass that
-// inlines the routes keeps its size for the devices without such an SM.
+// An ECAT write of `size` bytes at `address` restarts the process-data
+// watchdog when it reaches the byte of a watchdog-only SM (Section II
+// 0x0802): mem_write's rule, and the plain-RAM routes'. Out of line: the
+// frame pass that inlines the routes keeps its size for the devices
+// without such an SM.
 void Esc::restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept {
   const auto first = static_cast<std::uint32_t>(address);
   if (touches_watchdog_only_sm(first, first + static_cast<std::uint32_t>(size))) restart_process_data_watchdog();

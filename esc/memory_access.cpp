@@ -67,9 +67,7 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
   const std::uint32_t end = std::min<std::uint32_t>(address + static_cast<std::uint32_t>(in.size()), kAddressSpace);
   // Section II 0x0802: an ECAT write to the byte of a 1-byte SM (in RAM or
   // e.g. the digital outputs 0x0F00) restarts the process-data watchdog.
-  if (side == Side::Ecat && sm_watchdog_only_ != 0 && touches_watchdog_only_sm(address, end)) {
-    restart_process_data_watchdog();
-  }
+  if (side == Side::Ecat && sm_watchdog_only_ != 0) restart_watchdog_over(address, end - address);
   if (end <= reg::kProcessRam) return reg_write(address, in, side);  // registers only
   std::uint32_t pos = address;
   bool any = false;

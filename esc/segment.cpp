@@ -449,6 +449,8 @@ bool Segment::enters_all(DatagramView first, std::size_t count) noexcept {
   }
 }
 
+// maps_every_esc implies the share (every span starts inside); it is asked
+// first as the cheaper test for the one LRW over a whole image.
 [[gnu::always_inline]] inline bool Segment::maps_most(DatagramView first, std::size_t count) noexcept {
   DatagramView dg = first;
   for (std::size_t left = count;;) {
