@@ -38,6 +38,7 @@ std::size_t Segment::append(Esc& esc) {
   views_.push_back(view);
   port_masks_.push_back(0);
   ++topology_epoch_;
+  refresh_path();
   const std::size_t i = escs_.size() - 1;
   if (index_.resize(escs_.size())) {
     for (std::size_t k = 0; k < i; ++k) hook(k);
@@ -71,6 +72,7 @@ void Segment::cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nano
   ++topology_epoch_;
   escs_[a]->set_link(pa, true);
   escs_[b]->set_link(pb, true);
+  refresh_path();
 }
 
 std::size_t Segment::add(Esc& esc) {
@@ -100,6 +102,7 @@ void Segment::connect_master(unsigned master_port, std::size_t slave, unsigned p
   links_[slave][port] = Link{kMasterSlave, static_cast<std::uint8_t>(master_port), true, d};
   ++topology_epoch_;
   escs_[slave]->set_link(port, true);
+  refresh_path();
 }
 
 bool Segment::set_link(std::size_t slave, unsigned port, bool up) noexcept {
@@ -116,6 +119,7 @@ bool Segment::set_link(std::size_t slave, unsigned port, bool up) noexcept {
     links_[l.slave][l.port].up = up;
     escs_[l.slave]->set_link(l.port, up);
   }
+  refresh_path();
   return true;
 }
 
@@ -148,7 +152,9 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   if (valid.count == 0) [[unlikely]] return reject(valid.error, now, master_port);
   const DatagramView first(valid.first);
   Delivery d;
-  if (faults_.empty() && line_ && master_port == 0) [[likely]] {
+  if (master_port == 0 && path_ == LinePath::OneEsc) [[likely]] {
+    d = carry_one(first, valid.count, now);
+  } else if (master_port == 0 && path_ == LinePath::Line) [[likely]] {
     d = !skipping_ || escs_.size() < kSkipFrom || enters_every(first, valid.count)
             ? carry_dense(first, valid.count, now)
             : carry_line(first, valid.count, now);
@@ -337,7 +343,7 @@ Delivery Segment::carry_dense(DatagramView first, std::size_t count, Nanoseconds
     for (Esc* e : escs_) e->sync_pass();
     passes_pending_ = false;
   }
-  return n == 1 ? carry_one(first, count, now) : carry_dense_line(first, count, now);
+  return carry_dense_line(first, count, now);
 }
 
 // The ESCs entered are always the first `reached` (or up to the one that
@@ -387,10 +393,14 @@ Delivery Segment::carry_dense_line(DatagramView first, std::size_t count, Nanose
 }
 
 // carry_dense for a segment of one ESC (the virtual slave of most runs):
-// no loop, and nothing to hand back on the way home.
+// no loop, and nothing to hand back on the way home. send takes it on
+// LinePath::OneEsc, one test for what carry_dense would ask of the segment
+// (issue 30: the one-ESC FPRD 243 instructions against 205 at 49fab26).
+// No frame ever skips on one ESC (kSkipFrom), so no pass is pending.
 Delivery Segment::carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
   Esc* const esc = escs_.front();
+  index_stale_ = true;
   if (!esc->port_open_[kUpstreamPort]) [[unlikely]] {
     esc->frame_at_closed_port(kUpstreamPort);
     return d;

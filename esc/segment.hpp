@@ -333,6 +333,22 @@ class Segment {
   // Set by carry_dense, which keeps no index: the next skipping frame
   // enters every ESC to read them all again.
   bool index_stale_ = false;
+  // Which of send's paths a frame from master port 0 takes, kept by
+  // refresh_path at every change of what decides it (ESCs added, cables,
+  // links, cable faults), so that send tests one byte per frame.
+  enum class LinePath : std::uint8_t {
+    OneEsc,  // one ESC on a line, its master cable up, no fault: carry_one
+    Line,    // a line with no cable fault: carry_dense or carry_line
+    Walk,    // a tree, a ring or a fault: carry_walk
+  };
+  LinePath path_ = LinePath::Line;  // no ESC yet: carry_dense loses the frame
+  void refresh_path() noexcept {
+    if (!faults_.empty() || !line_) {
+      path_ = LinePath::Walk;
+    } else {
+      path_ = escs_.size() == 1 && master_[0].up && master_[0].slave == 0 ? LinePath::OneEsc : LinePath::Line;
+    }
+  }
   // Set by record_pass: ESCs the skipping path passed by may not have taken
   // in pass_ yet (Esc::sync_pass); carry_dense syncs them all once first.
   bool passes_pending_ = false;

@@ -51,6 +51,7 @@ bool Segment::corrupt_link(std::size_t slave, unsigned port, unsigned frames, Ca
                                       frames, 0});
   }
   std::erase_if(faults_, [](const CableFaultState& f) { return f.left == 0; });
+  refresh_path();
   return true;
 }
 
@@ -82,7 +83,10 @@ Delivery Segment::carry_faulty(DatagramView first, std::size_t count, Nanosecond
     if (f == nullptr || f->hit_frame == frame_number_) return;
     f->hit_frame = frame_number_;
     if (!broken(fault)) fault = f->fault == CableFault::RxError ? FrameFault::RxError : FrameFault::Crc;
-    if (--f->left == 0) std::erase_if(faults_, [](const CableFaultState& s) { return s.left == 0; });
+    if (--f->left == 0) {
+      std::erase_if(faults_, [](const CableFaultState& s) { return s.left == 0; });
+      refresh_path();
+    }
   };
   std::size_t n = entry.slave;
   unsigned p = entry.port;

@@ -126,6 +126,36 @@ TEST(EscErrorCounters, NFramesThenTheCableIsGoodAgain) {
   EXPECT_EQ(counters(line[2]), (Expect{{3, 0, 0, 0}, {}, {}, 3}.bytes()));
 }
 
+// A segment of one ESC takes its own short path (Segment::carry_one) only
+// while its master cable is healthy and up: a fault or a lost link on that
+// cable takes the frame through the port walk, and the short path comes back
+// when the cable is good again.
+TEST(EscErrorCounters, OneEscSegmentSeesItsMasterCableFaultsAndLinkLoss) {
+  Line line(1);
+  Segment& s = line.segment;
+  ASSERT_TRUE(s.corrupt_link(0, 0, 2));
+  for (std::uint8_t i = 0; i < 2; ++i) {
+    Data f = bwr_frame(static_cast<std::uint8_t>(10 + i));
+    EXPECT_EQ(s.send(f, Nanoseconds{i * 1000}).outcome, Delivery::Outcome::Corrupted) << int{i};
+  }
+  EXPECT_EQ(line[0].memory()[kRam], 0);
+  EXPECT_EQ(counters(line[0]), (Expect{{2, 0, 0, 0}, {}, {}, 2}.bytes()));
+  Data good = bwr_frame(20);
+  EXPECT_EQ(s.send(good, 3000ns).outcome, Delivery::Outcome::Returned);
+  EXPECT_EQ(load_le<std::uint16_t>(good.data() + 14 + 2 + 10 + 4), 1);  // WKC
+  EXPECT_EQ(line[0].memory()[kRam], 20);
+
+  ASSERT_TRUE(s.set_link(0, 0, false));
+  Data lost = bwr_frame(30);
+  EXPECT_EQ(s.send(lost, 4000ns).outcome, Delivery::Outcome::Lost);
+  EXPECT_EQ(line[0].memory()[kRam], 20);
+  ASSERT_TRUE(s.set_link(0, 0, true));
+  Data back = bwr_frame(40);
+  EXPECT_EQ(s.send(back, 5000ns).outcome, Delivery::Outcome::Returned);
+  EXPECT_EQ(load_le<std::uint16_t>(back.data() + 14 + 2 + 10 + 4), 1);
+  EXPECT_EQ(line[0].memory()[kRam], 40);
+}
+
 TEST(EscErrorCounters, CountersSaturateAt0xFF) {
   Line line(2);
   ASSERT_TRUE(line.segment.corrupt_link(1, 0, 300, Segment::CableFault::RxError));
