@@ -39,6 +39,7 @@ void Chain::added() noexcept {
   due_.resize(pending_.size(), 0);
   wakes_.resize(slaves_.size());
   deadlines_.resize(slaves_.size(), Nanoseconds::max());
+  small_ = slaves_.size() < kTrackFrom;
   rescan_ = true;
 }
 
@@ -108,6 +109,13 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // a pending one, or - once the time reaches the earliest wake time - any
   // can be due (issue 16 item 5): the others are not asked.
   const std::span<std::uint64_t> entered = segment_.entered();
+  if (small_) {
+    std::fill(entered.begin(), entered.end(), 0);
+    for (const auto& s : slaves_) {
+      if (s->after_frame_due(now)) s->after_frame(now);
+    }
+    return;
+  }
   DirectNotes notes;
   if (ask_all_ || rescan_) {
     rescanned();
@@ -200,6 +208,14 @@ Nanoseconds Chain::advance(Nanoseconds now) noexcept {
 }
 
 Nanoseconds Chain::poll_at(Nanoseconds now, bool next) noexcept {
+  if (small_ && !poll_all_) {
+    // As poll_due, with each slave's visit time read from the slave itself.
+    Nanoseconds earliest = kNoDeadline;
+    for (const auto& s : slaves_) {
+      earliest = std::min(earliest, s->pending() || s->visit_at() <= now ? s->advance(now) : s->next_deadline());
+    }
+    return earliest;
+  }
   return poll_all_ || rescan_ ? poll_every(now) : poll_due(now, next);
 }
 

@@ -83,16 +83,16 @@ class SyncLog : public esc::DcObserver {
   std::size_t slave_;
 };
 
-// Six servos behind a live-style loop, every frame and event recorded.
+// Six servos (or `n`) behind a live-style loop, every frame and event recorded.
 struct LiveRig : InProcess {
-  explicit LiveRig(bool due) {
+  explicit LiveRig(bool due, std::size_t n = kSlaves) : n_(n), cut_after_(std::min(kCutAfter, n - 2)) {
     chain.set_polling_due(due);
-    add_default(kSlaves);
-    for (std::size_t i = 0; i < kSlaves; ++i) {
+    add_default(n_);
+    for (std::size_t i = 0; i < n_; ++i) {
       sync_logs.emplace_back(std::make_unique<SyncLog>(sync, i));
       chain[i].esc().dc().set_observer(sync_logs.back().get());
     }
-    seen_.resize(kSlaves);
+    seen_.resize(n_);
     wire.set_processor([this](Bytes frame) {
       clock.advance(kWireTime);
       const Nanoseconds at = chain.catch_up(clock.now(), clock.now());
@@ -108,7 +108,7 @@ struct LiveRig : InProcess {
   // AL status changes as the master would read them, without touching the chain.
   void sample(Nanoseconds t) {
     const slave::Chain& c = chain;
-    for (std::size_t i = 0; i < kSlaves; ++i) {
+    for (std::size_t i = 0; i < n_; ++i) {
       const std::uint8_t* m = c[i].esc().memory();
       const AlChange now{i, t, m[esc::reg::kAlStatus], load_le<std::uint16_t>(m + esc::reg::kAlStatusCode)};
       if (!seen_[i] || seen_[i]->status != now.status || seen_[i]->code != now.code) {
@@ -121,7 +121,7 @@ struct LiveRig : InProcess {
   // The slaves a poll at `t` left alone (their latest access is older).
   void count_unpolled(Nanoseconds t) {
     const slave::Chain& c = chain;
-    for (std::size_t i = 0; i < kSlaves; ++i) unpolled += c[i].esc().last_time() < t ? 1 : 0;
+    for (std::size_t i = 0; i < n_; ++i) unpolled += c[i].esc().last_time() < t ? 1 : 0;
   }
 
   // Time passes with no frame: the chain is polled at every deadline it
@@ -144,8 +144,8 @@ struct LiveRig : InProcess {
 
   std::string bring_up_dc() {
     auto n = master.scan();
-    if (!n || *n != kSlaves) return "scan";
-    for (std::size_t i = 0; i < kSlaves; ++i) {
+    if (!n || *n != n_) return "scan";
+    for (std::size_t i = 0; i < n_; ++i) {
       if (!master.configure_mailbox(i)) return "mailbox";
       auto st = master.request_state(i, master::AlState::PreOp);
       if (!st || st->error()) return "preop";
@@ -158,7 +158,7 @@ struct LiveRig : InProcess {
     if (!master.configure_process_data()) return "process data";
     if (!master.configure_dc(clock.now())) return "dc";
     if (!master.dc_static_drift_compensation(20)) return "drift compensation";
-    for (std::size_t i = 0; i < kSlaves; ++i) {
+    for (std::size_t i = 0; i < n_; ++i) {
       if (!master.configure_sync0(i, kCycleNs, 0, milliseconds(5))) return "sync0";
     }
     const slave::Chain& c = chain;
@@ -173,12 +173,12 @@ struct LiveRig : InProcess {
     const Nanoseconds pulse = first.dc().when_system(load_le<std::uint64_t>(start.data()));
     const Nanoseconds until = (pulse - clock.now()) % kCycle;
     next_ = clock.now() + (until - kLead + kCycle) % kCycle - kCycle;
-    for (std::size_t i = 0; i < kSlaves; ++i) {
+    for (std::size_t i = 0; i < n_; ++i) {
       auto st = master.request_state(i, master::AlState::SafeOp);
       if (!st || st->error()) return "safeop";
     }
     for (int k = 0; k < 20; ++k) (void)tick();
-    for (std::size_t i = 0; i < kSlaves; ++i) {
+    for (std::size_t i = 0; i < n_; ++i) {
       auto st = master.request_state(i, master::AlState::Op);
       if (!st || st->error()) return "op";
     }
@@ -210,7 +210,7 @@ struct LiveRig : InProcess {
     ASSERT_TRUE(master.fpwr_u8(latched, kLatch0Control, 0));  // continuous, both edges, ECAT-owned
     for (int k = 0; k < 200; ++k) {
       (void)tick();
-      if (k % 50 == 0) upload_all(kSlaves);
+      if (k % 50 == 0) upload_all(n_);
       // The local clock of one slave steps (a dc_time_jump without the
       // catalogue): its SYNC0 deadline moves earlier, then the time loop pulls it back.
       if (k == 100) outside.dc().jump_local_time(clock.now(), kJump);
@@ -226,21 +226,23 @@ struct LiveRig : InProcess {
         uploads.push_back(master.fprd_u8(latched, kLatch0Status).value_or(0xFF));
       }
     }
-    // The line cut behind slave kCutAfter: the master cycles on, the
+    // The line cut behind slave cut_after_: the master cycles on, the
     // slaves behind the cut see no frame and expire.
-    (void)chain.segment().set_link(kCutAfter, esc::kDownstreamPort, false);
+    (void)chain.segment().set_link(cut_after_, esc::kDownstreamPort, false);
     for (int k = 0; k < 150; ++k) {
       (void)tick();
-      if (k % 50 == 0) upload_all(kCutAfter + 1);
+      if (k % 50 == 0) upload_all(cut_after_ + 1);
     }
-    (void)chain.segment().set_link(kCutAfter, esc::kDownstreamPort, true);
+    (void)chain.segment().set_link(cut_after_, esc::kDownstreamPort, true);
     for (int k = 0; k < 30; ++k) (void)tick();
     // No frame at all: every process-data watchdog expires.
     wait_until(clock.now() + milliseconds(150));
     for (int k = 0; k < 5; ++k) (void)tick();
-    upload_all(kSlaves);
+    upload_all(n_);
   }
 
+  std::size_t n_;
+  std::size_t cut_after_;  // the slave behind which the line is cut
   std::vector<std::unique_ptr<SyncLog>> sync_logs;
   std::vector<std::vector<std::uint8_t>> frames;
   std::vector<Nanoseconds> times;
@@ -253,13 +255,10 @@ struct LiveRig : InProcess {
   Nanoseconds next_{0};
 };
 
-TEST(ChainPoll, DuePollingGivesTheSameFramesEventsAndRegistersAsPollingEverySlave) {
-  LiveRig due(true);
-  LiveRig all(false);
-  due.run();
-  all.run();
-  ASSERT_FALSE(HasFatalFailure());
-
+// Both runs alike: frames, times, deadlines, events, uploads, and every
+// slave's memory, timers, status and DC registers at the end.
+void expect_same_run(LiveRig& due, LiveRig& all) {
+  const std::size_t n = due.n_;
   ASSERT_EQ(due.frames.size(), all.frames.size());
   EXPECT_GT(due.frames.size(), 1000u);
   for (std::size_t k = 0; k < due.frames.size(); ++k) {
@@ -273,6 +272,47 @@ TEST(ChainPoll, DuePollingGivesTheSameFramesEventsAndRegistersAsPollingEverySlav
   ASSERT_EQ(due.al.size(), all.al.size());
   for (std::size_t k = 0; k < due.al.size(); ++k) ASSERT_EQ(due.al[k], all.al[k]) << "AL change " << k;
   EXPECT_EQ(due.uploads, all.uploads);
+
+  const slave::Chain& x = due.chain;
+  const slave::Chain& y = all.chain;
+  const Nanoseconds end = due.clock.now();
+  ASSERT_EQ(end, all.clock.now());
+  for (std::size_t i = 0; i < n; ++i) {
+    const esc::Esc& a = x[i].esc();
+    const esc::Esc& b = y[i].esc();
+    ASSERT_EQ(a.memory_size(), b.memory_size());
+    EXPECT_EQ(std::memcmp(a.memory(), b.memory(), a.memory_size()), 0) << "slave " << i;
+    EXPECT_EQ(a.next_timer(), b.next_timer()) << "slave " << i;
+    EXPECT_EQ(a.wake_bound(), b.wake_bound()) << "slave " << i;
+    EXPECT_EQ(a.dc().system_time(end), b.dc().system_time(end)) << "slave " << i;
+    const slave::SlaveStatus s = x[i].status();
+    const slave::SlaveStatus t = y[i].status();
+    EXPECT_EQ(s.state, t.state) << "slave " << i;
+    EXPECT_EQ(s.code, t.code) << "slave " << i;
+    EXPECT_EQ(s.application_cycles, t.application_cycles) << "slave " << i;
+    EXPECT_EQ(s.firmware_polls, t.firmware_polls) << "slave " << i;
+    EXPECT_EQ(s.watchdog_expiries, t.watchdog_expiries) << "slave " << i;
+    EXPECT_GE(t.watchdog_expiries, 1u) << "slave " << i;
+  }
+  // The DC registers (0x0900-0x09FF) as the PDI reads them, both at the end.
+  for (std::size_t i = 0; i < n; ++i) {
+    std::array<std::uint8_t, esc::DcUnit::kSize> a{};
+    std::array<std::uint8_t, esc::DcUnit::kSize> b{};
+    due.chain[i].esc().dc().read(0, a, end, esc::Side::Pdi);
+    all.chain[i].esc().dc().read(0, b, end, esc::Side::Pdi);
+    EXPECT_EQ(a, b) << "slave " << i;
+  }
+}
+
+TEST(ChainPoll, DuePollingGivesTheSameFramesEventsAndRegistersAsPollingEverySlave) {
+  LiveRig due(true);
+  LiveRig all(false);
+  due.run();
+  all.run();
+  ASSERT_FALSE(HasFatalFailure());
+
+  expect_same_run(due, all);
+  ASSERT_FALSE(HasFatalFailure());
 
   // What the script did: SYNC0 pulses on every slave, the slaves behind the
   // cut in SafeOp with error 0x001B while the others cycled, then all.
@@ -293,35 +333,25 @@ TEST(ChainPoll, DuePollingGivesTheSameFramesEventsAndRegistersAsPollingEverySlav
   EXPECT_EQ(all.unpolled, 0u);
   EXPECT_GT(due.unpolled, all.deadlines.size() * kSlaves / 2);
 
-  const slave::Chain& x = due.chain;
-  const slave::Chain& y = all.chain;
-  const Nanoseconds end = due.clock.now();
-  ASSERT_EQ(end, all.clock.now());
-  for (std::size_t i = 0; i < kSlaves; ++i) {
-    const esc::Esc& a = x[i].esc();
-    const esc::Esc& b = y[i].esc();
-    ASSERT_EQ(a.memory_size(), b.memory_size());
-    EXPECT_EQ(std::memcmp(a.memory(), b.memory(), a.memory_size()), 0) << "slave " << i;
-    EXPECT_EQ(a.next_timer(), b.next_timer()) << "slave " << i;
-    EXPECT_EQ(a.wake_bound(), b.wake_bound()) << "slave " << i;
-    EXPECT_EQ(a.dc().system_time(end), b.dc().system_time(end)) << "slave " << i;
-    const slave::SlaveStatus s = x[i].status();
-    const slave::SlaveStatus t = y[i].status();
-    EXPECT_EQ(s.state, t.state) << "slave " << i;
-    EXPECT_EQ(s.code, t.code) << "slave " << i;
-    EXPECT_EQ(s.application_cycles, t.application_cycles) << "slave " << i;
-    EXPECT_EQ(s.firmware_polls, t.firmware_polls) << "slave " << i;
-    EXPECT_EQ(s.watchdog_expiries, t.watchdog_expiries) << "slave " << i;
-    EXPECT_GE(t.watchdog_expiries, 1u) << "slave " << i;
-  }
-  // The DC registers (0x0900-0x09FF) as the PDI reads them, both at the end.
-  for (std::size_t i = 0; i < kSlaves; ++i) {
-    std::array<std::uint8_t, esc::DcUnit::kSize> a{};
-    std::array<std::uint8_t, esc::DcUnit::kSize> b{};
-    due.chain[i].esc().dc().read(0, a, end, esc::Side::Pdi);
-    all.chain[i].esc().dc().read(0, b, end, esc::Side::Pdi);
-    EXPECT_EQ(a, b) << "slave " << i;
-  }
+}
+
+// A chain of fewer than slave::Chain::kTrackFrom slaves keeps no wake
+// times: after each frame it asks every slave, and a poll reads each one's
+// visit time from the slave itself (issue 30: the one-drive cycle). The same
+// script, three slaves: the same frames, events and registers as a chain
+// that polls every slave, while most polls leave most slaves alone.
+TEST(ChainPoll, ASmallChainPollsTheDueSlavesAsALargeOneDoes) {
+  constexpr std::size_t kFew = 3;
+  static_assert(kFew < slave::Chain::kTrackFrom);
+  LiveRig due(true, kFew);
+  LiveRig all(false, kFew);
+  due.run();
+  all.run();
+  ASSERT_FALSE(HasFatalFailure());
+  expect_same_run(due, all);
+  EXPECT_GT(due.frames.size(), 1000u);
+  EXPECT_EQ(all.unpolled, 0u);
+  EXPECT_GT(due.unpolled, all.deadlines.size() * kFew / 2);
 }
 
 // Issue 30: a slave's own firmware accesses its ESC whenever it runs, and
