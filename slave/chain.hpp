@@ -141,9 +141,10 @@ class Chain {
   // Keeping the pending bits and wake times costs more (noting, the due
   // sets, the touched scan) than asking a slave that is not due, a few
   // loads (issue 30: the one-drive cycle 3,705 -> 3,474 instructions, 3,333
-  // at 49fab26); a line of so few ESCs skips none either
-  // (esc::Segment::kSkipFrom), and a tree's frames only enter fewer.
-  static constexpr std::size_t kTrackFrom = 4;
+  // at 49fab26; the ten-drive cycle 31,956 -> 30,966 at 16 against 4);
+  // the segment still skips from esc::Segment::kSkipFrom ESCs on, and
+  // asking every slave is a superset of asking the entered ones.
+  static constexpr std::size_t kTrackFrom = 16;
 
   // Timers and firmware of the slaves (see set_polling_due); returns the
   // earliest next deadline of all, as a poll of every slave would.

@@ -3,7 +3,7 @@
 // chain polling every slave before every frame and at every deadline, as
 // ecat-slave runs it (Chain::catch_up, pass_frame, run_firmware; Chain::poll
 // when the wire is quiet, at the deadline it returned). The project's master
-// takes six generic servos through scan, SII, mailbox, DC with SYNC0 at
+// takes 18 generic servos through scan, SII, mailbox, DC with SYNC0 at
 // 1 ms, SafeOp and Op, cycles with drift compensation and SDO uploads (and,
 // made through the ESC from outside the chain, a step of one slave's local
 // time and a LATCH0 pulse on another), cuts the line behind slave 3 until
@@ -38,8 +38,10 @@ namespace {
 
 using std::chrono::milliseconds;
 
-constexpr std::size_t kSlaves = 6;  // a line long enough to skip (esc::Segment::kSkipFrom)
-constexpr std::size_t kCutAfter = 3;  // slaves 4 and 5 lose the line
+// A line long enough to skip (esc::Segment::kSkipFrom) and for the chain to
+// keep its slaves' wake times (slave::Chain::kTrackFrom).
+constexpr std::size_t kSlaves = slave::Chain::kTrackFrom + 2;
+constexpr std::size_t kCutAfter = 3;  // slaves 4 and on lose the line
 constexpr std::size_t kJumped = 2;    // its local time steps
 constexpr std::size_t kLatched = 1;   // its LATCH0 input toggles
 constexpr std::uint16_t kLatch0Control = 0x09A8;
@@ -83,7 +85,7 @@ class SyncLog : public esc::DcObserver {
   std::size_t slave_;
 };
 
-// Six servos (or `n`) behind a live-style loop, every frame and event recorded.
+// kSlaves servos (or `n`) behind a live-style loop, every frame and event recorded.
 struct LiveRig : InProcess {
   explicit LiveRig(bool due, std::size_t n = kSlaves) : n_(n), cut_after_(std::min(kCutAfter, n - 2)) {
     chain.set_polling_due(due);

@@ -15,7 +15,9 @@
 namespace ecat::test {
 namespace {
 
-constexpr std::size_t kDrives = 6;
+// Long enough for the segment to skip (esc::Segment::kSkipFrom) and the
+// chain to keep wake times (slave::Chain::kTrackFrom).
+constexpr std::size_t kDrives = slave::Chain::kTrackFrom + 2;
 
 // An in-process master and chain that keeps every frame it returned.
 struct Recorded {
@@ -41,7 +43,7 @@ TEST(ChainSkip, MasterBringUpAndCyclesGiveTheSameFramesAsTheFullPass) {
   }
   ASSERT_EQ(fast.frames.size(), ref.frames.size());
   // The 200 cycle frames plus a bring-up of several hundred (the batched
-  // scan, SII reads and mailbox traffic of 6 drives: 669 frames).
+  // scan, SII reads and mailbox traffic: 669 frames for 6 drives).
   EXPECT_GT(fast.frames.size(), 200u + 400u);
   for (std::size_t k = 0; k < fast.frames.size(); ++k) {
     ASSERT_EQ(fast.frames[k], ref.frames[k]) << "frame " << k;
@@ -75,6 +77,7 @@ TEST(ChainSkip, TreeBringUpAndCyclesGiveTheSameFramesAsThePortWalk) {
     ASSERT_TRUE(r->p.chain.attach(*device, o, 0, esc::kDownstreamPort));
     ASSERT_TRUE(r->p.chain.attach(*device, o, 3, 2));
     ASSERT_TRUE(r->p.chain.attach(*device, o, 3, esc::kDownstreamPort));
+    for (std::size_t k = 6; k < kDrives; ++k) ASSERT_TRUE(r->p.chain.attach(*device, o, k - 1, esc::kDownstreamPort));
     ASSERT_FALSE(r->p.chain.segment().is_line());
     ASSERT_EQ(r->p.bring_up(), "");
     for (int c = 0; c < 200; ++c) ASSERT_TRUE(r->p.cycle_once(std::chrono::milliseconds(1))) << "cycle " << c;
