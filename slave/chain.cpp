@@ -109,7 +109,7 @@ void Chain::run_firmware(Nanoseconds now) noexcept {
   // a pending one, or - once the time reaches the earliest wake time - any
   // can be due (issue 16 item 5): the others are not asked.
   const std::span<std::uint64_t> entered = segment_.entered();
-  if (small_) {
+  if (small_) {  // fewer than kTrackFrom slaves: each one asked (chain.hpp)
     std::fill(entered.begin(), entered.end(), 0);
     for (const auto& s : slaves_) {
       if (s->after_frame_due(now)) s->after_frame(now);

@@ -26,6 +26,12 @@ Data bwr_frame(std::uint8_t value = 1) {
   return buf;
 }
 
+// The WKC of bwr_frame's one datagram (4 data bytes), as the frame came back.
+std::uint16_t bwr_wkc(const Data& f) {
+  constexpr std::size_t kBwrData = 4;
+  return load_le<std::uint16_t>(f.data() + kEthernetHeaderSize + kFrameHeaderSize + kDatagramHeaderSize + kBwrData);
+}
+
 // 0x0300-0x0313 of one ESC, straight from its memory.
 Data counters(Esc& e) {
   const std::uint8_t* m = e.memory();
@@ -119,7 +125,7 @@ TEST(EscErrorCounters, NFramesThenTheCableIsGoodAgain) {
   Data f = bwr_frame(20);
   const Delivery d = s.send(f, 5000ns);
   EXPECT_EQ(d.outcome, Delivery::Outcome::Returned);
-  EXPECT_EQ(load_le<std::uint16_t>(f.data() + 14 + 2 + 10 + 4), 3);  // WKC: every slave
+  EXPECT_EQ(bwr_wkc(f), 3);  // every slave
   for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(line[i].memory()[kRam], 20);
   EXPECT_EQ(counters(line[0]), (Expect{{}, {}, {0, 3, 0, 0}, 0}.bytes()));
   EXPECT_EQ(counters(line[1]), (Expect{{}, {}, {0, 3, 0, 0}, 0}.bytes()));
@@ -142,7 +148,7 @@ TEST(EscErrorCounters, OneEscSegmentSeesItsMasterCableFaultsAndLinkLoss) {
   EXPECT_EQ(counters(line[0]), (Expect{{2, 0, 0, 0}, {}, {}, 2}.bytes()));
   Data good = bwr_frame(20);
   EXPECT_EQ(s.send(good, 3000ns).outcome, Delivery::Outcome::Returned);
-  EXPECT_EQ(load_le<std::uint16_t>(good.data() + 14 + 2 + 10 + 4), 1);  // WKC
+  EXPECT_EQ(bwr_wkc(good), 1);
   EXPECT_EQ(line[0].memory()[kRam], 20);
 
   ASSERT_TRUE(s.set_link(0, 0, false));
@@ -152,7 +158,7 @@ TEST(EscErrorCounters, OneEscSegmentSeesItsMasterCableFaultsAndLinkLoss) {
   ASSERT_TRUE(s.set_link(0, 0, true));
   Data back = bwr_frame(40);
   EXPECT_EQ(s.send(back, 5000ns).outcome, Delivery::Outcome::Returned);
-  EXPECT_EQ(load_le<std::uint16_t>(back.data() + 14 + 2 + 10 + 4), 1);
+  EXPECT_EQ(bwr_wkc(back), 1);
   EXPECT_EQ(line[0].memory()[kRam], 40);
 }
 
