@@ -354,15 +354,25 @@ void Esc::write_buffer_commit(std::uint16_t address, std::span<const std::uint8_
   pdi_watchdog_trigger(t);
 }
 
-// Any PDI access restarts the PDI watchdog and shows it in DL status bit 1.
-// 0x0400 and 0x0410 lie outside the DC block: their bytes are the values.
+// Any PDI access restarts the PDI watchdog and shows it in DL status bit 1
+// (written only when it did not: Watchdogs::pdi_status_shown).
 void Esc::pdi_watchdog_trigger(Nanoseconds t) noexcept {
-  std::uint8_t* m = mem_.get();
-  watchdogs_.trigger_pdi(t, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
-                         load_le<std::uint16_t>(m + reg::kWatchdogTimePdi));
-  refresh_timers();
-  std::uint8_t* p = m + reg::kDlStatus;
-  store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | bits::kDlPdiWatchdogOk));
+  watchdogs_.trigger_pdi(t);
+  refresh_watchdog_timer();
+  if (!watchdogs_.pdi_status_shown()) [[unlikely]] {
+    std::uint8_t* p = mem_.get() + reg::kDlStatus;
+    store_le(p, static_cast<std::uint16_t>(load_le<std::uint16_t>(p) | bits::kDlPdiWatchdogOk));
+    watchdogs_.set_pdi_status_shown();
+  }
+}
+
+// 0x0400, 0x0410 and 0x0420 are read here only: a trigger takes the
+// timeouts Watchdogs keeps.
+void Esc::watchdog_times_written() noexcept {
+  const std::uint8_t* m = mem_.get();
+  watchdogs_.set_times(load_le<std::uint16_t>(m + reg::kWatchdogDivider),
+                       load_le<std::uint16_t>(m + reg::kWatchdogTimePdi),
+                       load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
 }
 
 // --- Time ---------------------------------------------------------------------------
@@ -411,7 +421,9 @@ Nanoseconds Esc::advance(Nanoseconds now) noexcept {
   run_timers(now);
   now_ = now;
   const Nanoseconds dc = dc_.advance(now);
-  return std::min({watchdogs_.next_deadline().value_or(kNoDeadline), sii_.next_deadline().value_or(kNoDeadline), dc});
+  // next_timer_ is the earliest of the watchdogs' and the SII's deadlines
+  // (refresh_timers), kNoDeadline when neither runs.
+  return std::min(next_timer_, dc);
 }
 
 

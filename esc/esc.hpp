@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 
 #include "common/clock.hpp"
 #include "common/frame_parser.hpp"
@@ -309,9 +310,18 @@ class Esc final : public Pdi {
   void update_ports() noexcept;
   void update_sm_guards() noexcept;
   void update_fmmus() noexcept;
+  // next_timer_ = the earliest of the watchdogs' and the SII's deadlines.
+  // Every change of the SII's deadline is followed by refresh_timers, which
+  // keeps it in sii_timer_; a watchdog trigger changes only the watchdogs'
+  // and takes the SII's from there (refresh_watchdog_timer), without the
+  // SII's lines.
   void refresh_timers() noexcept {
-    next_timer_ = std::min(watchdogs_.earliest(), sii_.next_deadline().value_or(Nanoseconds::max()));
+    sii_timer_ = sii_.next_deadline().value_or(Nanoseconds::max());
+    refresh_watchdog_timer();
   }
+  void refresh_watchdog_timer() noexcept { next_timer_ = std::min(watchdogs_.earliest(), sii_timer_); }
+  // The watchdog registers 0x0400, 0x0410 or 0x0420 changed.
+  void watchdog_times_written() noexcept;
   void load_eeprom(bool power_on) noexcept;
   // Runs the watchdogs and the SII busy time when one is due (now >= next_timer_).
   void run_timers(Nanoseconds now) noexcept {
@@ -376,11 +386,20 @@ class Esc final : public Pdi {
     bool watchdog = false;
     std::uint16_t ecat_clear = 0;
     std::uint32_t al_raise = 0;
+    // kRouteRamWatchdog: the physical bytes [watchdog_first, watchdog_end)
+    // of the one watchdog-only SM the route covers, which a write must reach
+    // to restart the watchdog; watchdog_end 0 when it covers several (then
+    // restart_watchdog_over looks at the SMs).
+    std::uint32_t watchdog_first = 0;
+    std::uint32_t watchdog_end = 0;
   };
   // The route of one FMMU direction with its whole-buffer decoding (logical_access.cpp).
   FmmuRoute whole_route(FmmuRoute r, std::uint32_t length, bool ecat_write) const noexcept;
   void whole_events(const FmmuRoute& r) noexcept;
   void restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept;
+  void restart_watchdog_over(const FmmuRoute& r, std::uint64_t address, std::size_t size) noexcept;
+  // The one watchdog-only SM over physical bytes [first, end): its bytes, or {0, 0} for none or several.
+  std::pair<std::uint32_t, std::uint32_t> watchdog_only_sm_over(std::uint32_t first, std::uint32_t end) const noexcept;
   FmmuRoute* routes_ = nullptr;        // [fmmu_count] read routes, route_reads_ of them in use
   FmmuRoute* write_routes_ = nullptr;  // [fmmu_count] write routes, route_writes_ in use
   unsigned route_reads_ = 0;
@@ -402,6 +421,7 @@ class Esc final : public Pdi {
   // (receive_latch_armed_) one line, where the ESC was read over three or
   // four (issue 30 item 1, docs/performance.md "Session 15").
   Nanoseconds next_timer_ = Nanoseconds::max();
+  Nanoseconds sii_timer_ = Nanoseconds::max();  // the SII's deadline at the last refresh_timers
   std::uint32_t fmmu_epoch_ = 0;  // +1 at every update_fmmus (esc::Segment re-reads the spans)
   // +1 whenever something esc::Segment's skip index keeps of this ESC's
   // addressing, ports and reset may have changed: a write to the station
@@ -482,11 +502,12 @@ inline bool Esc::touches_watchdog_only_sm(std::uint32_t first, std::uint32_t end
 }
 
 inline void Esc::restart_process_data_watchdog() noexcept {
-  std::uint8_t* m = mem_.get();
-  watchdogs_.trigger_process_data(now_, load_le<std::uint16_t>(m + reg::kWatchdogDivider),
-                                  load_le<std::uint16_t>(m + reg::kWatchdogTimeProcessData));
-  m[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
-  refresh_timers();
+  watchdogs_.trigger_process_data(now_);
+  if (!watchdogs_.pd_status_shown()) [[unlikely]] {
+    mem_[reg::kWatchdogStatusProcessData] = bits::kWatchdogPdActive;
+    watchdogs_.set_pd_status_shown();
+  }
+  refresh_watchdog_timer();
 }
 
 }  // namespace ecat::esc

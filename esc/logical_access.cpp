@@ -8,6 +8,8 @@
 #include <array>
 #include <bit>
 #include <cstring>
+#include <tuple>
+#include <utility>
 
 #include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
@@ -70,7 +72,10 @@ void Esc::update_fmmus() noexcept {
       // A write over the byte of a 1-byte SM (watchdog trigger only,
       // Section II 0x0802) restarts the watchdog as mem_write would.
       FmmuRoute w = r;
-      if (w.target == kRouteRam && touches_watchdog_only_sm(w.physical, p1)) w.target = kRouteRamWatchdog;
+      if (w.target == kRouteRam && touches_watchdog_only_sm(w.physical, p1)) {
+        w.target = kRouteRamWatchdog;
+        std::tie(w.watchdog_first, w.watchdog_end) = watchdog_only_sm_over(w.physical, p1);
+      }
       write_routes_[route_writes_++] = whole_route(w, f.length, true);
     }
   }
@@ -91,6 +96,30 @@ void Esc::update_fmmus() noexcept {
 void Esc::restart_watchdog_over(std::uint64_t address, std::size_t size) noexcept {
   const auto first = static_cast<std::uint32_t>(address);
   if (touches_watchdog_only_sm(first, first + static_cast<std::uint32_t>(size))) restart_process_data_watchdog();
+}
+
+// The same for a plain-RAM route's write, from the SM bytes the route keeps
+// (update_fmmus): the frame reads no SM.
+void Esc::restart_watchdog_over(const FmmuRoute& r, std::uint64_t address, std::size_t size) noexcept {
+  if (r.watchdog_end == 0) {
+    restart_watchdog_over(address, size);
+  } else if (address < r.watchdog_end && r.watchdog_first < address + size) {
+    restart_process_data_watchdog();
+  }
+}
+
+std::pair<std::uint32_t, std::uint32_t> Esc::watchdog_only_sm_over(std::uint32_t first,
+                                                                   std::uint32_t end) const noexcept {
+  std::pair<std::uint32_t, std::uint32_t> found{0, 0};
+  for (std::uint32_t left = sm_watchdog_only_; left != 0; left &= left - 1) {
+    const SyncManager& sm = sms_[static_cast<unsigned>(std::countr_zero(left))];
+    const std::uint32_t at = sm.start();
+    const std::uint32_t sm_end = at + std::max<std::uint32_t>(sm.length(), 1);
+    if (at >= end || first >= sm_end) continue;
+    if (found.second != 0) return {0, 0};  // several
+    found = {at, sm_end};
+  }
+  return found;
 }
 
 // A route to SM n that maps exactly its buffer area, read (ecat_write =

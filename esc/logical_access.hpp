@@ -139,7 +139,7 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         write_hit = mem_write(static_cast<std::uint16_t>(paddr), in, Side::Ecat) || write_hit;
       } else if (ram_protected) {
         // mem_write restarts the watchdog before it looks at the protection.
-        if (r.target == kRouteRamWatchdog) restart_watchdog_over(paddr, in.size());
+        if (r.target == kRouteRamWatchdog) restart_watchdog_over(r, paddr, in.size());
         continue;
       } else if (r.whole && lo == r.first && hi == r.end) {
         sms_[static_cast<unsigned>(r.target)].ecat_write_whole(in.data());
@@ -151,7 +151,7 @@ inline std::uint16_t Esc::process_logical_routes(DatagramView d) noexcept {
         write_hit = sms_[n].write(Side::Ecat, static_cast<std::uint16_t>(paddr), in, sig) || write_hit;
         apply(n, sig);
       } else {  // plain RAM
-        if (r.target == kRouteRamWatchdog) restart_watchdog_over(paddr, in.size());
+        if (r.target == kRouteRamWatchdog) restart_watchdog_over(r, paddr, in.size());
         logical_detail::copy_bytes(mem_.get() + paddr, in.data(), in.size());
         write_hit = true;
       }

@@ -62,7 +62,8 @@ constexpr bool read_effect(std::uint16_t a, Side side) noexcept {
 }
 
 // Writes that do more than store the value (write enables, reset sequence,
-// DL control, AL control/status, counters cleared by any write, MII command;
+// DL control, AL control/status, counters cleared by any write, MII command,
+// the watchdog divider and times, whose timeouts Watchdogs keeps;
 // the station address, alias and ECAT event mask advance the ESC's address
 // epoch, Esc::address_epoch_).
 constexpr bool write_effect(std::uint16_t a, Side side) noexcept {
@@ -75,6 +76,9 @@ constexpr bool write_effect(std::uint16_t a, Side side) noexcept {
   return a == reg::kRegisterWriteEnable || a == reg::kEscWriteEnable || a == reg::kAlControl ||
          a == reg::kAlControl + 1 || in(a, reg::kRxErrorCounter, bits::kLostLinkCountersEnd) ||
          a == reg::kWatchdogCounterProcessData || a == reg::kWatchdogCounterPdi ||
+         in(a, reg::kWatchdogDivider, reg::kWatchdogDivider + 2) ||
+         in(a, reg::kWatchdogTimePdi, reg::kWatchdogTimePdi + 2) ||
+         in(a, reg::kWatchdogTimeProcessData, reg::kWatchdogTimeProcessData + 2) ||
          in(a, reg_layout::kMiiControl, reg_layout::kMiiPhyAddress);
 }
 

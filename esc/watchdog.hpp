@@ -25,14 +25,36 @@ class Watchdogs {
     return Nanoseconds{unit * time};
   }
 
+  // Deadlines off, the timeouts of the reset register values.
   void reset() noexcept;
-  // Restart on a trigger at `now` with the current register values.
-  void trigger_process_data(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
-    pd_deadline_ = time == 0 ? kNever : now + timeout(divider, time);  // 0 = disabled
+  // The register values changed (0x0400 divider, 0x0410 PDI time, 0x0420
+  // process-data time): the timeouts of the triggers from now on. A running
+  // watchdog keeps the deadline of its last trigger, as before the cache.
+  void set_times(std::uint16_t divider, std::uint16_t pdi_time, std::uint16_t pd_time) noexcept {
+    pd_timeout_ = enabled_timeout(divider, pd_time);
+    pdi_timeout_ = enabled_timeout(divider, pdi_time);
   }
-  void trigger_pdi(Nanoseconds now, std::uint16_t divider, std::uint16_t time) noexcept {
-    pdi_deadline_ = time == 0 ? kNever : now + timeout(divider, time);  // 0 = disabled
+  // Restart on a trigger at `now` with the timeouts of set_times: no
+  // register is read (the frame of every process-data cycle restarts the
+  // watchdog at every drive, and 0x0400 lies on a line nothing else of
+  // that frame touches).
+  void trigger_process_data(Nanoseconds now) noexcept {
+    pd_deadline_ = pd_timeout_ == kNever ? kNever : now + pd_timeout_;  // kNever: time 0, disabled
   }
+  void trigger_pdi(Nanoseconds now) noexcept { pdi_deadline_ = pdi_timeout_ == kNever ? kNever : now + pdi_timeout_; }
+
+  // Whether ESC memory shows the running state: 0x0440 bit 0 (process
+  // data) and DL status 0x0110 bit 1 (PDI). A trigger writes them only when
+  // it does not (after an expiry, a reset or a raw register poke), so the
+  // triggers of a running watchdog leave their lines alone.
+  bool pd_status_shown() const noexcept { return pd_status_shown_; }
+  bool pdi_status_shown() const noexcept { return pdi_status_shown_; }
+  void set_status_shown(bool pd, bool pdi) noexcept {
+    pd_status_shown_ = pd;
+    pdi_status_shown_ = pdi;
+  }
+  void set_pd_status_shown() noexcept { pd_status_shown_ = true; }
+  void set_pdi_status_shown() noexcept { pdi_status_shown_ = true; }
 
   // Fault injection: a running process-data watchdog expires at `now`, as
   // if no trigger had come for its whole time. False (and nothing changes)
@@ -61,8 +83,15 @@ class Watchdogs {
   // Deadlines stored as plain times (no std::optional on the per-frame
   // path); kNever = not armed.
   static constexpr Nanoseconds kNever = Nanoseconds::max();
+  static Nanoseconds enabled_timeout(std::uint16_t divider, std::uint16_t time) noexcept {
+    return time == 0 ? kNever : timeout(divider, time);
+  }
   Nanoseconds pd_deadline_ = kNever;
   Nanoseconds pdi_deadline_ = kNever;
+  Nanoseconds pd_timeout_ = timeout(kWatchdogDividerReset, kWatchdogTimeReset);
+  Nanoseconds pdi_timeout_ = timeout(kWatchdogDividerReset, kWatchdogTimeReset);
+  bool pd_status_shown_ = true;
+  bool pdi_status_shown_ = false;
 };
 
 }  // namespace ecat::esc

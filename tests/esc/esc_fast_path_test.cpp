@@ -443,7 +443,11 @@ TEST(RegisterMap, PlainBytesAreFullyWritableAndBlocksAreSpecial) {
   EXPECT_TRUE(has(reg::kAlStatus, kReadEffectEcat));
   EXPECT_TRUE(has(reg::kAlControl, kReadEffectPdi));
   EXPECT_FALSE(has(reg::kAlControl, kReadEffectEcat));
-  EXPECT_TRUE(has(reg::kWatchdogDivider, kWritePlainEcat));
+  EXPECT_TRUE(has(bits::kUserRam, kWritePlainEcat));
+  // Writable, but Watchdogs keeps the timeouts of the divider and times.
+  EXPECT_FALSE(has(reg::kWatchdogDivider, kWritePlainEcat));
+  EXPECT_FALSE(has(reg::kWatchdogTimePdi + 1, kWritePlainEcat));
+  EXPECT_FALSE(has(reg::kWatchdogTimeProcessData, kWritePlainEcat));
   // Writable, but each write advances the ESC's address epoch (Esc::address_epoch_).
   EXPECT_FALSE(has(reg::kConfiguredStationAddress, kWritePlainEcat));
   EXPECT_FALSE(has(reg::kConfiguredStationAlias, kWritePlainPdi));

@@ -83,6 +83,47 @@ TEST_F(WdTest, ZeroTimeDisables) {
   EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
 }
 
+// The ESC keeps the timeouts of 0x0400/0x0410/0x0420 (Watchdogs::set_times):
+// every way of writing them reaches the next trigger - one byte at a time,
+// the divider, the PDI time, a raw poke - and a running watchdog keeps the
+// deadline of its last trigger.
+TEST_F(WdTest, TriggersTakeTheTimesAsLastWritten) {
+  write_outputs(0ms);  // 10 units of 100 µs
+  EXPECT_EQ(esc().poll(0ms), 1ms);
+  transact(seg(), Command::Fpwr, fp(kStation, reg::kWatchdogTimeProcessData), Data{20}, 500us);  // low byte only
+  EXPECT_EQ(esc().poll(500us), 1ms);  // running: its deadline stays
+  write_outputs(800us);
+  EXPECT_EQ(esc().poll(800us), 2800us);  // 20 units
+  // Divider 4998: (4998 + 2) x 40 ns = 200 µs a unit.
+  transact(seg(), Command::Fpwr, fp(kStation, reg::kWatchdogDivider), le16(4998), 900us);
+  write_outputs(1ms);
+  EXPECT_EQ(esc().poll(1ms), 5ms);
+  transact(seg(), Command::Fpwr, fp(kStation, reg::kWatchdogTimeProcessData + 1), Data{0x01}, 1100us);  // high byte
+  write_outputs(2ms);
+  EXPECT_EQ(esc().poll(2ms), 2ms + 0x0114 * 200us);
+  // The PDI watchdog: 5 units = 1 ms from the PDI access.
+  transact(seg(), Command::Fpwr, fp(kStation, reg::kWatchdogTimePdi), le16(5), 2ms);
+  at(3ms);
+  (void)esc().read_u16(reg::kAlControl);
+  EXPECT_EQ(esc().poll(3ms), 4ms);
+  esc().poll(4ms);
+  EXPECT_EQ(esc().register_u16(reg::kDlStatus) & bits::kDlPdiWatchdogOk, 0);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogCounterPdi], 1);
+  // A raw poke (fault injection) of the process-data time and of its
+  // status: the next trigger takes the time and shows the status again.
+  esc().poke_registers(reg::kWatchdogTimeProcessData, le16(3));
+  esc().poke_registers(reg::kWatchdogStatusProcessData, Data{0});
+  write_outputs(5ms);
+  EXPECT_EQ(esc().poll(5ms), 5600us);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+  // Time 0 written while running: the deadline stays, the next trigger disables it.
+  transact(seg(), Command::Fpwr, fp(kStation, reg::kWatchdogTimeProcessData), le16(0), 5100us);
+  EXPECT_EQ(esc().poll(5100us), 5600us);
+  write_outputs(5200us);
+  EXPECT_EQ(esc().poll(5200us), std::nullopt);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogStatusProcessData], 1);
+}
+
 TEST_F(WdTest, PdiWatchdog) {
   at(1s);
   (void)esc().read_u16(reg::kAlControl);  // PDI access at 1 s starts it (100 ms default)
@@ -154,6 +195,22 @@ TEST_F(OneByteWdTest, RoutedLwrTriggersOnlyWhenItWritesTheSmByte) {
   EXPECT_EQ(transact(seg(), Command::Lwr, kLogical + 2, Data{0x33, 0x44}, 4ms).wkc, 1);
   EXPECT_EQ(esc().memory()[kOneByte + 3], 0x44);
   expect_expiry_after(4ms);
+}
+
+// The same route over two 1-byte SMs (bytes 1 and 3): the bytes between
+// and around them do not restart the watchdog, either SM's byte does.
+TEST_F(OneByteWdTest, RoutedLwrOverTwoSmBytesTriggersAtEither) {
+  config_sm(seg(), kStation, 2, kOneByte + 1, 1, 0x64);
+  config_sm(seg(), kStation, 3, kOneByte + 3, 1, 0x64);
+  config_fmmu(seg(), kStation, 0, kLogical, 4, 0, 7, kOneByte, 0, kFmmuWrite);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical, Data{0x11}, 3ms).wkc, 1);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical + 2, Data{0x33}, 3ms).wkc, 1);
+  EXPECT_EQ(esc().memory()[kOneByte + 2], 0x33);
+  EXPECT_EQ(esc().poll(3ms), std::nullopt);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical + 3, Data{0x44}, 4ms).wkc, 1);
+  expect_expiry_after(4ms);
+  EXPECT_EQ(transact(seg(), Command::Lwr, kLogical + 1, Data{0x22}, 6ms).wkc, 1);
+  EXPECT_EQ(esc().poll(6ms), 7ms);
 }
 
 // ESC write protection (0x0031) keeps the byte as it was, but the write
