@@ -156,6 +156,7 @@ void Esc::reset() noexcept {
   pdi_buffer_hints_ = {};
   update_fmmus();
   watchdogs_.reset();
+  ecat_event_mask_ = 0;  // 0x0200 cleared above
   register_write_enabled_ = false;
   esc_write_enabled_ = false;
   reset_step_ = {};

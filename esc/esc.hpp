@@ -299,9 +299,14 @@ class Esc final : public Pdi {
   void apply(unsigned sm, const SmSignals& sig) noexcept;
   void restart_process_data_watchdog() noexcept;
   // The IRQ field this ESC ORs into a datagram: (0x0210 | DC) & 0x0200.
+  // 0 while the mask is (most masters never set it), without a look at the
+  // event registers or the DC unit.
   std::uint16_t irq_field() const noexcept {
-    return static_cast<std::uint16_t>(ecat_event() & load_le<std::uint16_t>(mem_.get() + reg::kEcatEventMask));
+    if (ecat_event_mask_ == 0) return 0;
+    return static_cast<std::uint16_t>(ecat_event() & ecat_event_mask_);
   }
+  // 0x0200 changed (ECAT write, reset, poke_registers).
+  void ecat_event_mask_written() noexcept { ecat_event_mask_ = load_le<std::uint16_t>(mem_.get() + reg::kEcatEventMask); }
   void update_dl_status() noexcept;
   // DL control 0x0101 written: Auto-close ports leave "closed wait".
   void loop_control_written() noexcept;
@@ -449,6 +454,9 @@ class Esc final : public Pdi {
   std::array<bool, kMaxPorts> present_{};      // the port exists (0x0007)
   std::array<bool, kMaxPorts> closed_wait_{};  // Auto-close port closed after a link loss
   bool memory_fresh_ = true;  // still all zero as mapped: the power-on reset need not clear it
+  // The ECAT event mask 0x0200 as stored (ecat_event_mask_written): every
+  // datagram at every ESC asks for it (irq_field).
+  std::uint16_t ecat_event_mask_ = 0;
   // pdi_in_place_sm's last answers: [0] reads, [1] writes; sm -1 = none kept.
   struct PdiBufferHint {
     std::uint32_t address = 0;

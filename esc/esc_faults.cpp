@@ -30,11 +30,12 @@ void Esc::poke_registers(std::uint16_t address, std::span<const std::uint8_t> by
   ++address_epoch_;  // any register, the addressing ones too
   const std::size_t end = std::min<std::size_t>(std::size_t{address} + bytes.size(), kRegisterEnd);
   for (std::size_t a = address; a < end; ++a) mem_[a] = bytes[a - address];
-  // What the ESC keeps of its registers: the watchdog timeouts, and whether
+  // What the ESC keeps of its registers: the watchdog timeouts, whether
   // 0x0440 and DL status show the running watchdogs (the next trigger
-  // writes them again).
+  // writes them again), the ECAT event mask.
   watchdog_times_written();
   watchdogs_.set_status_shown(false, false);
+  ecat_event_mask_written();
 }
 
 }  // namespace ecat::esc

@@ -309,6 +309,7 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
   } else if (in(a, reg::kConfiguredStationAddress, reg::kConfiguredStationAlias + 2) ||
              in(a, reg::kEcatEventMask, reg::kEcatEventMask + 2)) {
     ++address_epoch_;  // what esc::Segment's skip index keeps of the addressing
+    ecat_event_mask_written();
   }
 }
 

@@ -518,7 +518,7 @@ void Segment::read_addressing(std::size_t i) noexcept {
   const bool alias_on = (m[reg::kDlControl + 3] & (bits::kDlStationAlias >> 24)) != 0;
   const std::uint16_t alias = alias_on ? load_le<std::uint16_t>(m + reg::kConfiguredStationAlias) : station;
   v.address = station | (std::uint32_t{alias} << 16);
-  v.event_mask = load_le<std::uint16_t>(m + reg::kEcatEventMask);
+  v.event_mask = e.ecat_event_mask_;
   v.open = e.config_.fast_paths && e.port_open_[kUpstreamPort] && !e.reset_requested_;
   v.down = e.line_route_ == Esc::LineRoute::Down;
 }

@@ -111,6 +111,30 @@ TEST_F(RegTest, AlStatusChangeRaisesEcatEventClearedByRead) {
   EXPECT_EQ(f.dg(2).irq(), 0);  // acknowledged by the read in datagram 1
 }
 
+// The ESC keeps the ECAT event mask (Esc::irq_field asks for no event
+// register while it is 0): every way of writing 0x0200 reaches the IRQ
+// field of the next datagram - one byte, a raw poke, the reset.
+TEST_F(RegTest, IrqFieldFollowsTheMaskAsLastWritten) {
+  const auto irq = [&] {
+    TestFrame f;
+    f.add(Command::Brd, device_address(0, reg::kType), 1);
+    EXPECT_TRUE(f.send(seg()));
+    return f.dg(0).irq();
+  };
+  esc().write_u16(reg::kAlStatus, 0x0002);  // ECAT event bit 3 pending
+  EXPECT_EQ(irq(), 0);
+  wr(reg::kEcatEventMask, Data{bits::kEcatEventAlStatus});  // the low byte alone
+  EXPECT_EQ(irq(), bits::kEcatEventAlStatus);
+  esc().poke_registers(reg::kEcatEventMask, le16(0));
+  EXPECT_EQ(irq(), 0);
+  esc().poke_registers(reg::kEcatEventMask, le16(bits::kEcatEventAlStatus));
+  EXPECT_EQ(irq(), bits::kEcatEventAlStatus);
+  for (const std::uint8_t c : bits::kResetSequence) wr(reg::kEscResetEcat, Data{c});
+  esc().write_u16(reg::kAlStatus, 0x0002);
+  EXPECT_EQ(irq(), 0);
+  EXPECT_EQ(esc().memory()[reg::kEcatEventRequest] & bits::kEcatEventAlStatus, bits::kEcatEventAlStatus);
+}
+
 TEST_F(RegTest, DeviceEmulationCopiesAlControl) {
   EscConfig cfg = make_config();
   cfg.sii.mutable_data()[1] = 0x01;  // 0x0141 bit 0
