@@ -145,6 +145,22 @@ inline bool Esc::addressed_configured(std::uint16_t adp) const noexcept {
       if (hit) d.add_wkc(cmd == Command::Aprd ? kWkcRead : kWkcWrite);
       return;
     }
+    case Command::Brd: {
+      constexpr std::size_t kAlStatusBytes = 2;
+      if (d.ado() != reg::kAlStatus || d.length() != kAlStatusBytes || !config_.fast_paths) break;
+      // The AL status poll of every cycle (SOEM's ecx_readstate, IgH's
+      // state check): what the general path does for these two bytes -
+      // ADP + 1, 0x0130 acknowledges ECAT event bit 3, 0x0131 is read as
+      // stored (esc/register_map.hpp) - without its checks and loops.
+      d.set_adp(static_cast<std::uint16_t>(d.adp() + 1));
+      const std::uint8_t* m = mem_.get() + reg::kAlStatus;
+      std::uint8_t* out = d.data().data();
+      out[0] = static_cast<std::uint8_t>(out[0] | m[0]);
+      out[1] = static_cast<std::uint8_t>(out[1] | m[1]);
+      clear_ecat_event(bits::kEcatEventAlStatus);
+      d.add_wkc(kWkcRead);
+      return;
+    }
     case Command::Lrd:
     case Command::Lwr:
     case Command::Lrw: {

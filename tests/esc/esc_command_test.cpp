@@ -159,6 +159,45 @@ TEST(Commands, ReservedRegistersCountButKeepValue) {
   EXPECT_EQ(transact(line.segment, Command::Brd, device_address(0, 0x2FFE), 4).wkc, 1);
 }
 
+// The AL status poll (BRD of 0x0130, 2 bytes) has its own case in the
+// engine: every ESC ORs both bytes in, counts 1, adds 1 to the ADP and
+// acknowledges its ECAT event bit 3 (Section II 0x0130/0x0210), so the
+// IRQ field it ORs in after the read has no bit 3. A BRD of 1 byte of
+// 0x0130, or of 0x0130-0x0131 from 0x012F, takes the general path alike.
+TEST(Commands, BrdOfAlStatusOrsEveryEscAndAcknowledgesItsEvent) {
+  Line line(3);
+  assign_stations(line);
+  const std::uint16_t status[] = {0x0002, 0x0004, 0x0012};  // PreOp, SafeOp, SafeOp + error
+  for (std::size_t i = 0; i < 3; ++i) {
+    transact(line.segment, Command::Fpwr, fp(static_cast<std::uint16_t>(0x1001 + i), reg::kEcatEventMask),
+             le16(bits::kEcatEventAlStatus));
+    line[i].write_u16(reg::kAlStatus, status[i]);  // raises ECAT event bit 3
+  }
+  TestFrame f;
+  f.add(Command::Brd, device_address(0x0100, reg::kAlStatus), Data{0x20, 0x00});
+  f.add(Command::Brd, device_address(0, reg::kAlStatus), 1);
+  f.add(Command::Brd, device_address(0, reg::kAlStatus - 1), 3);
+  ASSERT_TRUE(f.send(line.segment));
+  EXPECT_EQ(f.data(0), (Data{0x36, 0x00}));  // the incoming bits stay
+  EXPECT_EQ(f.wkc(0), 3);
+  EXPECT_EQ(f.dg(0).adp(), 0x0103);
+  EXPECT_EQ(f.dg(0).irq(), 0);
+  EXPECT_EQ(f.data(1), Data{0x16});
+  EXPECT_EQ(f.wkc(1), 3);
+  EXPECT_EQ(f.data(2), (Data{0x00, 0x16, 0x00}));
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(line[i].memory()[reg::kEcatEventRequest] & bits::kEcatEventAlStatus, 0) << i;
+  }
+  // Raised again: the poll acknowledges it again.
+  line[1].write_u16(reg::kAlStatus, 0x0008);
+  EXPECT_EQ(line[1].memory()[reg::kEcatEventRequest] & bits::kEcatEventAlStatus, bits::kEcatEventAlStatus);
+  TestFrame g;
+  g.add(Command::Brd, device_address(0, reg::kAlStatus), 2);
+  ASSERT_TRUE(g.send(line.segment));
+  EXPECT_EQ(g.data(0), (Data{0x1A, 0x00}));
+  EXPECT_EQ(line[1].memory()[reg::kEcatEventRequest] & bits::kEcatEventAlStatus, 0);
+}
+
 TEST(Commands, SeveralDatagramsInOneFrame) {
   Line line(3);
   assign_stations(line);
