@@ -259,6 +259,7 @@ class Esc final : public Pdi {
   void process_merged(DatagramView d, bool read_write, bool broadcast) noexcept;
   // The data of an ECAT read (FPRD/APRD/xRMW): register bytes inline, else mem_read.
   bool ecat_read(std::uint16_t address, Bytes out) noexcept;
+  bool system_time_rmw(DatagramView d, bool addressed) noexcept;
   // Logical addressing (esc/logical_access.hpp / .cpp).
   std::uint16_t process_logical(DatagramView d) noexcept;
   std::uint16_t process_logical_routes(DatagramView d) noexcept;

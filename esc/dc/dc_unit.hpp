@@ -46,6 +46,14 @@ class DcUnit : private SyncUnit::Sink {
             Side side = Side::Ecat) noexcept;
   void write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanoseconds t,
              Side side = Side::Ecat) noexcept;
+  // The same for an ECAT write of the system time 0x0910 alone, 4 or 8
+  // bytes from its start (the ARMW/FRMW of every DC cycle at each ESC but
+  // the reference): the time loop's comparison, nothing stored.
+  void write_system_time(std::span<const std::uint8_t> in, Nanoseconds t) noexcept {
+    last_t_ = std::max(last_t_, t);
+    if (active()) wake_ = Nanoseconds::min();  // as write()
+    compare_system_time(in, t);
+  }
   // A frame reached `port` at time t (before the ESC processes it for port 0,
   // on its way back for the other ports). Inline: every frame calls it; the
   // receive times are stored only after a write to 0x0900 armed the latch.

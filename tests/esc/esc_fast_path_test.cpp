@@ -180,6 +180,36 @@ TEST(EscFastPath, WriteProtectionInsideOneDatagram) {
   EXPECT_EQ(t.fast[0].register_u16(reg::kWatchdogDivider), 0x3412);
 }
 
+// The system time of every DC cycle (ARMW/FRMW of 0x0910, 8 or 4 bytes)
+// has its own path with the fast paths (Esc::system_time_rmw): the reads
+// of the addressed ESC, the time loops of the others (seen in the system
+// time difference 0x092C and the times read back), WKC and ADP as the
+// checked path's, with ESC write protection on and off and at lengths that
+// take the general path.
+TEST(EscFastPath, SystemTimeRmwBehavesAsTheCheckedPath) {
+  Twin t;
+  assign_stations(t.fast);
+  assign_stations(t.checked);
+  constexpr std::uint16_t kSystemTime = reg::kDcBase + 0x10;
+  constexpr std::uint16_t kSystemTimeDifference = reg::kDcBase + 0x2C;
+  for (int cycle = 0; cycle < 60; ++cycle) {
+    SCOPED_TRACE(testing::Message() << "cycle " << cycle);
+    ASSERT_NO_FATAL_FAILURE(t.advance(Nanoseconds{1'000'000 + 37 * cycle}));
+    const bool wp = cycle % 20 >= 10;  // ESC write protection on slave 1 for 10 cycles of 20
+    t.frame([&](TestFrame& f) {
+      f.add(Command::Apwr, ap(1, reg::kEscWriteProtection), Data{static_cast<std::uint8_t>(wp ? 1 : 0)});
+      f.add(Command::Armw, ap(0, kSystemTime), 8);
+      f.add(Command::Frmw, fp(kFirstStation + 1, kSystemTime), 4);
+      f.add(Command::Armw, ap(0, kSystemTime), static_cast<std::uint16_t>(cycle % 3 == 0 ? 2 : 6));
+      for (std::uint16_t s = 0; s < kSlaves; ++s) {
+        f.add(Command::Fprd, fp(static_cast<std::uint16_t>(kFirstStation + s), kSystemTimeDifference), 4);
+        f.add(Command::Fprd, fp(static_cast<std::uint16_t>(kFirstStation + s), kSystemTime), 8);
+      }
+    });
+    ASSERT_NO_FATAL_FAILURE(t.expect_same("system time"));
+  }
+}
+
 // Random datagrams, SM/FMMU configurations (byte- and bit-granular,
 // overlapping, partial), PDI accesses and time: the same results either way.
 class EscFastPathRandom : public testing::TestWithParam<unsigned> {};
