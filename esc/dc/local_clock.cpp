@@ -53,9 +53,9 @@ Nanoseconds LocalClock::when(std::uint64_t local) const noexcept {
 
 void LocalClock::anchor_at(Nanoseconds t) noexcept {
   const double elapsed = static_cast<double>(t.count() - anchor_t_) * rate() + anchor_frac_;
-  const double whole = std::floor(elapsed);
-  anchor_local_ += static_cast<std::uint64_t>(static_cast<std::int64_t>(whole));
-  anchor_frac_ = elapsed - whole;
+  const std::int64_t whole = floor_to_int64(elapsed);
+  anchor_local_ += static_cast<std::uint64_t>(whole);
+  anchor_frac_ = elapsed - static_cast<double>(whole);
   anchor_t_ = t.count();
 }
 

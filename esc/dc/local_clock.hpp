@@ -12,6 +12,15 @@
 
 namespace ecat::esc {
 
+// floor(x) as an integer, for x inside the int64 range (as the cast of
+// std::floor's result needs too): truncation, one down for a negative
+// fraction. Without SSE4.1 std::floor is a library call, and every DC
+// comparison at every ESC takes two.
+inline std::int64_t floor_to_int64(double x) noexcept {
+  const auto i = static_cast<std::int64_t>(x);
+  return static_cast<double>(i) > x ? i - 1 : i;
+}
+
 class LocalClock {
  public:
   // `ppm`: oscillator error, e.g. +100 runs 100 µs/s fast. `start`: local time
@@ -22,7 +31,7 @@ class LocalClock {
   // strictly increasing in t.
   std::uint64_t at(Nanoseconds t) const noexcept {
     const double elapsed = static_cast<double>(t.count() - anchor_t_) * rate_ + anchor_frac_;
-    return anchor_local_ + static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(elapsed)));
+    return anchor_local_ + static_cast<std::uint64_t>(floor_to_int64(elapsed));
   }
   // Earliest true time at which the local time reaches `local` (rounded up).
   Nanoseconds when(std::uint64_t local) const noexcept;

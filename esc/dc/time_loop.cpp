@@ -20,14 +20,20 @@ constexpr std::uint32_t kDifferenceNegative = 0x80000000;
 
 void TimeLoop::restart(std::uint16_t speed_counter_start) noexcept {
   speed_counter_start_ = speed_counter_start;
+  omega_ = omega_of(speed_counter_start);
   primed_ = false;
   filtered_ = 0.0;
   frequency_ = 0.0;
 }
 
-double TimeLoop::omega() const noexcept {
+void TimeLoop::set_filter_depth(std::uint8_t depth) noexcept {
+  depth_ = depth;
+  filter_gain_ = 1.0 / static_cast<double>(1u << (depth & kFilterDepthMask));
+}
+
+double TimeLoop::omega_of(std::uint16_t speed_counter_start) noexcept {
   const auto start = std::clamp<std::uint16_t>(
-      static_cast<std::uint16_t>(speed_counter_start_ & kSpeedCounterStartMask), kSpeedCounterStartMin,
+      static_cast<std::uint16_t>(speed_counter_start & kSpeedCounterStartMask), kSpeedCounterStartMin,
       kSpeedCounterStartMax);
   return std::min(kOmegaReset * kSpeedCounterStartReference / start, kOmegaMax);
 }
@@ -42,11 +48,10 @@ void TimeLoop::compare(std::int64_t difference, Nanoseconds t, std::uint64_t loc
   } else {
     const auto elapsed = static_cast<std::int64_t>(local - last_local_);
     dt = static_cast<double>(std::clamp<std::int64_t>(elapsed, 0, kMaxInterval.count())) / kNsPerSecond;
-    const std::uint8_t depth = depth_ & kFilterDepthMask;
-    filtered_ += (e - filtered_) / static_cast<double>(1u << depth);
+    filtered_ += (e - filtered_) * filter_gain_;  // / 2^depth: a power of two, so the same value
   }
   last_local_ = local;
-  const double w = omega();
+  const double w = omega_;
   const double error_s = filtered_ / kNsPerSecond;  // seconds of phase error
   frequency_ = std::clamp(frequency_ - w * w * error_s * dt, -kMaxRateCorrection, kMaxRateCorrection);
   const double correction = std::clamp(frequency_ - 2.0 * w * error_s, -kMaxRateCorrection, kMaxRateCorrection);

@@ -32,7 +32,7 @@ class TimeLoop {
   // Speed counter start write (0x0930): also clears difference and
   // frequency estimate (Section II 0x0930).
   void restart(std::uint16_t speed_counter_start) noexcept;
-  void set_filter_depth(std::uint8_t depth) noexcept { depth_ = depth; }
+  void set_filter_depth(std::uint8_t depth) noexcept;
 
   // One comparison at true time t (local time `local` at that moment).
   void compare(std::int64_t difference, Nanoseconds t, std::uint64_t local, LocalClock& clock) noexcept;
@@ -44,10 +44,15 @@ class TimeLoop {
   double filtered_difference() const noexcept { return filtered_; }
 
  private:
-  double omega() const noexcept;
+  static double omega_of(std::uint16_t speed_counter_start) noexcept;
 
   std::uint16_t speed_counter_start_ = 0x1000;
   std::uint8_t depth_ = 4;
+  // Kept with the registers they come from (restart, set_filter_depth):
+  // compare() runs at every ESC for every DC cycle, and these are a
+  // division each.
+  double omega_ = kOmegaReset;        // omega_of(speed_counter_start_)
+  double filter_gain_ = 1.0 / 16.0;  // 1 / 2^depth, exact
   bool primed_ = false;
   double filtered_ = 0.0;
   double frequency_ = 0.0;

@@ -2,8 +2,11 @@
 // and offset, delay on ECAT reads, receive-time latches, 0x092C encoding.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "dc_fixture.hpp"
 #include "esc/dc/local_clock.hpp"
+#include "esc/dc/time_loop.hpp"
 
 namespace ecat::esc::test {
 namespace {
@@ -33,6 +36,41 @@ TEST(LocalClock, RateCorrectionKeepsTimeContinuous) {
   c.set_rate_correction(ms(10), -100e-6);
   EXPECT_EQ(c.at(ms(10)), before);
   EXPECT_NEAR(static_cast<double>(c.at(ms(1010)) - before), 1e9, 1.0);  // now exactly 1 ns/ns
+}
+
+// floor_to_int64 is std::floor for every value the clock meets: whole,
+// just below and above a whole number, negative fractions.
+TEST(LocalClock, FloorToInt64IsFloor) {
+  for (const double x : {0.0, 0.25, 0.999999, 1.0, -0.25, -1.0, -1.5, 123456789.75, -987654321.125, 4e15 + 0.5,
+                         -4e15 - 0.5}) {
+    EXPECT_EQ(floor_to_int64(x), static_cast<std::int64_t>(std::floor(x))) << x;
+  }
+}
+
+// The time loop's first comparison sets ē = e and the correction to
+// -2ω·ē (ns -> s); the second moves ē by (e - ē) / 2^depth. ω and 1/2^depth
+// are kept with their registers (restart, set_filter_depth): each value
+// written must reach the next comparison.
+TEST(TimeLoop, GainsFollowSpeedCounterStartAndFilterDepth) {
+  const auto first_correction = [](std::uint16_t start) {
+    TimeLoop loop;
+    LocalClock clock;
+    loop.restart(start);
+    loop.compare(1000, ms(1), clock.at(ms(1)), clock);
+    return clock.rate_correction();
+  };
+  EXPECT_DOUBLE_EQ(first_correction(0x1000), -2.0 * 20.0 * 1000.0 / 1e9);  // ω = 20 rad/s at reset
+  EXPECT_DOUBLE_EQ(first_correction(0x2000), -2.0 * 10.0 * 1000.0 / 1e9);  // twice the start: half ω
+  EXPECT_DOUBLE_EQ(first_correction(0x0800), -2.0 * 40.0 * 1000.0 / 1e9);
+  EXPECT_DOUBLE_EQ(first_correction(0x0100), -2.0 * TimeLoop::kOmegaMax * 1000.0 / 1e9);  // at most kOmegaMax
+  for (const std::uint8_t depth : {std::uint8_t{0}, std::uint8_t{2}, std::uint8_t{4}, std::uint8_t{15}}) {
+    TimeLoop loop;
+    LocalClock clock;
+    loop.set_filter_depth(depth);
+    loop.compare(1000, ms(1), clock.at(ms(1)), clock);
+    loop.compare(3000, ms(2), clock.at(ms(2)), clock);
+    EXPECT_DOUBLE_EQ(loop.filtered_difference(), 1000.0 + 2000.0 / static_cast<double>(1u << depth)) << int{depth};
+  }
 }
 
 class DcUnitTest : public ::testing::Test {
