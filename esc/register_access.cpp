@@ -262,9 +262,7 @@ void Esc::after_register_write(std::uint16_t a, std::uint8_t old, Side side) noe
     m[reg::kPdiErrorCode] = 0;
   } else if (ecat && in(a, reg::kLostLinkCounter, bits::kLostLinkCountersEnd)) {
     std::fill(m + reg::kLostLinkCounter, m + bits::kLostLinkCountersEnd, std::uint8_t{0});
-  } else if (ecat && (in(a, reg::kWatchdogDivider, reg::kWatchdogDivider + 2) ||
-                      in(a, reg::kWatchdogTimePdi, reg::kWatchdogTimePdi + 2) ||
-                      in(a, reg::kWatchdogTimeProcessData, reg::kWatchdogTimeProcessData + 2))) {
+  } else if (ecat && register_map::watchdog_setting(a)) {
     watchdog_times_written();
   } else if (ecat && (a == reg::kWatchdogCounterProcessData || a == reg::kWatchdogCounterPdi)) {
     m[reg::kWatchdogCounterProcessData] = 0;

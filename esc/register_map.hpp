@@ -40,6 +40,14 @@ constexpr std::uint8_t write_plain_flag(Side side) noexcept {
   return side == Side::Ecat ? kWritePlainEcat : kWritePlainPdi;
 }
 
+// The watchdog divider 0x0400 and times 0x0410/0x0420 (16 bit each), whose
+// timeouts Esc keeps (Watchdogs::set_times).
+constexpr bool watchdog_setting(std::uint16_t a) noexcept {
+  constexpr std::uint16_t kBytes = 2;
+  const auto at = [a](std::uint16_t first) { return a >= first && a < first + kBytes; };
+  return at(reg::kWatchdogDivider) || at(reg::kWatchdogTimePdi) || at(reg::kWatchdogTimeProcessData);
+}
+
 namespace detail {
 
 constexpr bool in(std::uint16_t a, std::uint16_t first, std::uint16_t end) noexcept { return a >= first && a < end; }
@@ -76,9 +84,7 @@ constexpr bool write_effect(std::uint16_t a, Side side) noexcept {
   return a == reg::kRegisterWriteEnable || a == reg::kEscWriteEnable || a == reg::kAlControl ||
          a == reg::kAlControl + 1 || in(a, reg::kRxErrorCounter, bits::kLostLinkCountersEnd) ||
          a == reg::kWatchdogCounterProcessData || a == reg::kWatchdogCounterPdi ||
-         in(a, reg::kWatchdogDivider, reg::kWatchdogDivider + 2) ||
-         in(a, reg::kWatchdogTimePdi, reg::kWatchdogTimePdi + 2) ||
-         in(a, reg::kWatchdogTimeProcessData, reg::kWatchdogTimeProcessData + 2) ||
+         watchdog_setting(a) ||
          in(a, reg_layout::kMiiControl, reg_layout::kMiiPhyAddress);
 }
 
