@@ -119,7 +119,7 @@ BENCHMARK(BM_Cycle_CspLanes)
 // thread and a second one, as the lanes' hand-off and the ESC lines a
 // helper wrote do). On this project's 2-vCPU VM it measured 86-229 ns most
 // of the time and 470 ns for a while, when two threads were slower than one
-// (docs/performance.md "Firmware lanes").
+// (docs/performance-log.md "Firmware lanes").
 // Each iteration is one slave::cache_line_round_trip (the probe of
 // ecat-slave --firmware-threads auto, ~1 ms), its median trip as the
 // iteration's time: the row's time is the mean of 20 probes' figures.

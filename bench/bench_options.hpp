@@ -23,7 +23,7 @@ inline void iterations_from_env(benchmark::internal::Benchmark* b) {
 
 // Once a case has built its chain: the heap on 2 MiB pages, as ecat-slave
 // does (common/huge_pages.hpp); ECAT_BENCH_SMALL_PAGES=1 leaves it on 4 KiB
-// pages, so that one binary measures both (docs/performance.md "Session 19").
+// pages, so that one binary measures both (docs/performance-log.md "Session 19").
 inline void advise_huge_pages_from_env() {
   const char* s = std::getenv("ECAT_BENCH_SMALL_PAGES");
   if (s != nullptr && std::string(s) == "1") return;

@@ -19,7 +19,7 @@
 //    (0x0002), as SSC answers them.
 // The frame buffers (one for reassembly, kTxFrames toward the master, about
 // 7.5 KiB) are allocated once, on the first fragment or transmit(): a slave
-// whose master never uses EoE does not carry them (docs/performance.md,
+// whose master never uses EoE does not carry them (docs/performance-log.md,
 // "Session 14: memory per servo"). No allocation after that first one.
 #pragma once
 

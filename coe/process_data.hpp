@@ -52,7 +52,7 @@ class ProcessData {
   // image's generation changes; sized for the image's capacity, so a rebuild
   // does not allocate either.
   // 16 bytes, four to a cache line: the plans are read every cycle, and at
-  // 1000 slaves every line of them is a last-level miss (docs/performance.md
+  // 1000 slaves every line of them is a last-level miss (docs/performance-log.md
   // "Session 14").
   struct Copy {
     std::uint8_t* value = nullptr;

@@ -5,7 +5,7 @@
 // a cycle pays page walks on top of its cache misses. With the heap on huge
 // pages the 1000-drive CSP cycle took 0.96x its CPU time (15 alternating
 // rounds on a 2-vCPU AMD EPYC, 0.83..1.16) at the same resident size
-// (docs/performance.md "Session 19: the heap on huge pages").
+// (docs/performance-log.md "Session 19: the heap on huge pages").
 #pragma once
 
 #include <cstddef>

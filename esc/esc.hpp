@@ -240,7 +240,7 @@ class Esc final : public Pdi {
   // segment asks for them a few ESCs ahead of the pass (Segment::carry_line,
   // esc/logical_access.hpp): first the object's lines the pass reads, then
   // those its pointers lead to. A prefetch never faults and changes nothing
-  // but the caches (issue 30 item 1, docs/performance.md "Session 22").
+  // but the caches (issue 30 item 1, docs/performance-log.md "Session 22").
   inline void prefetch_pass_object() const noexcept;
   inline void prefetch_pass_targets() const noexcept;
   void touch() noexcept {
@@ -425,7 +425,7 @@ class Esc final : public Pdi {
   // What esc::Segment's skip index reads of an ESC accessed since the last
   // frame (Segment::note_entered), first: with the DC unit's last members
   // (receive_latch_armed_) one line, where the ESC was read over three or
-  // four (issue 30 item 1, docs/performance.md "Session 15").
+  // four (issue 30 item 1, docs/performance-log.md "Session 15").
   Nanoseconds next_timer_ = Nanoseconds::max();
   Nanoseconds sii_timer_ = Nanoseconds::max();  // the SII's deadline at the last refresh_timers
   std::uint32_t fmmu_epoch_ = 0;  // +1 at every update_fmmus (esc::Segment re-reads the spans)

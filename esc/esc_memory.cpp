@@ -10,7 +10,7 @@
 // Allocated once at construction; nothing here runs per frame.
 //
 // The block starts EscConfig::memory_colour x kMemoryColourStep bytes into its
-// mapping (issue 30, docs/performance.md session 16): page-aligned blocks
+// mapping (issue 30, docs/performance-log.md session 16): page-aligned blocks
 // put the same register of every ESC at the same address modulo 4 KiB, and
 // a frame passing a line stores to a register of one ESC and then loads the
 // same register of the next - the CPU takes such a pair for one address
@@ -20,7 +20,7 @@
 // whatever the block's own, so the ESCs of a chain map equal sizes: with
 // size + offset (with 8 KiB of RAM, 3 pages for colour 0 and 4 for the
 // others) the 1000-drive CSP cycle took 1.05-1.08x the CPU time at the same
-// simulated cache misses (docs/performance.md "Session 19: ESC mappings of
+// simulated cache misses (docs/performance-log.md "Session 19: ESC mappings of
 // one size").
 #include <sys/mman.h>
 #include <unistd.h>

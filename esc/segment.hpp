@@ -191,7 +191,7 @@ class Segment {
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Its two bodies, out of line: with the one-ESC body inline in send the
   // one-ESC frames took 0.94-0.97x the time, but the one-drive cycle 1.07x
-  // in every round (the code's layout; docs/performance.md "Session 23").
+  // in every round (the code's layout; docs/performance-log.md "Session 23").
   [[gnu::noinline]] Delivery carry_dense_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   [[gnu::noinline]] Delivery carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Out of send's hot path: a malformed frame, and the port walks.
@@ -212,7 +212,7 @@ class Segment {
   // How many ESCs ahead of the pass carry_line asks for an ESC's object
   // lines, and for the lines its pointers lead to (Esc::prefetch_pass_object):
   // a mapped ESC's pass is some 20-40 ns, an L3 hit about as long; measured
-  // at 1000 drives (docs/performance.md "Session 22").
+  // at 1000 drives (docs/performance-log.md "Session 22").
   static constexpr std::size_t kPrefetchObjectAhead = 4;
   static constexpr std::size_t kPrefetchTargetsAhead = 2;
   Delivery carry_ports(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept;

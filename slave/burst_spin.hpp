@@ -8,7 +8,7 @@
 // to sleep after every answer pays a wake-up on each of them; on a VM whose
 // idle vCPU halts, that wake-up took long enough that 750 and 1000 drives on
 // one thread never reached Op (AL status code 0x001B, the SM watchdog;
-// docs/performance.md "Session 21: --spin-us"). Spinning a fixed time after
+// docs/performance-log.md "Session 21: --spin-us"). Spinning a fixed time after
 // every frame fixes that, and costs a master that sends one frame a cycle
 // the whole spin each cycle for nothing.
 //

@@ -31,7 +31,7 @@ Expected<void, std::string> Chain::add(std::shared_ptr<const od::DeviceDescripti
 // The next slave's ESC memory colour, from its position
 // (esc::EscConfig::memory_colour). An argument, not a copy of the options:
 // the copy's temporary allocations moved the slave's objects and, with them,
-// the one-drive cycle by 20 % (docs/performance.md session 16).
+// the one-drive cycle by 20 % (docs/performance-log.md session 16).
 std::uint8_t Chain::next_colour() const noexcept { return esc::EscConfig::memory_colour_at(slaves_.size()); }
 
 void Chain::added() noexcept {

@@ -66,7 +66,7 @@ class Chain {
   esc::Delivery pass_frame_on(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept;
   void run_firmware(Nanoseconds now) noexcept;
 
-  // The firmware on more than one core (issue 30 item 3, docs/performance.md
+  // The firmware on more than one core (issue 30 item 3, docs/performance-log.md
   // "Firmware lanes"): run_firmware and the due polls hand the slaves with
   // work to `threads` threads, this one and threads - 1 helpers that spin
   // between frames (they sleep after about 1.5 ms without work). A slave's
@@ -81,7 +81,7 @@ class Chain {
   // (keep_firmware_serial).
   // 1: no helper (the default: the helpers spin, so the CPU time grows and
   // only the wall time can shrink). Fails when a thread cannot be started.
-  // kMinSplitSlaves: measured (docs/performance.md "Firmware lanes"): with
+  // kMinSplitSlaves: measured (docs/performance-log.md "Firmware lanes"): with
   // the cores close (a cache line there and back in ~100-200 ns) the SYNC0
   // run of 100 drives split gives 0.91x the cycle, with them far apart
   // (~400 ns) 2.4x; at 1000 drives 0.74x against 1.1-1.3x. Below ~200 busy
@@ -296,7 +296,7 @@ class Chain {
   // above put them 8 KiB apart, where a store to one and a load of the
   // other can be taken for the same address (the low 12 bits match) and
   // the load waits; with 24 bytes more in the segment the one-drive cycle
-  // took 1.2x its time (issue 30, docs/performance.md session 16).
+  // took 1.2x its time (issue 30, docs/performance-log.md session 16).
   CycleTiming cycle_timing_;
   // The firmware lanes (set_firmware_threads), after the hot fields: null
   // with one thread.

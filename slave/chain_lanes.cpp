@@ -1,7 +1,7 @@
 // slave::Chain's firmware lanes (issue 30 item 3, set_firmware_threads):
 // the candidates of a firmware run or a due poll split over the threads by
 // 64-slave words. In a file of its own: the one-thread path in chain.cpp
-// keeps its code as it was (docs/performance.md "Firmware lanes").
+// keeps its code as it was (docs/performance-log.md "Firmware lanes").
 #include <algorithm>
 #include <bit>
 

@@ -41,7 +41,7 @@ class Firmware {
   // event mask it last programmed and whether work waits that it finishes
   // pass by pass. Kept where keep_due_in() put it - by a VirtualSlave on its
   // own hot cache line, so the check does not read this object at all
-  // (docs/performance.md "Session 15: the skip index...").
+  // (docs/performance-log.md "Session 15: the skip index...").
   struct Due {
     Nanoseconds wake = Nanoseconds::max();  // the deadline poll() last returned, max when none
     std::uint32_t event_mask = 0;
@@ -145,7 +145,7 @@ class Firmware {
   // What the chain asks after every frame and poll() keeps, first and
   // together (one or two cache lines, not one per member spread behind the
   // CoE server's kilobytes): at 1000 slaves each line is a last-level miss
-  // per visit (docs/performance.md "Session 14").
+  // per visit (docs/performance-log.md "Session 14").
   // For may_want_poll(): where the Due values are (own_due_ or the host's).
   Due* due_ = &own_due_;
   std::optional<Nanoseconds> last_cycle_;

@@ -3,7 +3,7 @@
 // 0.70-0.80x the wall time of a 1000-drive cycle when the host's cores pass
 // a cache line between them quickly, and 1.4-2.4x when they do not (the
 // VM's vCPUs placed far apart: 390-480 ns there and back); the helper spins
-// between frames, so it takes a CPU of its own (docs/performance.md
+// between frames, so it takes a CPU of its own (docs/performance-log.md
 // "Firmware lanes" and "Session 19: --firmware-threads auto").
 #pragma once
 

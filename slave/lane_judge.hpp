@@ -3,7 +3,7 @@
 // to time, by what each way costs on this host now. The start's choice
 // (slave/lane_choice.hpp) rests on one core-to-core round trip, and this
 // VM's vCPUs move: 90 ns in one run, 383-416 ns minutes later (docs/
-// performance.md "Session 19: --firmware-threads auto"), where two threads
+// performance-log.md "Session 19: --firmware-threads auto"), where two threads
 // take 1.4-2.4x the wall time of one. A run that outlives such a move
 // would keep the wrong way.
 //

@@ -41,7 +41,7 @@ class SpinWorkers {
   // yield): by a helper without work, and by the caller still waiting for a
   // helper's call (about 25 us here; a firmware call takes a few). Where
   // the host gives the process fewer cores than threads, a spinning helper
-  // otherwise kept the loop thread from its core: docs/performance.md
+  // otherwise kept the loop thread from its core: docs/performance-log.md
   // "Session 23" (taskset -c 0 with BM_Cycle_CspLanes).
   static constexpr std::uint32_t kSpinsBeforeYield = 1u << 10;
 
@@ -72,7 +72,7 @@ class SpinWorkers {
   // left. The caller (lane 0) takes from the front, the helpers from the
   // back: the calls with work tend to be the same batch after batch (the
   // same slaves due), so each tends to stay on one core, its state in that
-  // core's cache (measured: docs/performance.md "Firmware lanes").
+  // core's cache (measured: docs/performance-log.md "Firmware lanes").
   bool take_one(unsigned lane) noexcept;
   void help(unsigned lane) noexcept;
   void stop_all() noexcept;

@@ -133,7 +133,7 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
 
   // What the chain reads after every frame and in every poll first, on one
   // cache line (the object is 64-byte aligned and these are 49 bytes): at
-  // 1000 slaves each is a last-level miss per visit (docs/performance.md
+  // 1000 slaves each is a last-level miss per visit (docs/performance-log.md
   // "Session 14"); the firmware's part of the check is kept here too
   // (fw_due_, Firmware::keep_due_in), so a slave with nothing due is
   // answered from this line and the ESC's IRQ and mask.

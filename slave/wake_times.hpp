@@ -5,7 +5,7 @@
 // when the time reaches the lower bound (as esc::SkipIndex::mark_due does
 // for the ESCs' timers). It replaced an
 // indexed min-heap whose sift on every set cost the 100-drive CSP cycle
-// more than the scans it saved (docs/performance.md "Session 11").
+// more than the scans it saved (docs/performance-log.md "Session 11").
 // Sized at set-up; nothing allocates afterwards.
 #pragma once
 

@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
   cli.add_option("--firmware-threads", firmware_threads,
                  fmt::format("Run the slaves' firmware on N threads: the loop's and N-1 helpers that spin between "
                              "frames (more CPU time for less wall time; the same frames as one thread; off with "
-                             "--trace; default 1; docs/performance.md \"Firmware lanes\"). auto: 2 when the chain "
+                             "--trace; default 1; docs/performance-log.md \"Firmware lanes\"). auto: 2 when the chain "
                              "has {} slaves or more, the process two CPUs (three with --rt-priority) and the cores "
                              "pass a cache line there and back in {} ns or less, else 1; the choice and why are "
                              "printed",

@@ -10,7 +10,7 @@
 // path KickCAT's network simulator takes for every frame it receives (every
 // datagram through every ESC of a line, in order). As in bench_esc, the
 // frame is reused as it came back (WKC and ADP keep counting) and the first
-// pass checks the WKC. Differences in the work: docs/performance.md
+// pass checks the WKC. Differences in the work: docs/performance-log.md
 // ("KickCAT's EmulatedESC against bench_esc").
 #include <benchmark/benchmark.h>
 

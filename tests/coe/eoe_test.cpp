@@ -284,7 +284,7 @@ TEST_F(EoeTest, SetAddressFilterThenGetItAndItFiltersFramesToTheMaster) {
 }
 
 // The frame buffers come with the first frame, once: a slave whose master
-// never uses EoE does not carry them (docs/performance.md, "Session 14").
+// never uses EoE does not carry them (docs/performance-log.md, "Session 14").
 TEST_F(EoeTest, FrameBuffersAreAllocatedOnceOnTheFirstFrame) {
   const Frame f = pattern(60);
   std::size_t first = 0;

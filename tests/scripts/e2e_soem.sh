@@ -268,7 +268,7 @@ else
 fi
 
 # (b2) 199 I/O slaves (SOEM's EC_MAXSLAVE of 200 leaves 199) with their
-# firmware on two threads (issue 30 item 3, docs/performance.md "Firmware
+# firmware on two threads (issue 30 item 3, docs/performance-log.md "Firmware
 # lanes"): simple_ng takes them to Op and runs 10000 cycles, the slave's firmware runs split
 # (split-runs > 0 at exit), no watchdog. Neither side at a SCHED_FIFO
 # priority: the helper spins, and a FIFO helper on a 2-CPU host would take

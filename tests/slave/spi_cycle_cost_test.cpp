@@ -3,7 +3,7 @@
 // makes between two master cycles in Op, SM-synchronous), for the CSP drive
 // (generic servo, 19/25-byte PDOs) and a 32-channel I/O slave (4/4 bytes).
 // The counts are exact and pinned here; docs/real-esc.md and
-// docs/performance.md turn them into time at 10/20/30 MHz.
+// docs/performance-log.md turn them into time at 10/20/30 MHz.
 #include <gtest/gtest.h>
 
 #include <cstdio>
