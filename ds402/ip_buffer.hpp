@@ -59,11 +59,14 @@ class IpBuffer {
  private:
   void clear() noexcept;
 
+  // What a drive's cycle reads of a buffer that is off (Drive::step,
+  // Drive::fill), first: it then shares a line with the drive's cycle state
+  // (issue 30 item 1).
+  bool enabled_ = false;
+  bool ring_ = false;
   std::array<std::int32_t, kMaxSize> records_{};
   Config config_{};
   bool configured_ = false;
-  bool enabled_ = false;
-  bool ring_ = false;
   std::uint32_t size_ = kMaxSize;
   std::uint32_t read_ = 0, write_ = 0, count_ = 0;
   std::uint32_t lost_ = 0;

@@ -201,10 +201,10 @@ class Plant {
   void run_sub_steps(const LoopDemand& d, const LoopLimits& lim, double start_ref) noexcept;
   void sub_step(const LoopDemand& d, const LoopLimits& lim, double position_ref, double h) noexcept;
 
-  PlantParameters p_;
-  double rad_per_inc_;
-  double kv_;  // velocity P gain, N·m per increment/s
-  double ki_;  // velocity I gain, N·m per increment
+  // The state and what a cycle reads with it first, then the parameters
+  // (whose fields a cycle reads are in PlantParameters' first lines): one
+  // drive's cycle reads four lines of the plant instead of six (issue 30
+  // item 1: at 1000 drives each is a cache miss).
   double position_ = 0;
   double previous_position_ = 0;
   double velocity_ = 0;
@@ -227,13 +227,17 @@ class Plant {
   // comes a second time in a row (closed_forms_), the standstill weights
   // when first needed.
   double dt_ = -1;
+  std::shared_ptr<const ClosedForms> closed_forms_;  // for dt_; null: not built yet
+  PlantParameters p_;
+  double rad_per_inc_;
+  double kv_;  // velocity P gain, N·m per increment/s
+  double ki_;  // velocity I gain, N·m per increment
   int n_ = 1;
   double h_ = 0;
   double inv_n_ = 1;
   double lag_factor_ = 0;
   bool standstill_ready_ = false;  // standstill_ is for dt_
   Standstill standstill_{};
-  std::shared_ptr<const ClosedForms> closed_forms_;  // for dt_; null: not built yet
 };
 
 }  // namespace ecat::ds402
