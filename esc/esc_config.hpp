@@ -39,6 +39,14 @@ inline constexpr PortType port_type_in(std::uint8_t port_descriptor, unsigned po
 using SiiWriteBack = std::function<void(std::uint16_t word_address, std::uint16_t value)>;
 
 struct EscConfig {
+  // Fast paths (issue 8): register bytes without side effects copied as a
+  // block, byte-aligned FMMUs routed straight to their SM. false sends every
+  // access through the per-byte checked handlers instead - same behaviour,
+  // slower; the tests run both and compare (tests/esc/esc_fast_path_test.cpp).
+  // First: every datagram asks for it, as it does for dc and lrw below, so
+  // that the three sit in the Esc object's first line or two (issue 30
+  // item 1).
+  bool fast_paths = true;
   std::uint8_t type = kEscTypeEt1100;
   std::uint8_t revision = 0x00;
   std::uint16_t build = 0x0000;
@@ -99,12 +107,6 @@ struct EscConfig {
   // type's figures (esc/inner_delay_figures.hpp, docs/esc.md "Forwarding
   // delay figures per ESC type").
   std::array<std::optional<Nanoseconds>, kMaxPorts> port_forwarding_delay{};
-
-  // Fast paths (issue 8): register bytes without side effects copied as a
-  // block, byte-aligned FMMUs routed straight to their SM. false sends every
-  // access through the per-byte checked handlers instead - same behaviour,
-  // slower; the tests run both and compare (tests/esc/esc_fast_path_test.cpp).
-  bool fast_paths = true;
 
   // A PDI read of SM n's status register 0x0805+8n also clears AL event bit
   // 8+n. Silicon does not do this: the bit mirrors the status interrupt bits,

@@ -166,19 +166,21 @@ class DcUnit : private SyncUnit::Sink {
   bool acknowledge_mode() const noexcept;
 
   std::array<std::uint8_t, kSize> regs_{};  // stored (written/latched) values
-  LocalClock clock_;
-  TimeLoop loop_;
-  SyncUnit sync_;
   std::array<LatchUnit, kLatchInputs> latches_{};
-  std::array<bool, kSyncSignals> sync_level_{};
   std::array<std::uint64_t, kSyncSignals> pulse_end_{};  // system time, pulse mode
   DcObserver* observer_ = nullptr;
   // Arrivals before the processing unit (on_arrival_before_processing):
   // only frames of a port walk write them, so they stay off the per-frame lines.
   std::array<Nanoseconds, kPorts> early_{};
   std::uint8_t early_mask_ = 0;  // bit n: early_[n] holds this frame's arrival at port n
-  // What every frame reads or writes (on_frame_arrival, the Esc's IRQ
-  // field), last: the Esc keeps its own per-frame members right behind.
+  // What a DC cycle reads (the system-time comparison, the SYNC timing),
+  // then what every frame reads or writes (on_frame_arrival, the Esc's IRQ
+  // field), last: the Esc keeps its own per-frame members right behind
+  // (issue 30 item 1: a drive's DC unit in four lines a cycle, not six).
+  LocalClock clock_;
+  TimeLoop loop_;
+  SyncUnit sync_;
+  std::array<bool, kSyncSignals> sync_level_{};
   std::uint32_t al_events_ = 0;
   std::uint16_t ecat_events_ = 0;
   // Latest time a frame, a register access or a latch input showed the
