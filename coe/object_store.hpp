@@ -92,6 +92,7 @@ class ObjectStore {
   // entry's offset (4 bytes) instead of a pointer (8) per entry and drive.
   // Writes through it are not counted in generation() either.
   std::uint8_t* values() noexcept { return buffer_.data(); }
+  std::size_t value_bytes() const noexcept { return buffer_.size(); }  // values()' length
   // Counts the writes through set/assign/write/reset_to_defaults: a value
   // that did not change since a reader saw the same generation was written by
   // none of them (issue 8: the drive binding copies the unmapped entries
