@@ -405,9 +405,10 @@ class Esc final : public Pdi {
   std::pair<std::uint32_t, std::uint32_t> watchdog_only_sm_over(std::uint32_t first, std::uint32_t end) const noexcept;
   SiiInterface sii_;
   DcUnit dc_;  // its per-frame members last, next to the ones below
-  // What every frame reads at every ESC, together in the last cache lines
-  // of the object, right after the DC unit's frame-arrival state (issue 8:
-  // a 1000-ESC line touches a few lines per ESC, not one per member).
+  // What every frame reads at every ESC, together in the object's last
+  // lines (only the cyclic datagrams' members below come after them), right
+  // after the DC unit's frame-arrival state (issue 8: a 1000-ESC line
+  // touches a few lines per ESC, not one per member).
   // memory_size() bytes, mapped once (esc/esc_memory.cpp): pages the ESC
   // never touches - most of a large process RAM - are not resident.
   struct MemoryUnmap {
