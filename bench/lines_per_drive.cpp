@@ -10,11 +10,21 @@
 // move with the heap's layout: docs/performance.md "Issue 30: where it
 // stands").
 //
+// Lines outside those objects ("other") are named by the heap block they
+// lie in: the program records every heap block allocated after the marker
+// is printed (its address, size and the code that asked for it) and lists
+// the live ones before the cycles, so the script can count a cycle's other
+// lines by the function that allocated them.
+//
 // Output (stdout): "MARK <hex address>" first, then "OBJ <name> <index>
-// <hex address> <bytes>" per object, then nothing while the cycles run.
+// <hex address> <bytes>" per object, "BASE <hex address of cycle_marker>", then
+// "BLOCK <hex address> <bytes> <hex return address>" per live heap block,
+// then nothing while the cycles run.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "bench/drive_line.hpp"
@@ -25,6 +35,40 @@ namespace {
 
 volatile int g_cycle_marker = 0;
 
+// The heap blocks allocated while recording, in a fixed table (the recorder
+// must not allocate). A block freed is marked so; a table full stops the
+// record and the script names the missing lines "other" as before.
+struct HeapBlock {
+  void* at;
+  std::size_t bytes;
+  void* site;  // the return address of the operator new call
+};
+constexpr std::size_t kMaxBlocks = 1u << 20;
+HeapBlock g_blocks[kMaxBlocks];
+std::size_t g_block_count = 0;
+bool g_recording = false;
+
+void* record_new(std::size_t bytes, void* site, std::size_t align = 0) {
+  void* p = align == 0 ? std::malloc(bytes == 0 ? 1 : bytes)
+                       : std::aligned_alloc(align, (std::max<std::size_t>(bytes, 1) + align - 1) / align * align);
+  if (p == nullptr) throw std::bad_alloc();
+  if (g_recording && g_block_count < kMaxBlocks) g_blocks[g_block_count++] = {p, bytes, site};
+  return p;
+}
+
+void record_delete(void* p) noexcept {
+  if (p == nullptr) return;
+  if (g_recording) {
+    for (std::size_t i = g_block_count; i-- > 0;) {
+      if (g_blocks[i].at == p) {
+        g_blocks[i].at = nullptr;
+        break;
+      }
+    }
+  }
+  std::free(p);
+}
+
 // Out of line, so that its one load sits between two cycles in the trace.
 [[gnu::noinline]] void cycle_marker() { (void)g_cycle_marker; }
 
@@ -33,6 +77,23 @@ void print_object(const char* name, std::size_t index, const void* at, std::size
 }
 
 }  // namespace
+
+void* operator new(std::size_t bytes) { return record_new(bytes, __builtin_return_address(0)); }
+void* operator new[](std::size_t bytes) { return record_new(bytes, __builtin_return_address(0)); }
+void operator delete(void* p) noexcept { record_delete(p); }
+void operator delete[](void* p) noexcept { record_delete(p); }
+void operator delete(void* p, std::size_t) noexcept { record_delete(p); }
+void operator delete[](void* p, std::size_t) noexcept { record_delete(p); }
+void* operator new(std::size_t bytes, std::align_val_t a) {
+  return record_new(bytes, __builtin_return_address(0), static_cast<std::size_t>(a));
+}
+void* operator new[](std::size_t bytes, std::align_val_t a) {
+  return record_new(bytes, __builtin_return_address(0), static_cast<std::size_t>(a));
+}
+void operator delete(void* p, std::align_val_t) noexcept { record_delete(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { record_delete(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { record_delete(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { record_delete(p); }
 
 int main(int argc, char** argv) {
   using ecat::bench::DriveLine;
@@ -48,6 +109,7 @@ int main(int argc, char** argv) {
   // trace runs.
   std::printf("MARK %p\n", static_cast<const void*>(const_cast<const int*>(&g_cycle_marker)));
   std::fflush(stdout);
+  g_recording = true;
   try {
     DriveLine line(drives, DriveLine::default_device());
     ecat::slave::Chain& chain = line.chain();
@@ -63,6 +125,11 @@ int main(int argc, char** argv) {
       if (ecat::slave::Application* app = fw.application()) {
         if (ecat::ds402::Drive* d = app->drive(0)) print_object("drive", i, d, sizeof(*d));
       }
+    }
+    g_recording = false;
+    std::printf("BASE %p\n", reinterpret_cast<const void*>(&cycle_marker));
+    for (std::size_t i = 0; i < g_block_count; ++i) {
+      if (g_blocks[i].at != nullptr) std::printf("BLOCK %p %zu %p\n", g_blocks[i].at, g_blocks[i].bytes, g_blocks[i].site);
     }
     std::fflush(stdout);
     for (int c = 0; c < cycles; ++c) {
