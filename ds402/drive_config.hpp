@@ -34,13 +34,7 @@ struct OptionCode {
 
 struct DriveConfig {
   std::string name = "generic";
-  std::uint32_t supported_modes = kSimulatedModes;  // 6502h
-  std::bitset<256> homing_methods;                  // bit (method + 128)
-  OptionCode quick_stop = OptionCode::range(0, 8, 2);         // 605Ah
-  OptionCode shutdown = OptionCode::range(0, 1, 0);           // 605Bh
-  OptionCode disable_operation = OptionCode::range(0, 1, 1);  // 605Ch
-  OptionCode halt = OptionCode::range(1, 4, 1);               // 605Dh
-  OptionCode fault_reaction = OptionCode::range(0, 4, 2);     // 605Eh
+  std::bitset<256> homing_methods;  // bit (method + 128)
   FaultCodes fault_codes = cia402_fault_codes();
   // Some drives send every EMCY with one manufacturer code and put their
   // alarm number (603Fh) into the manufacturer bytes 4-5 (Yaskawa: FF00h).
@@ -51,6 +45,14 @@ struct DriveConfig {
   // Manufacturer object holding the current threshold of homing methods
   // -3/-4 (Welcon: 2402h, UNSIGNED32 mA); 0 = none.
   std::uint16_t homing_current_threshold_index = 0;
+  // What every cycle reads, last and together: next to the drive's Plant,
+  // whose state the cycle reads too (one cache line; issue 30 item 1).
+  std::uint32_t supported_modes = kSimulatedModes;  // 6502h
+  OptionCode quick_stop = OptionCode::range(0, 8, 2);         // 605Ah
+  OptionCode shutdown = OptionCode::range(0, 1, 0);           // 605Bh
+  OptionCode disable_operation = OptionCode::range(0, 1, 1);  // 605Ch
+  OptionCode halt = OptionCode::range(1, 4, 1);               // 605Dh
+  OptionCode fault_reaction = OptionCode::range(0, 4, 2);     // 605Eh
 
   bool supports_mode(std::int8_t mode) const noexcept {
     const std::uint32_t bit = supported_bit(mode);

@@ -198,10 +198,10 @@ void DriveBinding::read_one(const DriveBinding& b, DriveInputs& in) noexcept {
 void DriveBinding::read_cycle(DriveInputs& in, std::span<const coe::PdoItem> rx_pdo) noexcept {
   if (store_.generation() != seen_ || rx_pdo.data() != rx_pdo_.data() || rx_pdo.size() != rx_pdo_.size()) {
     read_all(in, rx_pdo);
-    in.ip_record_new = ip_record_hook_.take() || ip_record_mapped_;
+    in.ip_record_new = std::exchange(ip_record_written_, false) || ip_record_mapped_;
     return;
   }
-  in.ip_record_new = ip_record_hook_.take() || ip_record_mapped_;
+  in.ip_record_new = std::exchange(ip_record_written_, false) || ip_record_mapped_;
   auto* base = reinterpret_cast<std::uint8_t*>(&in);
   const std::uint8_t* const values = values_;
   const std::size_t count = mapped_count_;

@@ -22,20 +22,17 @@
 
 namespace ecat::ds402 {
 
-// Notes SDO writes of 60C1h:01: each is a record for the interpolation
-// buffer (60C4h). PDO writes do not pass the hooks; DriveBinding counts a
-// record per cycle for an RxPDO that maps 60C1h:01.
+// Notes SDO writes of 60C1h:01 in `written` (the binding's flag, which its
+// cycle reads with its other per-cycle members): each is a record for the
+// interpolation buffer (60C4h). PDO writes do not pass the hooks;
+// DriveBinding counts a record per cycle for an RxPDO that maps 60C1h:01.
 class IpRecordHook final : public coe::ObjectHooks {
  public:
+  explicit IpRecordHook(bool& written) noexcept : written_(written) {}
   Expected<void, coe::SdoAbort> on_write(coe::ObjectStore& store, const coe::WriteRequest& request) noexcept override;
-  bool take() noexcept {
-    const bool w = written_;
-    written_ = false;
-    return w;
-  }
 
  private:
-  bool written_ = false;
+  bool& written_;
 };
 
 class DriveBinding {
@@ -99,7 +96,8 @@ class DriveBinding {
  private:
   // What read_cycle() and write_objects() read every cycle, together at the
   // front of the object (issue 30 item 1: at 1000 drives each line a drive's
-  // cycle touches is a cache miss; these were spread over ten).
+  // cycle touches is a cache miss; these were spread over ten), in three
+  // cache lines when the binding starts one (slave::DriveApplication).
   coe::ObjectStore& store_;
   std::uint8_t* values_;  // store_.values()
   // read_cycle: the generation the inputs were last read at (kNotRead:
@@ -107,9 +105,9 @@ class DriveBinding {
   std::uint64_t seen_ = kNotRead;
   std::span<const coe::PdoItem> rx_pdo_;
   coe::Emergency* emergency_ = nullptr;
-  IpRecordHook ip_record_hook_;
   std::uint8_t mapped_count_ = 0;
   bool ip_record_mapped_ = false;  // rx_pdo_ maps 60C1h:01
+  bool ip_record_written_ = false;  // by SDO since the last read_cycle (ip_record_hook_)
   // Where each bound entry's value bytes are (an offset into values_) when
   // they are read and written in place each cycle (the entry's width is its
   // field's); kConvert where the value needs conversion (another width: it
@@ -147,6 +145,7 @@ class DriveBinding {
   using Reader = void (*)(const DriveBinding&, DriveInputs&) noexcept;
   static Reader reader(std::size_t i) noexcept;
   DriveObjectHooks hooks_;
+  IpRecordHook ip_record_hook_{ip_record_written_};
   const coe::ObjectStore::Slot* ip_record_ = nullptr;  // 60C1h:01 of this axis
   od::AxisLayout layout_;  // set-up only (publish)
   unsigned axis_ = 1;

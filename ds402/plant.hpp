@@ -26,32 +26,39 @@ namespace ecat::ds402 {
 struct PlantParameters {
   static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 
-  double rotor_inertia = 3.4e-5;          // kg·m²          "rotor_inertia"
-  double load_inertia = 1.0e-4;           // kg·m²          "load_inertia"
-  double viscous_friction = 1.0e-4;       // N·m/(rad/s)    "viscous_friction"
-  double coulomb_friction = 0.02;         // N·m            "coulomb_friction"
-  double torque_constant = 0.45;          // N·m/A          "torque_constant"
-  double rated_torque = 1.27;             // N·m            "rated_torque"
-  double peak_torque = 3.82;              // N·m            "peak_torque"
-  double rated_speed = 3000;              // rpm            "rated_speed"
-  double max_speed = 5000;                // rpm            "max_speed"
-  std::uint32_t encoder_resolution = 131072;  // inc/rev   "encoder_resolution"
-  double current_time_constant = 2.0e-4;  // s              "current_time_constant"
-  double velocity_bandwidth = 150;        // Hz             "velocity_bandwidth"
-  double position_gain = 100;             // 1/s            "position_gain"
-  double velocity_feed_forward = 0.0;     // 0..1           "velocity_feed_forward"
-  double sub_step = 62.5e-6;              // s, longest integration step "sub_step"
-
-  // Monitoring thresholds.
-  double over_speed = 6000;            // rpm              "over_speed"
-  double over_torque_time = 0.5;       // s at the torque limit  "over_torque_time"
-
+  // The members every cycle reads come first, in one cache line for both
+  // copies (the Plant's and the Axis's; issue 30 item 1): the limit
+  // switches (Axis), then the friction, torque, encoder and monitoring
+  // figures (Plant, Drive). The order is the layout's only: the XML names
+  // map by member (plant_parameters.cpp).
+  //
   // The axis: switch and mark positions in encoder increments (motor side).
   // Left unset (NaN) they are placed by motor revolutions, whatever the
   // encoder (resolve_axis): limit switches at -100/+100 rev, home switch
   // over [3, 4] rev, probe 1 input over [6, 7] rev, probe 2 over [-7, -6] rev.
   double negative_limit_switch = kUnset;  // active at or below  "negative_limit_switch"
   double positive_limit_switch = kUnset;  // active at or above  "positive_limit_switch"
+  double coulomb_friction = 0.02;         // N·m            "coulomb_friction"
+  double rated_torque = 1.27;             // N·m            "rated_torque"
+  std::uint32_t encoder_resolution = 131072;  // inc/rev   "encoder_resolution"
+  double velocity_feed_forward = 0.0;     // 0..1           "velocity_feed_forward"
+  // Monitoring thresholds.
+  double over_speed = 6000;            // rpm              "over_speed"
+  double over_torque_time = 0.5;       // s at the torque limit  "over_torque_time"
+
+  double rotor_inertia = 3.4e-5;          // kg·m²          "rotor_inertia"
+  double load_inertia = 1.0e-4;           // kg·m²          "load_inertia"
+  double viscous_friction = 1.0e-4;       // N·m/(rad/s)    "viscous_friction"
+  double torque_constant = 0.45;          // N·m/A          "torque_constant"
+  double peak_torque = 3.82;              // N·m            "peak_torque"
+  double rated_speed = 3000;              // rpm            "rated_speed"
+  double max_speed = 5000;                // rpm            "max_speed"
+  double current_time_constant = 2.0e-4;  // s              "current_time_constant"
+  double velocity_bandwidth = 150;        // Hz             "velocity_bandwidth"
+  double position_gain = 100;             // 1/s            "position_gain"
+  double sub_step = 62.5e-6;              // s, longest integration step "sub_step"
+
+  // The other marks (see the limit switches above).
   double home_switch_low = kUnset;        // active in [low, high] "home_switch_low"
   double home_switch_high = kUnset;       //                       "home_switch_high"
   double index_offset = 1000;             // index pulse at k·resolution + offset "index_offset"

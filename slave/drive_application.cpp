@@ -74,16 +74,17 @@ class DriveApplication final : public Application {
  private:
   // In the order a cycle reads them (issue 30 item 1: at 1000 drives each
   // line a drive's cycle reads is a cache miss): the small members in the
-  // object's first line, the drive (its own lines), then the outputs, the
-  // inputs and the binding, whose cycle data is in its first lines, so that
-  // the three are one run of lines rather than three.
+  // object's first line (with its vtable pointer), the drive (its own
+  // lines), then the outputs and what a cycle reads of the inputs in three
+  // lines (the drive ends on a line's end: ds402/objects.hpp), and the
+  // binding, whose cycle data fills the first three lines of its own.
   const coe::ProcessData& process_data_;
   Nanoseconds elapsed_{0};
   bool tracing_;
   ds402::Drive drive_;
   ds402::DriveOutputs out_{};
   ds402::DriveInputs in_{};
-  ds402::DriveBinding binding_;
+  alignas(ds402::kCacheLineBytes) ds402::DriveBinding binding_;
   ds402::MotionTrace trace_;
 };
 
