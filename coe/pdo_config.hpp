@@ -29,8 +29,10 @@
 
 namespace ecat::coe {
 
-// One process-data SM and the layout of what it carries.
-struct SmLayout {
+// One process-data SM and the layout of what it carries. One cache line,
+// aligned to one: each cycle reads its image's items, bit length and
+// generation (coe::ProcessData; issue 30 item 1).
+struct alignas(64) SmLayout {
   std::uint8_t sm = 0;
   PdoDirection direction = PdoDirection::Rx;
   std::uint16_t assign = 0;      // 1C10h + sm
@@ -40,6 +42,7 @@ struct SmLayout {
   bool checked = true;
   ProcessDataImage image;
 };
+static_assert(sizeof(void*) != 8 || sizeof(SmLayout) == 64, "one cache line");
 
 class PdoConfig final : public ObjectHooks {
  public:

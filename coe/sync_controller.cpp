@@ -28,7 +28,7 @@ bool at_least_safeop(AlState s) noexcept { return s == AlState::SafeOp || s == A
 
 SyncController::SyncController(esc::Pdi& pdi, ObjectStore& store, const od::SyncLimits& limits, bool has_outputs,
                                bool has_inputs) noexcept
-    : pdi_(pdi), store_(store), limits_(limits), has_outputs_(has_outputs), has_inputs_(has_inputs) {}
+    : limits_(limits), has_outputs_(has_outputs), pdi_(pdi), store_(store), has_inputs_(has_inputs) {}
 
 void SyncController::install() noexcept {
   std::uint16_t supported = 0;

@@ -103,15 +103,26 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   void start_cycle(Nanoseconds now) noexcept;
   Nanoseconds cycle_time() noexcept;
 
-  esc::Pdi& pdi_;
-  ObjectStore& store_;
-  od::SyncLimits limits_;
-  bool has_outputs_;
-  bool has_inputs_;
-  esc::Esm* esm_ = nullptr;
+  // What a poll reads every cycle, first and together (issue 30 item 1: at
+  // 1000 drives each cache line a drive's cycle touches is a miss; these
+  // were spread over three lines).
   esc::VcdProbe* trace_ = nullptr;
+  std::optional<Nanoseconds> next_free_run_;
+  Nanoseconds last_now_{0};
+  const std::uint8_t* cycle_bytes_ = nullptr;  // 1C32h:02's value bytes when it is a plain UNSIGNED32
+  std::uint32_t events_ = 0;  // AL event request of the current poll
+  od::SyncLimits limits_;
   esc::AlState state_ = esc::AlState::Init;
   std::array<SyncMode, 2> mode_{SyncMode::FreeRun, SyncMode::FreeRun};  // [0] 1C32h, [1] 1C33h
+  bool has_outputs_;
+  // Set at PreOp->SafeOp: the SYNC bits of the AL event snapshot the firmware
+  // took before the transition may be stale pulses; the next poll re-reads them.
+  bool discard_sync_events_ = false;
+
+  esc::Pdi& pdi_;
+  ObjectStore& store_;
+  bool has_inputs_;
+  esc::Esm* esm_ = nullptr;
   std::array<bool, 2> mode_written_{};
   std::uint32_t sync0_cycle_ = 0;  // 0x09A0 at PreOp->SafeOp
   std::optional<std::uint8_t> sm2_buffer_;  // last seen SM2 status bits 5:4
@@ -119,7 +130,6 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   bool outputs_since_sync_ = false;
   std::optional<Nanoseconds> last_outputs_;
   std::optional<Nanoseconds> last_sync_;
-  std::optional<Nanoseconds> next_free_run_;
   unsigned syncs_in_safeop_ = 0;
   std::uint16_t error_counter_ = 0;
   std::uint16_t missed_ = 0;
@@ -127,13 +137,7 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   std::uint16_t too_short_ = 0;
   bool sync_error_ = false;
   bool timeout_reported_ = false;
-  // Set at PreOp->SafeOp: the SYNC bits of the AL event snapshot the firmware
-  // took before the transition may be stale pulses; the next poll re-reads them.
-  bool discard_sync_events_ = false;
-  Nanoseconds last_now_{0};
-  std::uint32_t events_ = 0;  // AL event request of the current poll
   const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()
-  const std::uint8_t* cycle_bytes_ = nullptr;      // its value bytes when it is a plain UNSIGNED32
   std::optional<Nanoseconds> op_wait_start_;
 };
 

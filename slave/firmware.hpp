@@ -57,6 +57,9 @@ class Firmware {
   Firmware(esc::Pdi& pdi, const od::DeviceDescription& device, const SlaveOptions& options);
   Firmware(const Firmware&) = delete;
   Firmware& operator=(const Firmware&) = delete;
+  // The application refers to coe_: it goes first, as when app_ was declared
+  // after coe_ (it now sits with the members each frame reads).
+  ~Firmware() { app_.reset(); }
 
   // One pass of the firmware at `now`, as an interrupt handler plus main
   // loop of SSC/SOES: AL event request 0x0220 is read once and dispatched
@@ -155,12 +158,12 @@ class Firmware {
   bool mailbox_idle_ = false;  // set by coe_.mailbox() (MailboxServer::keep_idle_flag)
   std::uint64_t cycles_ = 0;
   std::uint64_t polls_ = 0;
+  std::unique_ptr<Application> app_;  // its cycle is called every cycle
   Due own_due_;  // until keep_due_in()
   esc::Esm esm_;
   std::shared_ptr<coe::StorageQuota> state_quota_;  // before coe_, which points at it
   coe::CoeServer coe_;
   coe::SyncController sync_;
-  std::unique_ptr<Application> app_;
   esc::VcdProbe* trace_ = nullptr;
   std::vector<EoeInitExpectation> eoe_init_;
   std::function<void(const std::string&)> report_;
