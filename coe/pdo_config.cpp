@@ -200,6 +200,7 @@ void PdoConfig::build(SmLayout& sm) noexcept {
 
 void PdoConfig::rebuild() noexcept {
   for (SmLayout& sm : sms_) build(sm);
+  if (rebuilds_ != nullptr) ++*rebuilds_;
 }
 
 Expected<void, SdoAbort> PdoConfig::validate(const SmLayout& sm) const noexcept {

@@ -54,6 +54,11 @@ class PdoConfig final : public ObjectHooks {
 
   // Layout from the current object values.
   void rebuild() noexcept;
+  // Each rebuild() adds one to `*counter` (the images may have changed):
+  // coe::ProcessData looks at its images again only then, rather than at
+  // each image's generation every cycle (issue 30 item 1: their lines).
+  // The counter outlives this PdoConfig's rebuilds; nullptr: none.
+  void count_rebuilds_in(std::uint64_t* counter) noexcept { rebuilds_ = counter; }
   // The first SM of each direction (SM2/SM3 on most devices); an empty
   // layout when the device has none.
   const ProcessDataImage& outputs() const noexcept;
@@ -92,6 +97,7 @@ class PdoConfig final : public ObjectHooks {
   ObjectStore& store_;
   std::vector<SmLayout> sms_;  // fixed after construction: images stay in place
   ProcessDataImage empty_;
+  std::uint64_t* rebuilds_ = nullptr;
 };
 
 }  // namespace ecat::coe

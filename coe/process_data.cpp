@@ -35,6 +35,15 @@ ProcessData::ProcessData(ObjectStore& store, PdoConfig& config)
     }
     if (d == PdoDirection::Rx) rx_count_ = sms_.size();
   }
+  config.count_rebuilds_in(&rebuilds_);
+}
+
+void ProcessData::refresh() noexcept {
+  for (SmCopy& c : sms_) {
+    if (c.generation != c.image->generation()) rebuild(c);
+  }
+  output_items_ = outputs_->items();
+  rebuilds_seen_ = rebuilds_;
 }
 
 void ProcessData::rebuild(SmCopy& p) noexcept {
@@ -76,6 +85,7 @@ void ProcessData::rebuild(SmCopy& p) noexcept {
     p.copies.push_back(c);  // within the reserved capacity: the image holds at most that many
   }
   p.covered = contiguous ? covered : 0;
+  p.byte_length = image.byte_length();
   p.generation = image.generation();
 }
 
@@ -94,34 +104,36 @@ void ProcessData::load_layout(esc::Pdi& pdi) noexcept {
 }
 
 void ProcessData::read_outputs(esc::Pdi& pdi) noexcept {
+  refresh_plans();
   for (std::size_t k = 0; k < rx_count_; ++k) read_sm(pdi, sms_[k]);
 }
 
 void ProcessData::write_inputs(esc::Pdi& pdi) noexcept {
+  refresh_plans();
   for (std::size_t k = rx_count_; k < sms_.size(); ++k) write_sm(pdi, sms_[k]);
 }
 
+// The plans are current (refresh_plans): the image itself is read only for
+// an item copied bit by bit.
 void ProcessData::read_sm(esc::Pdi& pdi, SmCopy& c) noexcept {
-  const ProcessDataImage& image = *c.image;
   const SmArea sm = area(pdi, c);
-  if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
+  if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < c.byte_length) return;
   // In place where the PDI can (the ESC's 3-buffer), else through buffer_.
   const std::uint8_t* buffer = pdi.read_buffer(sm.start, {buffer_.data(), sm.length}).data();
-  for (const Copy& k : plan(c).copies) {
+  for (const Copy& k : c.copies) {
     if (k.bytes != 0) {
       esc::copy_small(k.value, buffer + k.at, k.bytes);
     } else {
-      const PdoItem& item = image.items()[k.at];
+      const PdoItem& item = c.image->items()[k.at];
       get_bits(k.value, buffer, item.bit_position(), item.bits);
     }
   }
 }
 
 void ProcessData::write_sm(esc::Pdi& pdi, SmCopy& c) noexcept {
-  const ProcessDataImage& image = *c.image;
   const SmArea sm = area(pdi, c);
-  if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < image.byte_length()) return;
-  const SmCopy& p = plan(c);
+  if (!sm.enabled || sm.length == 0 || sm.length > buffer_.size() || sm.length < c.byte_length) return;
+  const SmCopy& p = c;
   const std::span<std::uint8_t> place = pdi.write_buffer_begin(sm.start, {buffer_.data(), sm.length});
   std::uint8_t* buffer = place.data();
   // Bytes no copy writes are 0 (gaps, padding, the rest of a longer SM).
@@ -130,7 +142,7 @@ void ProcessData::write_sm(esc::Pdi& pdi, SmCopy& c) noexcept {
     if (k.bytes != 0) {
       esc::copy_small(buffer + k.at, k.value, k.bytes);
     } else {
-      const PdoItem& item = image.items()[k.at];
+      const PdoItem& item = c.image->items()[k.at];
       put_bits(buffer, item.bit_position(), k.value, item.bits);
     }
   }

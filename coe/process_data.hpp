@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "coe/object_store.hpp"
@@ -27,7 +28,11 @@ namespace ecat::coe {
 
 class ProcessData {
  public:
+  // Counts `config`'s rebuilds (PdoConfig::count_rebuilds_in): `config`
+  // must not rebuild after this ProcessData is gone, and it stays put.
   ProcessData(ObjectStore& store, PdoConfig& config);
+  ProcessData(const ProcessData&) = delete;
+  ProcessData& operator=(const ProcessData&) = delete;
 
   // SM2 -> objects. Call in Op (outputs are not valid before).
   void read_outputs(esc::Pdi& pdi) noexcept;
@@ -39,6 +44,13 @@ class ProcessData {
 
   const ProcessDataImage& outputs() const noexcept { return *outputs_; }
   const ProcessDataImage& inputs() const noexcept { return *inputs_; }
+  // outputs().items() as of the last rebuild of the mapping, from this
+  // object's own members (what an application's cycle reads: the image's
+  // line stays out of it).
+  std::span<const PdoItem> output_items() noexcept {
+    if (rebuilds_seen_ != rebuilds_) refresh();
+    return output_items_;
+  }
 
  private:
   struct SmArea {
@@ -72,15 +84,17 @@ class ProcessData {
     // else: write_inputs zeroes the buffer first only when the SM is longer
     // (or the image has gaps or bit items). 0 when not so.
     std::uint32_t covered = 0;
+    std::uint32_t byte_length = 0;  // the image's, with the copies
     SmArea area;         // from load_layout()
     std::uint8_t sm = 0;  // its number
   };
   static_assert(sizeof(SmCopy) == 64, "one cache line");
-  // The copies for the image's current layout (rebuilt when it changed).
-  const SmCopy& plan(SmCopy& c) noexcept {
-    if (c.generation != c.image->generation()) rebuild(c);
-    return c;
+  // The copies for each image's current layout, rebuilt where it changed,
+  // when the PdoConfig rebuilt the images since the last look.
+  void refresh_plans() noexcept {
+    if (rebuilds_seen_ != rebuilds_) refresh();
   }
+  [[gnu::noinline]] void refresh() noexcept;
   void rebuild(SmCopy& c) noexcept;
   SmArea area(esc::Pdi& pdi, const SmCopy& c) noexcept;
 
@@ -88,6 +102,11 @@ class ProcessData {
   void write_sm(esc::Pdi& pdi, SmCopy& c) noexcept;
 
   ObjectStore& store_;
+  // The PdoConfig's rebuilds, counted by it, and the count the plans and
+  // output_items_ were last brought up to date at.
+  std::uint64_t rebuilds_ = 0;
+  std::uint64_t rebuilds_seen_ = ~std::uint64_t{0};
+  std::span<const PdoItem> output_items_;
   // The checked process-data SMs of the PdoConfig's sms() in their order, the
   // outputs (Rx) ones first: [0, rx_count_) read, the rest written.
   std::vector<SmCopy> sms_;

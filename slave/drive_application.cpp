@@ -51,7 +51,7 @@ class DriveApplication final : public Application {
   void cycle(Nanoseconds dt, bool outputs_valid) noexcept override {
     // The mapped inputs every cycle, the others when something else wrote
     // the dictionary (DriveBinding::read_cycle).
-    binding_.read_cycle(in_, process_data_.outputs().items());
+    binding_.read_cycle(in_, process_data_.output_items());
     if (!outputs_valid) {
       // SafeOp: outputs are kept in their safe state (ETG.1000.6 §6.4.1):
       // the drive sees no enable command. A full copy next cycle restores
@@ -78,7 +78,7 @@ class DriveApplication final : public Application {
   // lines), then the outputs and what a cycle reads of the inputs in three
   // lines (the drive ends on a line's end: ds402/objects.hpp), and the
   // binding, whose cycle data fills the first three lines of its own.
-  const coe::ProcessData& process_data_;
+  coe::ProcessData& process_data_;
   Nanoseconds elapsed_{0};
   bool tracing_;
   ds402::Drive drive_;

@@ -49,7 +49,7 @@ class MultiAxisApplication final : public Application {
 
   void cycle(Nanoseconds dt, bool outputs_valid) noexcept override {
     for (auto& x : axes_) {
-      x->binding.read_cycle(x->in, process_data_.outputs().items());
+      x->binding.read_cycle(x->in, process_data_.output_items());
       if (!outputs_valid) {
         // SafeOp: outputs in their safe state (ETG.1000.6 §6.4.1), as for one axis.
         x->in.controlword = 0;
@@ -97,7 +97,7 @@ class MultiAxisApplication final : public Application {
   }
 
   std::vector<std::unique_ptr<AxisRun>> axes_;
-  const coe::ProcessData& process_data_;
+  coe::ProcessData& process_data_;
   std::array<bool, 8> current_{};  // CiA 402-1 §6: at most eight axes
   Nanoseconds elapsed_{0};
   bool tracing_;

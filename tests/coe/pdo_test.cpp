@@ -159,6 +159,10 @@ TEST_F(PdoTest, CyclesFollowARemap) {
   data.read_outputs(rig.esc);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x1234);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xAB);
+  // What an application reads of the mapping follows the remap too (it is
+  // kept in the ProcessData, brought up to date when the PdoConfig rebuilt).
+  ASSERT_EQ(data.output_items().size(), 2u);
+  EXPECT_EQ(data.output_items()[0].bits, 16u);
   // 1600h: 7001h first, then 7000h.
   EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
   EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
@@ -167,12 +171,22 @@ TEST_F(PdoTest, CyclesFollowARemap) {
   EXPECT_EQ(write(0x1600, 0, 2, 1), 0u);
   EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
   ASSERT_EQ(pdo.outputs().byte_length(), 3u);
+  ASSERT_EQ(data.output_items().size(), 2u);
+  EXPECT_EQ(data.output_items()[0].bits, 8u);
+  EXPECT_EQ(data.output_items()[1].byte_offset, 1u);
   mem[0x1100] = 0xCD;
   mem[0x1101] = 0x78;
   mem[0x1102] = 0x56;
   data.read_outputs(rig.esc);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xCD);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x5678);
+  // One entry less: the items an application reads are one less before the
+  // next cycle copies anything.
+  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 0, 1, 1), 0u);
+  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
+  ASSERT_EQ(data.output_items().size(), 1u);
+  EXPECT_EQ(data.output_items()[0].bits, 8u);
 }
 
 // write_inputs zeroes the buffer only when its copies do not write every
