@@ -21,12 +21,12 @@ bool touches(std::uint16_t first, std::uint16_t end, std::uint16_t reg, std::uin
 
 }  // namespace
 
+std::uint64_t DcUnit::offset() const noexcept { return load_le<std::uint64_t>(&regs_[kSystemTimeOffset]); }
+std::uint32_t DcUnit::delay() const noexcept { return load_le<std::uint32_t>(&regs_[kSystemTimeDelay]); }
 bool DcUnit::acknowledge_mode() const noexcept { return load_le<std::uint16_t>(&regs_[kSyncPulseLength]) == 0; }
 
 void DcUnit::reset(std::uint16_t sync_pulse_length) noexcept {
   regs_.fill(0);
-  offset_ = 0;
-  delay_ = 0;
   store_le(&regs_[kSyncPulseLength], sync_pulse_length);
   store_le(&regs_[kSpeedCounterStart], kSpeedCounterStartReset);
   regs_[kSystemTimeDiffFilterDepth] = kSystemTimeDiffFilterDepthReset;
@@ -146,11 +146,6 @@ void DcUnit::write(std::uint16_t offset, std::span<const std::uint8_t> in, Nanos
 }
 
 void DcUnit::after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept {
-  constexpr auto kOffsetAndDelay = static_cast<std::uint16_t>(kSystemTimeDelay + kU32 - kSystemTimeOffset);
-  if (touches(first, end, kSystemTimeOffset, kOffsetAndDelay)) {
-    offset_ = load_le<std::uint64_t>(&regs_[kSystemTimeOffset]);
-    delay_ = load_le<std::uint32_t>(&regs_[kSystemTimeDelay]);
-  }
   if (touches(first, end, kSpeedCounterStart, 2)) {
     loop_.restart(load_le<std::uint16_t>(&regs_[kSpeedCounterStart]));
     clock_.set_rate_correction(t, 0.0);

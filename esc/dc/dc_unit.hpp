@@ -161,8 +161,8 @@ class DcUnit : private SyncUnit::Sink {
   static bool touches_high(std::uint16_t first, std::uint16_t end) noexcept;
   void end_pulses(std::uint64_t system_now) noexcept;
   void update_latch_events() noexcept;
-  std::uint64_t offset() const noexcept { return offset_; }
-  std::uint32_t delay() const noexcept { return delay_; }
+  std::uint64_t offset() const noexcept;
+  std::uint32_t delay() const noexcept;
   bool acknowledge_mode() const noexcept;
 
   std::array<std::uint8_t, kSize> regs_{};  // stored (written/latched) values
@@ -177,11 +177,6 @@ class DcUnit : private SyncUnit::Sink {
   // then what every frame reads or writes (on_frame_arrival, the Esc's IRQ
   // field), last: the Esc keeps its own per-frame members right behind
   // (issue 30 item 1: a drive's DC unit in four lines a cycle, not six).
-  // 0x0920 System Time Offset and 0x0928 System Time Delay as written
-  // (regs_ holds them too): each system-time access reads them with the
-  // clock, and regs_' line of them was one more line a DC cycle touched.
-  std::uint64_t offset_ = 0;
-  std::uint32_t delay_ = 0;
   LocalClock clock_;
   TimeLoop loop_;
   SyncUnit sync_;
