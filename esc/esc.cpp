@@ -66,18 +66,13 @@ T* construct_units(std::byte*& at, std::size_t n) {
 }
 }  // namespace
 
-// Routes first (the frame path reads them), then SMs, then FMMUs, from a
-// cache line's start: the routes and SMs a cycle uses are then whole lines
-// (issue 30 item 1: from the heap's 16-byte alignment they took one more).
+// Routes first (the frame path reads them), then SMs, then FMMUs.
 void Esc::allocate_units() {
-  constexpr std::size_t kCacheLineBytes = 64;
   const std::size_t fmmus = config_.fmmu_count;
   const std::size_t sms = config_.sync_manager_count;
-  const std::size_t bytes = 2 * fmmus * sizeof(FmmuRoute) + sms * sizeof(SyncManager) + fmmus * sizeof(Fmmu);
-  units_ = std::make_unique_for_overwrite<std::byte[]>(bytes + kCacheLineBytes - 1);
-  void* first = units_.get();
-  std::size_t room = bytes + kCacheLineBytes - 1;
-  std::byte* at = static_cast<std::byte*>(std::align(kCacheLineBytes, bytes, first, room));
+  units_ = std::make_unique_for_overwrite<std::byte[]>(2 * fmmus * sizeof(FmmuRoute) + sms * sizeof(SyncManager) +
+                                                        fmmus * sizeof(Fmmu));
+  std::byte* at = units_.get();
   routes_ = construct_units<FmmuRoute>(at, fmmus);
   write_routes_ = construct_units<FmmuRoute>(at, fmmus);
   sms_ = construct_units<SyncManager>(at, sms);
