@@ -30,8 +30,9 @@
 namespace ecat::coe {
 
 // One process-data SM and the layout of what it carries. One cache line,
-// aligned to one: each cycle reads its image's items, bit length and
-// generation (coe::ProcessData; issue 30 item 1).
+// aligned to one (issue 30 item 1): coe::ProcessData reads its image's
+// items, bit length and generation when the PdoConfig rebuilt (it read
+// them every cycle until session 29; docs/performance-log.md).
 struct alignas(64) SmLayout {
   std::uint8_t sm = 0;
   PdoDirection direction = PdoDirection::Rx;
