@@ -92,7 +92,7 @@ endif()
 
 # --- layers (docs/api.md: public API, and the internal headers they include) -------------
 ecat_install_library(ecat_common common HEADERS
-  common/clock.hpp common/command.hpp common/expected.hpp common/frame.hpp
+  common/cache_line.hpp common/clock.hpp common/command.hpp common/expected.hpp common/frame.hpp
   common/frame_builder.hpp common/frame_parser.hpp common/le.hpp common/source_pos.hpp)
 ecat_install_library(od od HEADERS
   od/access.hpp od/axis_layout.hpp od/data_type.hpp od/device.hpp od/dictionary.hpp od/object.hpp

@@ -23,6 +23,7 @@
 #include "coe/object_store.hpp"
 #include "coe/pdo_mapping.hpp"
 #include "coe/process_data_image.hpp"
+#include "common/cache_line.hpp"
 #include "esc/al_status_code.hpp"
 #include "esc/pdi.hpp"
 #include "od/device.hpp"
@@ -33,7 +34,7 @@ namespace ecat::coe {
 // aligned to one (issue 30 item 1): coe::ProcessData reads its image's
 // items, bit length and generation when the PdoConfig rebuilt (it read
 // them every cycle until session 29; docs/performance-log.md).
-struct alignas(64) SmLayout {
+struct alignas(kCacheLineBytes) SmLayout {
   std::uint8_t sm = 0;
   PdoDirection direction = PdoDirection::Rx;
   std::uint16_t assign = 0;      // 1C10h + sm
@@ -43,7 +44,7 @@ struct alignas(64) SmLayout {
   bool checked = true;
   ProcessDataImage image;
 };
-static_assert(sizeof(void*) != 8 || sizeof(SmLayout) == 64, "one cache line");
+static_assert(sizeof(void*) != 8 || sizeof(SmLayout) == kCacheLineBytes, "one cache line");
 
 class PdoConfig final : public ObjectHooks {
  public:

@@ -22,6 +22,7 @@
 
 #include "coe/object_store.hpp"
 #include "coe/pdo_config.hpp"
+#include "common/cache_line.hpp"
 #include "esc/pdi.hpp"
 
 namespace ecat::coe {
@@ -76,7 +77,7 @@ class ProcessData {
   // image and its copies, in one cache line and aligned to it (issue 30
   // item 1: at 1000 drives the SM list, the areas and the plans were a line
   // each; unaligned, two SMs' took three lines).
-  struct alignas(64) SmCopy {
+  struct alignas(kCacheLineBytes) SmCopy {
     const ProcessDataImage* image = nullptr;  // in the PdoConfig, fixed after its construction
     std::vector<Copy> copies;
     std::uint64_t generation = ~std::uint64_t{0};  // of the image the copies were made from
@@ -88,7 +89,7 @@ class ProcessData {
     SmArea area;         // from load_layout()
     std::uint8_t sm = 0;  // its number
   };
-  static_assert(sizeof(SmCopy) == 64, "one cache line");
+  static_assert(sizeof(SmCopy) == kCacheLineBytes, "one cache line");
   // The copies for each image's current layout, rebuilt where it changed,
   // when the PdoConfig rebuilt the images since the last look.
   void refresh_plans() noexcept {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "common/cache_line.hpp"
 #include "common/clock.hpp"
 #include "ds402/axis.hpp"
 #include "ds402/drive_config.hpp"
@@ -29,7 +30,7 @@ namespace ecat::ds402 {
 
 // Aligned to a cache line: its cycle state is laid out by line (the members
 // below), the same lines in every drive (issue 30 item 1).
-class alignas(64) Drive {
+class alignas(kCacheLineBytes) Drive {
  public:
   Drive(DriveConfig config, const PlantParameters& plant);
 

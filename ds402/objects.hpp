@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "common/cache_line.hpp"
 namespace ecat::ds402 {
 
 // DriveInputs' members are ordered by use, not by index: what a cycle reads whatever
@@ -148,7 +149,6 @@ struct DriveOutputs {
 
 // The outputs and what a cycle reads of the inputs fill three cache lines
 // when the two follow each other from a line's start (DriveApplication).
-inline constexpr std::size_t kCacheLineBytes = 64;
 static_assert(sizeof(DriveOutputs) + offsetof(DriveInputs, ip_record_new) + sizeof(bool) <= 3 * kCacheLineBytes);
 
 }  // namespace ecat::ds402

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "common/cache_line.hpp"
 #include "esc/datagram_rules.hpp"
 #include "esc/esc.hpp"
 #include "esc/registers.hpp"
@@ -67,7 +68,6 @@ inline void Esc::prefetch_pass_object() const noexcept {
 // requests, the SM registers). The 3-buffers themselves were not worth it
 // (measured: no gain).
 inline void Esc::prefetch_pass_targets() const noexcept {
-  constexpr std::size_t kCacheLineBytes = 64;
   constexpr std::size_t kSmsPerLine = std::max<std::size_t>(1, kCacheLineBytes / sizeof(SyncManager));
   __builtin_prefetch(routes_);
   __builtin_prefetch(write_routes_);

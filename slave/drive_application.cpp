@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string_view>
 
+#include "common/cache_line.hpp"
 #include "ds402/drive.hpp"
 #include "ds402/drive_config.hpp"
 #include "ds402/motion_trace.hpp"
@@ -84,7 +85,7 @@ class DriveApplication final : public Application {
   ds402::Drive drive_;
   ds402::DriveOutputs out_{};
   ds402::DriveInputs in_{};
-  alignas(ds402::kCacheLineBytes) ds402::DriveBinding binding_;
+  alignas(kCacheLineBytes) ds402::DriveBinding binding_;
   ds402::MotionTrace trace_;
 };
 
