@@ -49,7 +49,7 @@ class ProcessData {
   // object's own members (what an application's cycle reads: the image's
   // line stays out of it).
   std::span<const PdoItem> output_items() noexcept {
-    if (rebuilds_seen_ != rebuilds_) refresh();
+    refresh_plans();
     return output_items_;
   }
 
