@@ -16,7 +16,9 @@
 // the live ones before the cycles, so the script can count a cycle's other
 // lines by the function that allocated them.
 //
-// Output (stdout): "MARK <hex address>" first, then "OBJ <name> <index>
+// Output (stdout): "MARK <hex address>" and "PHASE <hex address>" (of the
+// phase marker, loaded before each frame's pass, its firmware run and the
+// poll) first, then "OBJ <name> <index>
 // <hex address> <bytes>" per object, "BASE <hex address of cycle_marker>", then
 // "BLOCK <hex address> <bytes> <hex return address>" per live heap block,
 // then nothing while the cycles run.
@@ -34,6 +36,10 @@
 namespace {
 
 volatile int g_cycle_marker = 0;
+// Loaded at the start of each phase of a cycle (each frame's pass through
+// the ESCs, its firmware run, the poll): scripts/lines-per-drive's cache
+// model names the phase each miss fell in.
+volatile int g_phase_marker = 0;
 
 // The heap blocks allocated while recording, in a fixed table (the recorder
 // must not allocate). A block freed is marked so; a table full stops the
@@ -71,6 +77,31 @@ void record_delete(void* p) noexcept {
 
 // Out of line, so that its one load sits between two cycles in the trace.
 [[gnu::noinline]] void cycle_marker() { (void)g_cycle_marker; }
+[[gnu::noinline]] void phase_marker() { (void)g_phase_marker; }
+
+// DriveLine::cycle's frame path: Chain::process_frame in its two halves,
+// a phase marker before each, and one after the last frame's firmware
+// (so that the poll is a phase of its own).
+struct MarkedPath {
+  ecat::slave::Chain& chain;
+  std::size_t frames;
+  std::size_t seen = 0;
+  bool whole = std::getenv("LINES_WHOLE_FRAMES") != nullptr;
+  bool process_frame(std::span<std::uint8_t> frame, ecat::Nanoseconds now) noexcept {
+    phase_marker();
+    if (whole) {  // Chain::process_frame as the bench runs it: one phase a frame
+      const bool returned = chain.process_frame(frame, now);
+      phase_marker();
+      if (++seen % frames == 0) phase_marker();
+      return returned;
+    }
+    const bool returned = chain.pass_frame(frame, now);
+    phase_marker();
+    chain.run_firmware(now);
+    if (++seen % frames == 0) phase_marker();
+    return returned;
+  }
+};
 
 void print_object(const char* name, std::size_t index, const void* at, std::size_t bytes) {
   std::printf("OBJ %s %zu %p %zu\n", name, index, at, bytes);
@@ -108,6 +139,7 @@ int main(int argc, char** argv) {
   // The marker first, before the set-up: the script reads it while the
   // trace runs.
   std::printf("MARK %p\n", static_cast<const void*>(const_cast<const int*>(&g_cycle_marker)));
+  std::printf("PHASE %p\n", static_cast<const void*>(const_cast<const int*>(&g_phase_marker)));
   std::fflush(stdout);
   g_recording = true;
   try {
@@ -132,9 +164,10 @@ int main(int argc, char** argv) {
       if (g_blocks[i].at != nullptr) std::printf("BLOCK %p %zu %p\n", g_blocks[i].at, g_blocks[i].bytes, g_blocks[i].site);
     }
     std::fflush(stdout);
+    MarkedPath path{chain, line.frames()};
     for (int c = 0; c < cycles; ++c) {
       cycle_marker();
-      line.cycle();
+      line.cycle(path);
     }
     cycle_marker();
   } catch (const std::exception& e) {
