@@ -5,7 +5,6 @@
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
-#include <array>
 #include <chrono>
 #include <filesystem>
 #include <string>
@@ -158,56 +157,6 @@ BENCHMARK(BM_Cycle_CspFaultsIdle)
 // The reference for BM_Cycle_Csp in the same binary and the same minutes.
 void BM_Cycle_CspFullPass(benchmark::State& state) { run_cycles(state, false); }
 BENCHMARK(BM_Cycle_CspFullPass)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
-
-// Where BM_Cycle_Csp's time goes (issue 30 item 1), in wall time per drive
-// and cycle (steady_clock around each half of Chain::process_frame, as
-// ecat-bench-lines splits the cycle for scripts/lines-per-drive's cache
-// model): the first frame's pass through the ESCs (ARMW 0910h, BRD 0130h,
-// its LRW), the firmware after it (every drive's application cycle: their
-// timers came due before the frame), the other frames' passes (LRWs that
-// enter only the ESCs they map), the firmware after those, and the rest
-// (set-points, the poll). 12 clock reads a frame's worth of overhead aside,
-// the counters add up to the case's time; the A/B reference stays
-// BM_Cycle_Csp.
-struct PhaseClock {
-  slave::Chain& chain;
-  std::size_t frames = 1;
-  std::size_t seen = 0;
-  std::array<std::chrono::steady_clock::duration, 4> spent{};  // first pass, first firmware, passes, firmware
-  bool process_frame(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
-    const auto a = std::chrono::steady_clock::now();
-    const bool returned = chain.pass_frame(frame, now);
-    const auto b = std::chrono::steady_clock::now();
-    chain.run_firmware(now);
-    const auto c = std::chrono::steady_clock::now();
-    const std::size_t at = seen++ % frames == 0 ? 0 : 2;
-    spent[at] += b - a;
-    spent[at + 1] += c - b;
-    return returned;
-  }
-};
-void BM_Cycle_CspPhases(benchmark::State& state) {
-  std::unique_ptr<DriveLine> line = make_line(state);
-  if (!line) return;
-  PhaseClock phases{line->chain(), line->frames()};
-  std::chrono::steady_clock::duration all{};
-  for (auto _ : state) {
-    const auto start = std::chrono::steady_clock::now();
-    line->cycle(phases);
-    all += std::chrono::steady_clock::now() - start;
-  }
-  report(state, *line);
-  const double per = static_cast<double>(state.iterations()) * static_cast<double>(state.range(0));
-  const auto ns = [per](std::chrono::steady_clock::duration d) {
-    return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(d).count()) / per;
-  };
-  state.counters["first_pass"] = ns(phases.spent[0]);
-  state.counters["first_firmware"] = ns(phases.spent[1]);
-  state.counters["passes"] = ns(phases.spent[2]);
-  state.counters["firmware"] = ns(phases.spent[3]);
-  state.counters["rest"] = ns(all - phases.spent[0] - phases.spent[1] - phases.spent[2] - phases.spent[3]);
-}
-BENCHMARK(BM_Cycle_CspPhases)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
 // The same cycle on a tree (issue 30 item 2: within 1.2x of BM_Cycle_Csp):
 // junctions every 10 drives, each with a branch of 9 drives on its port 3

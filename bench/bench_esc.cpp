@@ -123,33 +123,6 @@ void BM_Chain_LrwFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_Chain_LrwFrame)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000);
 
-// A chain of state.range(0) ESCs whose process data (kSliceShare bytes
-// each, half outputs, half inputs) lies in one logical image, and one LRW
-// over the shares of kSliceEscs of them in the middle: the shape of the
-// 1000-drive CSP cycle's later frames (BM_Cycle_CspPhases' "passes"), where
-// the frame enters only the ESCs it maps and passes the others by (the skip
-// index, esc::Segment::carry_line). No firmware touches the ESCs between
-// frames, so the entered ones stay in the caches: the path's own cost.
-constexpr std::size_t kSliceEscs = 48;
-constexpr std::uint16_t kSliceShare = 30;
-void BM_Chain_LrwSlice(benchmark::State& state) {
-  const auto n = static_cast<std::size_t>(state.range(0));
-  EscLine line(n);
-  constexpr auto kOut = static_cast<std::uint16_t>(kSliceShare / 2);
-  constexpr auto kIn = static_cast<std::uint16_t>(kSliceShare - kOut);
-  for (std::size_t i = 0; i < n; ++i) {
-    map_process_data(line.segment, station(i), static_cast<std::uint32_t>(i * kSliceShare), kOut, kIn);
-  }
-  const std::size_t first = (n - kSliceEscs) / 2;
-  Frame f;
-  f.add(Command::Lrw, static_cast<std::uint32_t>(first * kSliceShare),
-        static_cast<std::uint16_t>(kSliceEscs * kSliceShare));
-  run_frames(state, line.segment, f, static_cast<std::uint16_t>(kWkcLrwBoth * kSliceEscs));
-  state.counters["ns_per_entered"] = benchmark::Counter(static_cast<double>(state.iterations() * kSliceEscs),
-                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-}
-BENCHMARK(BM_Chain_LrwSlice)->Apply(iterations_from_env)->Arg(100)->Arg(1000);
-
 }  // namespace
 }  // namespace ecat::bench
 
