@@ -20,7 +20,11 @@ namespace ecat::bench {
 namespace {
 
 // BM_Cycle_Csp's line of state.range(0) drives, or null with the case
-// skipped and the reason given.
+// skipped and the reason given. bench_cycle has its own: the same helper
+// shared through a header changed how GCC compiled an unrelated function
+// there and moved that program's code by 32 bytes, enough to make its
+// one-drive cycle 1.04x slower with the same instructions (docs/performance-log.md
+// "Session 30"), so the compared program keeps its bytes.
 std::unique_ptr<DriveLine> make_line(benchmark::State& state) {
   try {
     auto line = std::make_unique<DriveLine>(static_cast<std::size_t>(state.range(0)), DriveLine::default_device());
