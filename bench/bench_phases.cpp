@@ -8,6 +8,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <span>
 #include <string>
@@ -52,7 +53,7 @@ void report(benchmark::State& state, DriveLine& line) {
 // its LRW), the firmware after it (every drive's application cycle: their
 // timers came due before the frame), the other frames' passes (LRWs that
 // enter only the ESCs they map), the firmware after those, and the rest
-// (set-points, the poll). 12 clock reads a frame's worth of overhead aside,
+// (set-points, the poll). Three clock reads a frame and two a cycle aside,
 // the counters add up to the case's time; the A/B reference stays
 // BM_Cycle_Csp.
 struct PhaseClock {

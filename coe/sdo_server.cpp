@@ -24,11 +24,29 @@ std::size_t initiate_reply(Bytes reply, std::uint8_t cmd, std::uint16_t index, s
 
 }  // namespace
 
+// The rollback copy of a complete-access download (complete_access_download)
+// is needed only while one request is handled, so the slaves a thread runs
+// share one (issue 16: a copy per slave was 0.45 KiB of a servo's 32). Grown
+// to the largest any of them asks for: at construction on the thread that
+// builds the slaves, and on a firmware lane the first time it handles one
+// (a failed growth is the SDO abort 0x05040005, out of memory).
+Bytes SdoServer::rollback_buffer(std::size_t bytes) noexcept {
+  thread_local std::vector<std::uint8_t> buffer;
+  if (buffer.size() < bytes) {
+    try {
+      buffer.resize(bytes);
+    } catch (...) {
+      return {};
+    }
+  }
+  return {buffer.data(), bytes};
+}
+
 SdoServer::SdoServer(ObjectStore& store, bool complete_access)
     : store_(store),
       complete_access_supported_(complete_access),
       buffer_(std::max<std::size_t>(store.max_entry_capacity(), max_complete_access_size(store.dictionary()))),
-      scratch_(buffer_.size()) {
+      rollback_bytes_(buffer_.size()) {
   // The rollback copy of a complete access holds every entry of one object.
   std::size_t largest_object = 0;
   for (const od::Object& o : store.dictionary().objects()) {
@@ -36,7 +54,9 @@ SdoServer::SdoServer(ObjectStore& store, bool complete_access)
     for (const od::Entry& e : o.entries) n += store.slot(o.index, e.subindex)->capacity;
     largest_object = std::max(largest_object, n);
   }
-  scratch_.resize(std::max(scratch_.size(), largest_object));
+  rollback_bytes_ = std::max(rollback_bytes_, largest_object);
+  // Room on this thread now, so that a complete access on it allocates nothing.
+  (void)rollback_buffer(rollback_bytes_);
 }
 
 Expected<std::size_t, MailboxError> SdoServer::handle(ConstBytes request, Bytes reply,
@@ -86,7 +106,11 @@ Expected<void, SdoAbort> SdoServer::check_target(std::uint16_t index, std::uint8
 
 Expected<void, SdoAbort> SdoServer::commit(std::uint16_t index, std::uint8_t sub, bool complete_access,
                                            ConstBytes data, od::EsmState state) noexcept {
-  if (complete_access) return complete_access_download(store_, index, sub == 0, data, state, scratch_);
+  if (complete_access) {
+    const Bytes rollback = rollback_buffer(rollback_bytes_);
+    if (rollback.size() < rollback_bytes_) return fail(SdoAbort::OutOfMemory);
+    return complete_access_download(store_, index, sub == 0, data, state, rollback);
+  }
   return store_.write({index, sub, data, state});
 }
 

@@ -55,11 +55,16 @@ class SdoServer {
   Expected<void, SdoAbort> commit(std::uint16_t index, std::uint8_t sub, bool complete_access, ConstBytes data,
                                   od::EsmState state) noexcept;
   std::size_t abort(Bytes reply, std::uint16_t index, std::uint8_t sub, SdoAbort code) noexcept;
+  // This thread's rollback buffer, at least `bytes` long (empty: no memory).
+  static Bytes rollback_buffer(std::size_t bytes) noexcept;
 
   ObjectStore& store_;
   bool complete_access_supported_ = true;
   std::vector<std::uint8_t> buffer_;   // segmented transfer data
-  std::vector<std::uint8_t> scratch_;  // complete-access rollback
+  // The complete-access rollback copy's size (the largest object): the
+  // copy itself lives only within one request, so it is one buffer per
+  // thread (rollback_buffer in sdo_server.cpp), not one per slave.
+  std::size_t rollback_bytes_ = 0;
   Transfer transfer_ = Transfer::None;
   std::uint16_t index_ = 0;
   std::uint8_t subindex_ = 0;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "tests/coe/rig.hpp"
 
 namespace ecat::coe {
@@ -253,6 +255,24 @@ TEST_F(SdoServerTest, CompleteAccessDownload) {
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x1601, 0), 1);
   // A value refused half way leaves the whole record as it was.
   EXPECT_EQ(abort_code(request(sdo(0x31, 0x2005, 0, 5, {3, 0, 0x00, 0xFF, 0xFF}))), 0x06090031u);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x2005, 1), 1);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x2005, 2), 5);
+}
+
+// The rollback copy is one buffer per thread (SdoServer::rollback_buffer):
+// a server built on this thread and asked on another (a firmware lane), where
+// the buffer starts empty, still puts a record refused half way back - twice,
+// the second time with the buffer the first one grew.
+TEST_F(SdoServerTest, CompleteAccessRollbackOnAnotherThread) {
+  std::uint32_t first = 0;
+  std::uint32_t second = 0;
+  std::thread lane([&] {
+    first = abort_code(request(sdo(0x31, 0x2005, 0, 5, {3, 0, 0x00, 0xFF, 0xFF})));
+    second = abort_code(request(sdo(0x31, 0x2005, 0, 5, {3, 0, 0x0E, 0xFF, 0xFF})));
+  });
+  lane.join();
+  EXPECT_EQ(first, 0x06090031u);
+  EXPECT_EQ(second, 0x06090031u);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x2005, 1), 1);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x2005, 2), 5);
 }
