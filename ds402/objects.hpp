@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "common/cache_line.hpp"
+
 namespace ecat::ds402 {
 
 // DriveInputs' members are ordered by use, not by index: what a cycle reads whatever
