@@ -96,6 +96,35 @@ void BM_Cycle_CspPhases(benchmark::State& state) {
 }
 BENCHMARK(BM_Cycle_CspPhases)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
+// BM_Cycle_Csp with the drives in DC Sync0 mode (1C32h:01 = 2), as
+// servo drives run under TwinCAT, SOEM or IgH with DC: the application
+// cycle runs on SYNC0 (half a cycle after the frames) instead of the
+// free-run timer, and the firmware also answers each LRW's SM2 event (new
+// outputs noted against SYNC0, ETG.1020 §5.2.2). The drives must still be
+// in Op with no sync error after the measured cycles.
+void BM_Cycle_CspDc(benchmark::State& state) {
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
+  try {
+    line->to_dc_sync0();
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  for (auto _ : state) line->cycle();
+  const auto n = static_cast<std::size_t>(state.range(0));
+  for (std::size_t d = 0; d < n; ++d) {
+    if (line->al_status(d) != static_cast<std::uint16_t>(od::EsmState::Op)) {
+      state.SkipWithError(("slave " + std::to_string(d) + " left Op, AL status " +
+                           std::to_string(line->al_status(d)))
+                              .c_str());
+      return;
+    }
+  }
+  report(state, *line);
+}
+BENCHMARK(BM_Cycle_CspDc)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
 constexpr std::uint16_t kWkcLrwBoth = 3;  // read +1, write +2 (ETG.1000.4 §5.4.3)
 constexpr Nanoseconds kFramePeriod{1000};
 

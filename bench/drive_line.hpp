@@ -13,9 +13,12 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bench/mini_master.hpp"
+#include "common/le.hpp"
+#include "esc/dc/dc_registers.hpp"
 #include "esi/device_loader.hpp"
 #include "slave/chain.hpp"
 #include "slave/fault_catalogue.hpp"  // DriveLine::cycle through a catalogue (bench_cycle)
@@ -144,6 +147,47 @@ class DriveLine {
     (void)chain_.poll(t);
   }
 
+  // DC Sync0 mode instead of free run, as a master configuring DC does
+  // (ETG.1020 §5.2; shared/spec: SOEM's ecx_dcsync0, IgH's sync0 set-up):
+  // back to PreOp, 1C32h:01 and 1C33h:01 = 2 by SDO download through each
+  // slave's mailbox, the SYNC unit programmed from the device's DC OpMode
+  // (0x09A0 the cycle, 0x0990 each slave's start from its own system time,
+  // SYNC0 half a cycle after the cycle's frames; 0x0980/0x0981 =
+  // AssignActivate), SafeOp, Op once SYNC0 runs, the drives enabled again.
+  // Set-up only: anything refused throws. Not in the constructor: the
+  // free-run cases' code stays as it is (bench_cycle; docs/performance-log.md
+  // "Session 30", why bench_phases holds the other cases).
+  void to_dc_sync0() {
+    const od::DeviceDescription& dev = chain_[0].device();
+    const od::DcOpMode* dc = nullptr;
+    for (const auto& m : dev.dc_op_modes) {
+      if (m.assign_activate != 0) dc = &m;
+    }
+    if (dc == nullptr) throw std::runtime_error("the device has no DC OpMode");
+    request(od::EsmState::PreOp);
+    sdo_download_all(dev, kSmOutputParameter, kSyncModeSubindex, kSyncModeDcSync0, 1);
+    sdo_download_all(dev, kSmInputParameter, kSyncModeSubindex, kSyncModeDcSync0, 2);
+    // Each slave's system time against the simulated time of the frame
+    // that read it, then its start time: the cycle after next, half a cycle in.
+    std::vector<std::uint64_t> system(n_);
+    per_slave_frames(kSystemTimeBytes, [&](Frame& f, std::size_t i) {
+      return f.add(Command::Fprd, device_address(station(i), kSystemTime), kSystemTimeBytes);
+    }, [&](const Frame& f, std::size_t i, std::size_t k) {
+      system[i] = load_le<std::uint64_t>(f.dg(k).data().data()) - static_cast<std::uint64_t>(now_.count());
+    });
+    const std::uint64_t start_at = static_cast<std::uint64_t>((now_ + 2 * kCyclePeriod + kCyclePeriod / 2).count());
+    per_slave_frames(kSystemTimeBytes, [&](Frame& f, std::size_t i) {
+      Data t = le32(static_cast<std::uint32_t>(system[i] + start_at));
+      for (auto b : le32(static_cast<std::uint32_t>((system[i] + start_at) >> 32))) t.push_back(b);
+      return f.add(Command::Fpwr, device_address(station(i), kDcStartTime), t);
+    }, nullptr);
+    broadcast(kDcSync0Cycle, le32(static_cast<std::uint32_t>(kCyclePeriod.count() * dc->cycle_time_sync0_factor)));
+    broadcast(kDcCyclicUnitControl, le16(dc->assign_activate));  // 0x0980, then 0x0981 (activation)
+    request(od::EsmState::SafeOp);
+    request(od::EsmState::Op);
+    enable_drives(true);
+  }
+
   std::size_t size() const noexcept { return n_; }
   // The simulated time of the last cycle's frames.
   Nanoseconds now() const noexcept { return now_; }
@@ -220,6 +264,108 @@ class DriveLine {
                static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8), control, 0, kSmActivate, 0});
     send(f);
     if (f.wkc(0) != n_) throw std::runtime_error("SM" + std::to_string(sm) + " not taken by every slave");
+  }
+
+  static constexpr std::uint16_t kSmOutputParameter = 0x1C32;
+  static constexpr std::uint16_t kSmInputParameter = 0x1C33;
+  static constexpr std::uint8_t kSyncModeSubindex = 1;
+  static constexpr std::uint16_t kSyncModeDcSync0 = 2;  // ETG.1020 1C32h:01
+  static constexpr std::uint16_t kSystemTimeBytes = 8;
+  static constexpr std::uint16_t kDcStartTime = esc::reg::kDcBase + esc::dcreg::kStartTimeCyclicOperation;
+  static constexpr std::uint16_t kDcSync0Cycle = esc::reg::kDcBase + esc::dcreg::kSync0CycleTime;
+  static constexpr std::uint16_t kDcCyclicUnitControl = esc::reg::kDcBase + esc::dcreg::kCyclicUnitControl;
+  // Mailbox and CoE framing of an expedited SDO download (ETG.1000.6
+  // §5.6.2.1, CiA 301 §7.2.4.3.3; shared/spec coe-mailbox.md).
+  static constexpr std::size_t kMailboxHeaderBytes = 6;
+  static constexpr std::uint8_t kMailboxTypeCoe = 0x03;
+  static constexpr unsigned kMailboxCounterShift = 4;
+  static constexpr std::uint8_t kCoeSdoRequestHigh = 0x20;  // CoE header bits 15:12 = 2
+  static constexpr std::uint8_t kSdoDownloadExpedited2 = 0x2B;  // ccs 1, 2 bytes, expedited, size indicated
+  static constexpr std::uint8_t kSdoDownloadResponse = 0x60;
+  static constexpr std::uint16_t kSdoRequestBytes = 10;  // CoE header + command, index, subindex, 4 data bytes
+  static constexpr std::size_t kDatagramOverheadBytes = 12;
+  static constexpr std::uint16_t kCwFaultReset = 0x0080;
+
+  // One datagram per slave, as many slaves a frame as fit (each datagram
+  // `bytes` long): `add` adds slave i's and returns its index in the frame,
+  // `check` (may be null) reads it back once the frame came back.
+  template <typename Add, typename Check>
+  void per_slave_frames(std::size_t bytes, Add add, Check check) {
+    std::size_t first = 0;
+    while (first < n_) {
+      Frame f;
+      std::vector<std::size_t> at;
+      std::size_t i = first;
+      for (; i < n_ && f.remaining() >= bytes + kDatagramOverheadBytes; ++i) at.push_back(add(f, i));
+      send(f);
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        if (f.wkc(at[k]) != 1) throw std::runtime_error("slave " + std::to_string(first + k) + ": WKC " +
+                                                        std::to_string(f.wkc(at[k])));
+        if constexpr (!std::is_same_v<Check, std::nullptr_t>) check(f, first + k, at[k]);
+      }
+      first = i;
+    }
+  }
+
+  void broadcast(std::uint16_t address, const Data& data) {
+    Frame f;
+    f.add(Command::Bwr, device_address(0, address), data);
+    send(f);
+    if (f.wkc(0) != n_) throw std::runtime_error("a BWR not taken by every slave");
+  }
+
+  // `value` into `index`:`sub` of every slave by an expedited SDO download
+  // (mailbox counter `counter`): the whole SM0 written, then the whole SM1
+  // read back, as SOEM and IgH do, and the answer checked.
+  void sdo_download_all(const od::DeviceDescription& dev, std::uint16_t index, std::uint8_t sub,
+                        std::uint16_t value, std::uint8_t counter) {
+    const od::SyncManagerConfig& out = dev.sync_managers.at(0);
+    const od::SyncManagerConfig& in = dev.sync_managers.at(1);
+    Data request(out.default_size, 0);
+    request[0] = static_cast<std::uint8_t>(kSdoRequestBytes);
+    request[5] = static_cast<std::uint8_t>(kMailboxTypeCoe | (counter << kMailboxCounterShift));
+    request[kMailboxHeaderBytes + 1] = kCoeSdoRequestHigh;
+    request[kMailboxHeaderBytes + 2] = kSdoDownloadExpedited2;
+    request[kMailboxHeaderBytes + 3] = static_cast<std::uint8_t>(index);
+    request[kMailboxHeaderBytes + 4] = static_cast<std::uint8_t>(index >> 8);
+    request[kMailboxHeaderBytes + 5] = sub;
+    request[kMailboxHeaderBytes + 6] = static_cast<std::uint8_t>(value);
+    request[kMailboxHeaderBytes + 7] = static_cast<std::uint8_t>(value >> 8);
+    per_slave_frames(out.default_size, [&](Frame& f, std::size_t i) {
+      return f.add(Command::Fpwr, device_address(station(i), out.start_address), request);
+    }, nullptr);
+    per_slave_frames(in.default_size, [&](Frame& f, std::size_t i) {
+      return f.add(Command::Fprd, device_address(station(i), in.start_address), in.default_size);
+    }, [&](const Frame& f, std::size_t i, std::size_t k) {
+      const auto reply = f.dg(k).data();
+      if (reply[kMailboxHeaderBytes + 2] != kSdoDownloadResponse) {
+        throw std::runtime_error("slave " + std::to_string(i) + ": SDO download of " + std::to_string(index) +
+                                 " answered with command " + std::to_string(reply[kMailboxHeaderBytes + 2]));
+      }
+    });
+  }
+
+  // CSP, the set-point where each drive stands, the power state machine
+  // walked to Operation enabled (from Fault first when `reset`).
+  void enable_drives(bool reset) {
+    target_.clear();
+    for (std::size_t d = 0; d < n_; ++d) {
+      put_out(d, kOutMode, 1, kModeCsp);
+      put_out(d, kOutTargetPosition, 4, static_cast<std::uint32_t>(actual_position(d)));
+    }
+    const std::uint16_t none = 0;
+    for (std::uint16_t cw : {reset ? kCwFaultReset : none, none, kCwShutdown, kCwSwitchOn, kCwEnableOperation}) {
+      if (cw == none && !reset) continue;
+      for (std::size_t d = 0; d < n_; ++d) put_out(d, kOutControlword, 2, cw);
+      for (int i = 0; i < 5; ++i) cycle();
+    }
+    for (std::size_t d = 0; d < n_; ++d) {
+      if ((statusword(d) & kSwStateMask) != kSwOperationEnabled) {
+        throw std::runtime_error("drive " + std::to_string(d) + " not enabled, statusword " +
+                                 std::to_string(statusword(d)));
+      }
+      target_.push_back(actual_position(d));
+    }
   }
 
   void request(od::EsmState state) {
