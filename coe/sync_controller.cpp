@@ -53,6 +53,8 @@ void SyncController::install() noexcept {
   }
   load_modes();
   cycle_slot_ = store_.slot(kSmOutputParameter, syncsub::kCycleTime);
+  error_limit_slot_ = store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit);
+  calc_copy_slot_ = store_.slot(kSmOutputParameter, syncsub::kCalcAndCopyTime);
   // UNSIGNED32 as the dictionaries define it: its 4 value bytes are the
   // value, read in place each free-run cycle (issue 8).
   constexpr std::uint32_t kU32 = sizeof(std::uint32_t);
@@ -261,7 +263,7 @@ SyncPoll SyncController::poll_sm(Nanoseconds now) noexcept {
   if (!run) return {};
   if (state_ == AlState::Op && last_outputs_ && now - *last_outputs_ < Nanoseconds{limits_.min_cycle_time_ns}) {
     ++too_small_;
-    publish_counters();
+    publish_counters(false);
   }
   last_outputs_ = now;
   if (!has_outputs_ && trace_ != nullptr) trace_->sm_event(3, now);
@@ -279,10 +281,10 @@ SyncPoll SyncController::poll_dc(Nanoseconds now) noexcept {
       const auto sys_now = load_le<std::uint64_t>(b.data());
       pdi_.read(dc_register(esc::dcreg::kStartTimeCyclicOperation), b);
       const auto next_sync0 = load_le<std::uint64_t>(b.data());
-      const std::uint32_t calc = store_.get<std::uint32_t>(kSmOutputParameter, syncsub::kCalcAndCopyTime);
+      const std::uint32_t calc = calc_copy_slot_ != nullptr ? store_.get<std::uint32_t>(*calc_copy_slot_) : 0;
       if (next_sync0 > sys_now && next_sync0 - sys_now < calc) {
         ++too_short_;
-        publish_counters();
+        publish_counters(false);
       }
     }
   }
@@ -327,10 +329,9 @@ void SyncController::sync_cycle(Nanoseconds now) noexcept {
     sync_error_ = true;
   }
   outputs_since_sync_ = false;
-  publish_counters();
-  const std::uint16_t limit = store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit) != nullptr
-                                  ? store_.get<std::uint16_t>(kErrorSettings, kErrorSettingsSyncErrorLimit)
-                                  : kDefaultErrorLimit;
+  publish_counters(false);
+  const std::uint16_t limit =
+      error_limit_slot_ != nullptr ? store_.get<std::uint16_t>(*error_limit_slot_) : kDefaultErrorLimit;
   // The sequence is invalid once the counter reaches the limit (Beckhoff's
   // SSC: valid while counter < 10F1h:02; the Yaskawa Sigma-V manual trips at
   // 9 with the limit 9); a limit of 0 switches the detection off (SSC V5.13,
@@ -358,16 +359,21 @@ void SyncController::reset_counters() noexcept {
   too_short_ = 0;
   error_counter_ = 0;
   sync_error_ = false;
-  publish_counters();
+  publish_counters(true);
 }
 
-void SyncController::publish_counters() noexcept {
+void SyncController::publish_counters(bool every) noexcept {
+  const Published now{missed_, too_small_, too_short_, sync_error_};
+  if (!every && now == published_) return;
   for (const std::uint16_t index : {kSmOutputParameter, kSmInputParameter}) {
-    (void)store_.set(index, syncsub::kSmEventMissed, missed_);
-    (void)store_.set(index, syncsub::kCycleTimeTooSmall, too_small_);
-    (void)store_.set(index, syncsub::kShiftTimeTooShort, too_short_);
-    (void)store_.set(index, syncsub::kSyncError, static_cast<std::uint8_t>(sync_error_ ? 1 : 0));
+    if (every || now.missed != published_.missed) (void)store_.set(index, syncsub::kSmEventMissed, missed_);
+    if (every || now.too_small != published_.too_small) (void)store_.set(index, syncsub::kCycleTimeTooSmall, too_small_);
+    if (every || now.too_short != published_.too_short) (void)store_.set(index, syncsub::kShiftTimeTooShort, too_short_);
+    if (every || now.sync_error != published_.sync_error) {
+      (void)store_.set(index, syncsub::kSyncError, static_cast<std::uint8_t>(sync_error_ ? 1 : 0));
+    }
   }
+  published_ = now;
 }
 
 }  // namespace ecat::coe

@@ -98,7 +98,9 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   SyncPoll poll_sm(Nanoseconds now) noexcept;
   SyncPoll poll_dc(Nanoseconds now) noexcept;
   void sync_cycle(Nanoseconds now) noexcept;
-  void publish_counters() noexcept;
+  // Writes the counters to 1C32h/1C33h: `every` one, or those that changed
+  // since the last call.
+  void publish_counters(bool every) noexcept;
   void reset_counters() noexcept;
   void start_cycle(Nanoseconds now) noexcept;
   Nanoseconds cycle_time() noexcept;
@@ -138,6 +140,20 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   bool sync_error_ = false;
   bool timeout_reported_ = false;
   const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()
+  const ObjectStore::Slot* error_limit_slot_ = nullptr;  // 10F1h:02, found once at install()
+  const ObjectStore::Slot* calc_copy_slot_ = nullptr;    // 1C32h:06, found once at install()
+  // The counters as publish_counters last wrote them: it writes only what
+  // changed, as each write moves the store's generation and a drive's
+  // binding then reads every entry again (issue 30: in DC mode every SYNC
+  // cycle did, 2,500 instructions a drive).
+  struct Published {
+    std::uint16_t missed = 0;
+    std::uint16_t too_small = 0;
+    std::uint16_t too_short = 0;
+    bool sync_error = false;
+    bool operator==(const Published&) const = default;
+  };
+  Published published_;
   std::optional<Nanoseconds> op_wait_start_;
 };
 

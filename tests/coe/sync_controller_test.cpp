@@ -118,6 +118,27 @@ TEST_F(SyncTest, MissedSmEventsCountAndDropToSafeOp0x001A) {
   EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSmEventMissed), 2u);
 }
 
+// Good DC cycles change no counter, so they write nothing to 1C32h/1C33h:
+// each write moves the store's generation, and a drive's binding then reads
+// every entry again (issue 30: in DC mode every SYNC cycle did). A missed SM
+// event is written at once.
+TEST_F(SyncTest, GoodDcCyclesLeaveTheStoreAsItWas) {
+  go_dc_op();
+  sync0(t += kCycle);  // takes the buffer written before Op
+  const std::uint64_t before = store.generation();
+  for (int k = 0; k < 5; ++k) {
+    new_outputs();
+    ASSERT_TRUE(sync0(t += kCycle).run);
+  }
+  EXPECT_EQ(store.generation(), before);
+  EXPECT_EQ(sync.sm_events_missed(), 0u);
+  sync0(t += kCycle);  // no new outputs: missed
+  EXPECT_NE(store.generation(), before);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmOutputParameter, syncsub::kSmEventMissed), 1u);
+  EXPECT_EQ(store.get<std::uint16_t>(kSmInputParameter, syncsub::kSmEventMissed), 1u);
+  EXPECT_EQ(store.get<std::uint8_t>(kSmOutputParameter, syncsub::kSyncError), 1u);
+}
+
 // The Yaskawa Sigma-V manual's example (seeds/digests/yaskawa-sigma5-sd-coe.md
 // 2.4, 10F1h:02 = 9): SM2 events 1 0 1 0 1 0 1 0 give the counter
 // 0 3 2 5 4 7 6 9, and the drive trips when it *reaches* the limit, on the
