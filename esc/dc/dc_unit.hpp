@@ -148,7 +148,10 @@ class DcUnit : private SyncUnit::Sink {
 
  private:
   void pulse(const SyncUnit::Pulse& p) noexcept override;
-  void render(std::span<std::uint8_t, kSize> view, Nanoseconds t, Side side) const noexcept;
+  // Bytes [first, end) of the block as a read at `t` sees them into the same
+  // places of `view`; a register partly inside may write its other bytes too.
+  void render(std::span<std::uint8_t, kSize> view, Nanoseconds t, Side side, std::uint16_t first,
+              std::uint16_t end) const noexcept;
   void after_read(std::uint16_t first, std::uint16_t end, Side side, Nanoseconds t) noexcept;
   bool writable(std::uint16_t offset, Side side) const noexcept;
   void after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept;

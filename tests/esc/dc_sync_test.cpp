@@ -231,5 +231,55 @@ TEST_F(DcSyncTest, LatchContinuousOverwritesAndPdiOwnerGetsAlEvent) {
   EXPECT_EQ(dc.al_event_request() & kAlEventLatch, 0u);
 }
 
+// A read renders only the registers it covers (DcUnit::render): every
+// range of 1, 2, 4 and 8 bytes of the block reads as the same bytes of one
+// read of the whole block at the same time, on both sides, with the SYNC
+// units running, the time loop's registers, a SYNC1 schedule and latch
+// events set. The PDI reads leave 0x098E on out (reading the SYNC status
+// acknowledges it, the latch times clear their events).
+TEST_F(DcSyncTest, EveryRangeReadsAsTheWholeBlock) {
+  init(0);  // acknowledge mode: the status bytes hold until read
+  const std::uint64_t start = now_system() + 2'000'000;
+  program(start, 1'000'000, 250'000, kActivateSyncUnit | kActivateSync0 | kActivateSync1);
+  for (int k = 0; k < 5; ++k) {  // the time loop runs: its difference and speed counter registers show values
+    dc_write(dc, kSystemTime, now_system() - 100'000, 4, now);
+    run_until(now + ms(1));
+  }
+  run_until(now + us(300));
+  // A difference past 16 bits and a negative speed counter difference: every byte of both shows.
+  ASSERT_EQ(dc_read(dc, kSystemTimeDifference, 4, now), 100'000u);
+  ASSERT_GE(dc_read(dc, kSpeedCounterDiff, 2, now), 0x8000u);
+  // Latch events and pin levels, owned by the PDI so that ECAT reads of
+  // their times clear nothing (the PDI loop stops before 0x098E).
+  dc_write(dc, kCyclicUnitControl, kLatch0OwnerPdi | kLatch1OwnerPdi, 1, now);
+  dc.set_latch_input(0, true, now - us(5));
+  dc.set_latch_input(0, false, now - us(4));
+  dc.set_latch_input(0, true, now - us(3));
+  dc.set_latch_input(1, true, now - us(2));
+  dc.set_latch_input(1, false, now - us(1));
+  for (const Side side : {Side::Ecat, Side::Pdi}) {
+    std::array<std::uint8_t, DcUnit::kSize> whole{};
+    const std::uint16_t end = side == Side::Pdi ? kSync0Status : DcUnit::kSize;
+    dc.read(0, std::span<std::uint8_t>(whole.data(), end), now, side);
+    for (const std::size_t size : {1u, 2u, 4u, 8u}) {
+      for (std::uint16_t at = 0; at + size <= end; ++at) {
+        std::array<std::uint8_t, 8> part{};
+        dc.read(at, std::span<std::uint8_t>(part.data(), size), now, side);
+        for (std::size_t k = 0; k < size; ++k) {
+          ASSERT_EQ(part[k], whole[at + k]) << "side " << static_cast<int>(side) << ", 0x" << std::hex
+                                            << 0x0900 + at + k << " in a read of " << std::dec << size << " at 0x"
+                                            << std::hex << 0x0900 + at;
+        }
+      }
+    }
+  }
+  EXPECT_NE(dc_read(dc, kSync0Status, 1, now), 0u);  // pulses were latched, so the status was in the block
+  EXPECT_NE(dc_read(dc, kStartTimeCyclicOperation, 8, now), 0u);
+  EXPECT_NE(dc_read(dc, kLatch0Status, 1, now), 0u);
+  for (const std::uint16_t time : {kLatch0TimePositive, kLatch0TimeNegative, kLatch1TimePositive, kLatch1TimeNegative}) {
+    EXPECT_NE(dc_read(dc, time, 8, now), 0u);
+  }
+}
+
 }  // namespace
 }  // namespace ecat::esc::test
