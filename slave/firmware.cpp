@@ -2,7 +2,6 @@
 
 #include "coe/sm_bits.hpp"
 #include "common/le.hpp"
-#include "esc/dc/dc_registers.hpp"
 #include "esc/registers.hpp"
 #include "slave/drive_application.hpp"
 #include "slave/esc_setup.hpp"
@@ -50,8 +49,6 @@ constexpr std::uint32_t kAlEventSmShift = 8;  // 0x0220 bit 8+n: SM n
 constexpr unsigned kSmsWithEvents = 4;        // mailbox and process-data SMs
 // Events every state handles: AL control, SM activation, watchdog, mailbox.
 constexpr std::uint32_t kBaseEvents = esc::Esm::kEventsHandled | coe::MailboxServer::kEventsHandled;
-// SYNC0/SYNC1 (0x0220 bits 2/3): the synchronisation runs on DC.
-constexpr std::uint32_t kDcSyncEvents = esc::dcreg::kAlEventSync0 | esc::dcreg::kAlEventSync1;
 // Events the mailbox reacts to, SM activation included (repeat request).
 constexpr std::uint32_t kMailboxEvents = coe::MailboxServer::kEventsHandled | esc::kAlEventSmActivation;
 
@@ -88,17 +85,14 @@ void Firmware::attach_trace(esc::VcdProbe& probe) noexcept {
 
 Nanoseconds Firmware::advance(Nanoseconds now, EscLines lines) noexcept {
   ++polls_;
+  // One read of 0x0220 for the pass, in every mode, as SSC's and SOES's
+  // interrupt handlers do. DC mode read it again in the ESM and the
+  // synchronisation until session 31: the e2e DC run over veth had lost SYNC
+  // events with the one read (0x0034/0x001A), a cause found since - a SYNC
+  // pulse latched before PreOp->SafeOp taken as live (SyncController,
+  // discard_sync_events_); docs/performance-log.md "Session 31".
   const std::uint32_t events = pdi_.read_u32(esc::reg::kAlEventRequest);
-  // In DC mode the ESM and the synchronisation read 0x0220 again themselves
-  // (and the ESM the watchdog status in Op): with the one-read snapshot the
-  // e2e DC run over veth lost SYNC events (0x0034/0x001A) - cause not found
-  // yet (docs/performance.md). Free run and SM-synchronous use the snapshot.
-  const bool dc = (sync_.al_event_mask() & kDcSyncEvents) != 0;
-  if (dc) {
-    esm_.poll();
-  } else if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) {
-    esm_.poll(events);
-  }
+  if ((events & esc::Esm::kEventsHandled) != 0 || esm_.pending()) esm_.poll(events);
   if (esm_.status_code() != code_seen_) note_al_status_code(now);
   const esc::AlState state = esm_.state();
   const bool changed = state != state_seen_;
@@ -111,7 +105,7 @@ Nanoseconds Firmware::advance(Nanoseconds now, EscLines lines) noexcept {
   const bool sms_changed = changed || (events & esc::kAlEventSmActivation) != 0;
   if (sms_changed) coe_.process_data().load_layout(pdi_);
   if (changed || (events & kMailboxEvents) != 0 || mailbox_output()) coe_.poll(now);
-  const coe::SyncPoll sp = dc ? sync_.poll(now) : sync_.poll(now, events);
+  const coe::SyncPoll sp = sync_.poll(now, events);
   if (sp.run && is_operational(esm_.state())) application_cycle(now);
   program_event_mask(sms_changed, lines);
   Due& due = *due_;
