@@ -274,14 +274,18 @@ SyncPoll SyncController::poll_sm(Nanoseconds now) noexcept {
 SyncPoll SyncController::poll_dc(Nanoseconds now) noexcept {
   if (new_outputs(now)) {
     outputs_since_sync_ = true;
-    if (state_ == AlState::Op) {
-      // Outputs must be in before SYNC0 minus the calc-and-copy time.
+    // Outputs must be in before SYNC0 minus the calc-and-copy time: with
+    // none (1C32h:06 = 0, the profile's default) nothing comes too late,
+    // and the two DC registers are not read (issue 30: a third of what DC
+    // mode added to a cycle).
+    const std::uint32_t calc =
+        state_ == AlState::Op && calc_copy_slot_ != nullptr ? store_.get<std::uint32_t>(*calc_copy_slot_) : 0;
+    if (calc != 0) {
       std::array<std::uint8_t, 8> b{};
       pdi_.read(dc_register(esc::dcreg::kSystemTime), b);
       const auto sys_now = load_le<std::uint64_t>(b.data());
       pdi_.read(dc_register(esc::dcreg::kStartTimeCyclicOperation), b);
       const auto next_sync0 = load_le<std::uint64_t>(b.data());
-      const std::uint32_t calc = calc_copy_slot_ != nullptr ? store_.get<std::uint32_t>(*calc_copy_slot_) : 0;
       if (next_sync0 > sys_now && next_sync0 - sys_now < calc) {
         ++too_short_;
         publish_counters(false);

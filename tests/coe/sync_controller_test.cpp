@@ -237,6 +237,25 @@ TEST_F(SyncTest, ShiftTimeTooShortCounted) {
   EXPECT_EQ(sync.shift_time_too_short(), 1u);
 }
 
+// Without a calc-and-copy time (1C32h:06 = 0, the profile's default) no
+// outputs come too late: the firmware does not read the system time and
+// the next SYNC0 time for the check (issue 30); with one it reads both.
+TEST_F(SyncTest, ShiftTimeCheckReadsTheDcRegistersOnlyWithACalcAndCopyTime) {
+  go_dc_op();
+  const std::uint16_t system = dc(esc::dcreg::kSystemTime);
+  const std::uint16_t next = dc(esc::dcreg::kStartTimeCyclicOperation);
+  const unsigned before = pdi.dc_reads(system);
+  new_outputs();
+  sync.poll(t += Nanoseconds{1000});
+  EXPECT_EQ(pdi.dc_reads(system), before);
+  EXPECT_EQ(pdi.dc_reads(next), 0u);
+  ASSERT_TRUE(store.set(kSmOutputParameter, syncsub::kCalcAndCopyTime, std::uint32_t{100'000}).has_value());
+  new_outputs();
+  sync.poll(t += Nanoseconds{1000});
+  EXPECT_EQ(pdi.dc_reads(system), before + 1);
+  EXPECT_EQ(pdi.dc_reads(next), 1u);
+}
+
 TEST_F(SyncTest, SmSynchronousRunsOnNewOutputs) {
   go_preop();
   ASSERT_TRUE(sdo_write(kSmOutputParameter, 1, 1, 2).has_value());

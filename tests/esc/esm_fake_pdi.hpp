@@ -20,6 +20,8 @@ class FakePdi final : public Pdi {
  public:
   static constexpr std::size_t kSize = 0x2000;
   static constexpr std::uint16_t kSync0Status = 0x098E;
+  static constexpr std::uint16_t kDcBlock = 0x0900;
+  static constexpr std::uint16_t kDcBlockSize = 0x0100;
 
   void read(std::uint16_t address, std::span<std::uint8_t> out) noexcept override {
     for (std::size_t i = 0; i < out.size(); ++i) {
@@ -31,6 +33,7 @@ class FakePdi final : public Pdi {
         clear_event(1u << 4);
       }
       if (a == reg::kWatchdogStatusProcessData) clear_event(1u << 6);
+      if (a >= kDcBlock && a < kDcBlock + kDcBlockSize && i == 0) ++dc_reads_[a - kDcBlock];
       if (a == kSync0Status) clear_event(1u << 2);  // DC SYNC0/SYNC1 acknowledge
       if (a == kSync0Status + 1u) clear_event(1u << 3);
     }
@@ -68,6 +71,8 @@ class FakePdi final : public Pdi {
   void poke_u32(std::uint16_t address, std::uint32_t v) noexcept { store_le(&mem_[address], v); }
   void poke_u64(std::uint16_t address, std::uint64_t v) noexcept { store_le(&mem_[address], v); }
   void raise_event(std::uint32_t bits) noexcept { set_event(bits); }
+  // PDI reads that started at `address` of the DC block (0x0900-0x09FF).
+  unsigned dc_reads(std::uint16_t address) const noexcept { return dc_reads_[address - kDcBlock]; }
 
  private:
   void set_event(std::uint32_t bit) noexcept {
@@ -77,6 +82,7 @@ class FakePdi final : public Pdi {
     store_le(&mem_[reg::kAlEventRequest], static_cast<std::uint32_t>(events() & ~bit));
   }
   std::array<std::uint8_t, kSize> mem_{};
+  std::array<unsigned, kDcBlockSize> dc_reads_{};
 };
 
 }  // namespace ecat::esc::test
