@@ -92,8 +92,15 @@ void DcUnit::read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds
 }
 
 // Read side effects: SYNC acknowledge (PDI reads 0x098E/F) and latch events
-// (the owner reads a latch time register).
+// (the owner reads a latch time register). A read of neither (the system
+// time of every ARMW, 0x0990) has none: the latch events' routing follows
+// 0x0980 as it is written (after_write), not at the next read.
 void DcUnit::after_read(std::uint16_t first, std::uint16_t end, Side side, Nanoseconds t) noexcept {
+  constexpr std::uint16_t kLatchTimesEnd = kLatch1TimeNegative + kU64;
+  if (!touches(first, end, kSync0Status, static_cast<std::uint16_t>(kSyncSignals)) &&
+      !touches(first, end, kLatch0TimePositive, kLatchTimesEnd - kLatch0TimePositive)) {
+    return;
+  }
   if (side == Side::Pdi) {
     for (unsigned s = 0; s < kSyncSignals; ++s) {
       if (!touches(first, end, static_cast<std::uint16_t>(kSync0Status + s), 1)) continue;
@@ -161,6 +168,8 @@ void DcUnit::after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) 
   if (touches(first, end, kSystemTimeDiffFilterDepth, 1)) loop_.set_filter_depth(regs_[kSystemTimeDiffFilterDepth]);
   if (touches(first, end, kLatch0Control, 1)) latches_[0].set_control(regs_[kLatch0Control]);
   if (touches(first, end, kLatch1Control, 1)) latches_[1].set_control(regs_[kLatch1Control]);
+  // The latch events go to the owner 0x0980 names now (Section II 0x0980 bits 4/5).
+  if (touches(first, end, kCyclicUnitControl, 1) || touches(first, end, kLatch0Control, kLatchInputs)) update_latch_events();
   if (touches(first, end, kStartTimeCyclicOperation, kU64)) start_time_written(first, end, t);
   if (touches(first, end, kActivation, 1)) activation_written(t);
 }

@@ -218,6 +218,20 @@ TEST_F(DcSyncTest, LatchSingleEventKeepsFirstEdgeUntilRead) {
   EXPECT_EQ(dc.ecat_event_request() & kEcatEventLatch, 0u);
 }
 
+// A pending latch event goes to the owner 0x0980 names as soon as it is
+// written (Section II 0x0980 bits 4/5), not at the next DC register read.
+TEST_F(DcSyncTest, LatchEventFollowsTheOwnerAsItIsWritten) {
+  dc.set_latch_input(0, true, now + us(1));
+  ASSERT_NE(dc.ecat_event_request() & kEcatEventLatch, 0u);
+  ASSERT_EQ(dc.al_event_request() & kAlEventLatch, 0u);
+  dc_write(dc, kCyclicUnitControl, kLatch0OwnerPdi, 1, now + us(2));
+  EXPECT_EQ(dc.ecat_event_request() & kEcatEventLatch, 0u);
+  EXPECT_NE(dc.al_event_request() & kAlEventLatch, 0u);
+  dc_write(dc, kCyclicUnitControl, 0, 1, now + us(3));
+  EXPECT_NE(dc.ecat_event_request() & kEcatEventLatch, 0u);
+  EXPECT_EQ(dc.al_event_request() & kAlEventLatch, 0u);
+}
+
 TEST_F(DcSyncTest, LatchContinuousOverwritesAndPdiOwnerGetsAlEvent) {
   dc_write(dc, kCyclicUnitControl, kLatch1OwnerPdi, 1, now);
   dc.set_latch_input(1, true, now + us(1));
