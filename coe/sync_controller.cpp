@@ -55,13 +55,18 @@ void SyncController::install() noexcept {
   cycle_slot_ = store_.slot(kSmOutputParameter, syncsub::kCycleTime);
   error_limit_slot_ = store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit);
   calc_copy_slot_ = store_.slot(kSmOutputParameter, syncsub::kCalcAndCopyTime);
-  // UNSIGNED32 as the dictionaries define it: its 4 value bytes are the
-  // value, read in place each free-run cycle (issue 8).
-  constexpr std::uint32_t kU32 = sizeof(std::uint32_t);
-  cycle_bytes_ = cycle_slot_ != nullptr && cycle_slot_->capacity == kU32 && store_.length(*cycle_slot_) == kU32 &&
-                         !od::is_signed(cycle_slot_->entry->type)
-                     ? store_.value(*cycle_slot_).data()
-                     : nullptr;
+  cycle_bytes_ = plain_unsigned(cycle_slot_, sizeof(std::uint32_t));
+  error_limit_bytes_ = plain_unsigned(error_limit_slot_, sizeof(std::uint16_t));
+  calc_copy_bytes_ = plain_unsigned(calc_copy_slot_, sizeof(std::uint32_t));
+}
+
+// An unsigned integer of `bytes` bytes as the dictionaries define 1C32h:02,
+// 1C32h:06 and 10F1h:02: its value bytes are the value, read in place each
+// cycle (issue 8); null for anything else (read through the store).
+const std::uint8_t* SyncController::plain_unsigned(const ObjectStore::Slot* s, std::uint32_t bytes) noexcept {
+  return s != nullptr && s->capacity == bytes && store_.length(*s) == bytes && !od::is_signed(s->entry->type)
+             ? store_.value(*s).data()
+             : nullptr;
 }
 
 void SyncController::load_modes() noexcept {
@@ -278,8 +283,10 @@ SyncPoll SyncController::poll_dc(Nanoseconds now) noexcept {
     // none (1C32h:06 = 0, the profile's default) nothing comes too late,
     // and the two DC registers are not read (issue 30: a third of what DC
     // mode added to a cycle).
-    const std::uint32_t calc =
-        state_ == AlState::Op && calc_copy_slot_ != nullptr ? store_.get<std::uint32_t>(*calc_copy_slot_) : 0;
+    const std::uint32_t calc = state_ != AlState::Op      ? 0
+                               : calc_copy_bytes_ != nullptr ? load_le<std::uint32_t>(calc_copy_bytes_)
+                               : calc_copy_slot_ != nullptr  ? store_.get<std::uint32_t>(*calc_copy_slot_)
+                                                             : 0;
     if (calc != 0) {
       std::array<std::uint8_t, 8> b{};
       pdi_.read(dc_register(esc::dcreg::kSystemTime), b);
@@ -334,8 +341,9 @@ void SyncController::sync_cycle(Nanoseconds now) noexcept {
   }
   outputs_since_sync_ = false;
   publish_counters(false);
-  const std::uint16_t limit =
-      error_limit_slot_ != nullptr ? store_.get<std::uint16_t>(*error_limit_slot_) : kDefaultErrorLimit;
+  const std::uint16_t limit = error_limit_bytes_ != nullptr ? load_le<std::uint16_t>(error_limit_bytes_)
+                              : error_limit_slot_ != nullptr ? store_.get<std::uint16_t>(*error_limit_slot_)
+                                                             : kDefaultErrorLimit;
   // The sequence is invalid once the counter reaches the limit (Beckhoff's
   // SSC: valid while counter < 10F1h:02; the Yaskawa Sigma-V manual trips at
   // 9 with the limit 9); a limit of 0 switches the detection off (SSC V5.13,

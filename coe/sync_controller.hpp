@@ -104,6 +104,7 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   void reset_counters() noexcept;
   void start_cycle(Nanoseconds now) noexcept;
   Nanoseconds cycle_time() noexcept;
+  const std::uint8_t* plain_unsigned(const ObjectStore::Slot* s, std::uint32_t bytes) noexcept;
 
   // What a poll reads every cycle, first and together (issue 30 item 1: at
   // 1000 drives each cache line a drive's cycle touches is a miss; these
@@ -142,6 +143,8 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()
   const ObjectStore::Slot* error_limit_slot_ = nullptr;  // 10F1h:02, found once at install()
   const ObjectStore::Slot* calc_copy_slot_ = nullptr;    // 1C32h:06, found once at install()
+  const std::uint8_t* error_limit_bytes_ = nullptr;  // their value bytes when plain (plain_unsigned)
+  const std::uint8_t* calc_copy_bytes_ = nullptr;
   // The counters as publish_counters last wrote them: it writes only what
   // changed, as each write moves the store's generation and a drive's
   // binding then reads every entry again (issue 30: in DC mode every SYNC
