@@ -125,6 +125,32 @@ void BM_Cycle_CspDc(benchmark::State& state) {
 }
 BENCHMARK(BM_Cycle_CspDc)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
+// BM_Cycle_Csp with the drives SM-synchronous (1C32h:01 = 1, 1C33h:01 =
+// 22h): the application cycle runs on each SM2 event, as under a master
+// without DC (SOEM's and IgH's default). The drives must still be in Op.
+void BM_Cycle_CspSm(benchmark::State& state) {
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
+  try {
+    line->to_sm_synchronous();
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  for (auto _ : state) line->cycle();
+  const auto n = static_cast<std::size_t>(state.range(0));
+  for (std::size_t d = 0; d < n; ++d) {
+    if (line->al_status(d) != static_cast<std::uint16_t>(od::EsmState::Op)) {
+      state.SkipWithError(("slave " + std::to_string(d) + " left Op, AL status " +
+                           std::to_string(line->al_status(d)))
+                              .c_str());
+      return;
+    }
+  }
+  report(state, *line);
+}
+BENCHMARK(BM_Cycle_CspSm)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
 constexpr std::uint16_t kWkcLrwBoth = 3;  // read +1, write +2 (ETG.1000.4 §5.4.3)
 constexpr Nanoseconds kFramePeriod{1000};
 

@@ -157,6 +157,21 @@ class DriveLine {
   // Set-up only: anything refused throws. Not in the constructor: the
   // free-run cases' code stays as it is (bench_cycle; docs/performance-log.md
   // "Session 30", why bench_phases holds the other cases).
+  // SM-synchronous mode instead of free run (1C32h:01 = 1, 1C33h:01 = 22h:
+  // the application cycle on each SM2 event, inputs with it), as SOEM's
+  // and IgH's masters run slaves without DC: back to PreOp, the modes by SDO
+  // download, SafeOp, Op, the drives enabled again. Set-up only, as
+  // to_dc_sync0.
+  void to_sm_synchronous() {
+    const od::DeviceDescription& dev = chain_[0].device();
+    request(od::EsmState::PreOp);
+    sdo_download_all(dev, kSmOutputParameter, kSyncModeSubindex, kSyncModeSmSynchronous, 1);
+    sdo_download_all(dev, kSmInputParameter, kSyncModeSubindex, kSyncModeSynchronousWithSm2, 2);
+    request(od::EsmState::SafeOp);
+    request(od::EsmState::Op);
+    enable_drives(true);
+  }
+
   void to_dc_sync0() {
     const od::DeviceDescription& dev = chain_[0].device();
     const od::DcOpMode* dc = nullptr;
@@ -270,6 +285,8 @@ class DriveLine {
   static constexpr std::uint16_t kSmInputParameter = 0x1C33;
   static constexpr std::uint8_t kSyncModeSubindex = 1;
   static constexpr std::uint16_t kSyncModeDcSync0 = 2;  // ETG.1020 1C32h:01
+  static constexpr std::uint16_t kSyncModeSmSynchronous = 1;
+  static constexpr std::uint16_t kSyncModeSynchronousWithSm2 = 0x22;  // 1C33h:01 only
   static constexpr std::uint16_t kSystemTimeBytes = 8;
   static constexpr std::uint16_t kDcStartTime = esc::reg::kDcBase + esc::dcreg::kStartTimeCyclicOperation;
   static constexpr std::uint16_t kDcSync0Cycle = esc::reg::kDcBase + esc::dcreg::kSync0CycleTime;
