@@ -53,11 +53,10 @@ void SyncController::install() noexcept {
   }
   load_modes();
   cycle_slot_ = store_.slot(kSmOutputParameter, syncsub::kCycleTime);
-  error_limit_slot_ = store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit);
-  calc_copy_slot_ = store_.slot(kSmOutputParameter, syncsub::kCalcAndCopyTime);
   cycle_bytes_ = plain_unsigned(cycle_slot_, sizeof(std::uint32_t));
-  error_limit_bytes_ = plain_unsigned(error_limit_slot_, sizeof(std::uint16_t));
-  calc_copy_bytes_ = plain_unsigned(calc_copy_slot_, sizeof(std::uint32_t));
+  error_limit_bytes_ =
+      plain_unsigned(store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit), sizeof(std::uint16_t));
+  calc_copy_bytes_ = plain_unsigned(store_.slot(kSmOutputParameter, syncsub::kCalcAndCopyTime), sizeof(std::uint32_t));
 }
 
 // An unsigned integer of `bytes` bytes as the dictionaries define 1C32h:02,
@@ -283,10 +282,10 @@ SyncPoll SyncController::poll_dc(Nanoseconds now) noexcept {
     // none (1C32h:06 = 0, the profile's default) nothing comes too late,
     // and the two DC registers are not read (issue 30: a third of what DC
     // mode added to a cycle).
-    const std::uint32_t calc = state_ != AlState::Op      ? 0
-                               : calc_copy_bytes_ != nullptr ? load_le<std::uint32_t>(calc_copy_bytes_)
-                               : calc_copy_slot_ != nullptr  ? store_.get<std::uint32_t>(*calc_copy_slot_)
-                                                             : 0;
+    const std::uint32_t calc =
+        state_ != AlState::Op        ? 0
+        : calc_copy_bytes_ != nullptr ? load_le<std::uint32_t>(calc_copy_bytes_)
+                                      : store_.get<std::uint32_t>(kSmOutputParameter, syncsub::kCalcAndCopyTime);
     if (calc != 0) {
       std::array<std::uint8_t, 8> b{};
       pdi_.read(dc_register(esc::dcreg::kSystemTime), b);
@@ -342,8 +341,9 @@ void SyncController::sync_cycle(Nanoseconds now) noexcept {
   outputs_since_sync_ = false;
   publish_counters(false);
   const std::uint16_t limit = error_limit_bytes_ != nullptr ? load_le<std::uint16_t>(error_limit_bytes_)
-                              : error_limit_slot_ != nullptr ? store_.get<std::uint16_t>(*error_limit_slot_)
-                                                             : kDefaultErrorLimit;
+                              : store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit) != nullptr
+                                  ? store_.get<std::uint16_t>(kErrorSettings, kErrorSettingsSyncErrorLimit)
+                                  : kDefaultErrorLimit;
   // The sequence is invalid once the counter reaches the limit (Beckhoff's
   // SSC: valid while counter < 10F1h:02; the Yaskawa Sigma-V manual trips at
   // 9 with the limit 9); a limit of 0 switches the detection off (SSC V5.13,
@@ -379,8 +379,12 @@ void SyncController::publish_counters(bool every) noexcept {
   if (!every && now == published_) return;
   for (const std::uint16_t index : {kSmOutputParameter, kSmInputParameter}) {
     if (every || now.missed != published_.missed) (void)store_.set(index, syncsub::kSmEventMissed, missed_);
-    if (every || now.too_small != published_.too_small) (void)store_.set(index, syncsub::kCycleTimeTooSmall, too_small_);
-    if (every || now.too_short != published_.too_short) (void)store_.set(index, syncsub::kShiftTimeTooShort, too_short_);
+    if (every || now.too_small != published_.too_small) {
+      (void)store_.set(index, syncsub::kCycleTimeTooSmall, too_small_);
+    }
+    if (every || now.too_short != published_.too_short) {
+      (void)store_.set(index, syncsub::kShiftTimeTooShort, too_short_);
+    }
     if (every || now.sync_error != published_.sync_error) {
       (void)store_.set(index, syncsub::kSyncError, static_cast<std::uint8_t>(sync_error_ ? 1 : 0));
     }

@@ -141,9 +141,9 @@ class SyncController final : public esc::EsmHooks, public esc::EsmDeferral, publ
   bool sync_error_ = false;
   bool timeout_reported_ = false;
   const ObjectStore::Slot* cycle_slot_ = nullptr;  // 1C32h:02, found once at install()
-  const ObjectStore::Slot* error_limit_slot_ = nullptr;  // 10F1h:02, found once at install()
-  const ObjectStore::Slot* calc_copy_slot_ = nullptr;    // 1C32h:06, found once at install()
-  const std::uint8_t* error_limit_bytes_ = nullptr;  // their value bytes when plain (plain_unsigned)
+  // 10F1h:02 and 1C32h:06's value bytes when plain (plain_unsigned, found
+  // once at install()): read in place each DC cycle; otherwise through the store.
+  const std::uint8_t* error_limit_bytes_ = nullptr;
   const std::uint8_t* calc_copy_bytes_ = nullptr;
   // The counters as publish_counters last wrote them: it writes only what
   // changed, as each write moves the store's generation and a drive's

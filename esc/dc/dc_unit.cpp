@@ -169,7 +169,9 @@ void DcUnit::after_write(std::uint16_t first, std::uint16_t end, Nanoseconds t) 
   if (touches(first, end, kLatch0Control, 1)) latches_[0].set_control(regs_[kLatch0Control]);
   if (touches(first, end, kLatch1Control, 1)) latches_[1].set_control(regs_[kLatch1Control]);
   // The latch events go to the owner 0x0980 names now (Section II 0x0980 bits 4/5).
-  if (touches(first, end, kCyclicUnitControl, 1) || touches(first, end, kLatch0Control, kLatchInputs)) update_latch_events();
+  if (touches(first, end, kCyclicUnitControl, 1) || touches(first, end, kLatch0Control, kLatchInputs)) {
+    update_latch_events();
+  }
   if (touches(first, end, kStartTimeCyclicOperation, kU64)) start_time_written(first, end, t);
   if (touches(first, end, kActivation, 1)) activation_written(t);
 }

@@ -290,7 +290,8 @@ TEST_F(DcSyncTest, EveryRangeReadsAsTheWholeBlock) {
   EXPECT_NE(dc_read(dc, kSync0Status, 1, now), 0u);  // pulses were latched, so the status was in the block
   EXPECT_NE(dc_read(dc, kStartTimeCyclicOperation, 8, now), 0u);
   EXPECT_NE(dc_read(dc, kLatch0Status, 1, now), 0u);
-  for (const std::uint16_t time : {kLatch0TimePositive, kLatch0TimeNegative, kLatch1TimePositive, kLatch1TimeNegative}) {
+  for (const std::uint16_t time :
+       {kLatch0TimePositive, kLatch0TimeNegative, kLatch1TimePositive, kLatch1TimeNegative}) {
     EXPECT_NE(dc_read(dc, time, 8, now), 0u);
   }
 }
