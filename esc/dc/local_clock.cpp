@@ -31,17 +31,11 @@ void LocalClock::reset(double ppm, std::uint64_t start) noexcept {
   update_rate();
 }
 
-void LocalClock::update_rate() noexcept {
-  rate_ = 1.0 + ppm_ * kPerPpm + correction_;
-  per_rate_ = 1.0 / rate_;
-}
+void LocalClock::update_rate() noexcept { rate_ = 1.0 + ppm_ * kPerPpm + correction_; }
 
 Nanoseconds LocalClock::when(std::uint64_t local) const noexcept {
   const auto delta = static_cast<double>(static_cast<std::int64_t>(local - anchor_local_)) - anchor_frac_;
-  // The first guess only (the loops below make the answer exact): times
-  // 1 / rate instead of a division, which is ~15 cycles on the critical path
-  // of every SYNC pulse and DC deadline (three a drive and DC cycle).
-  const double steps = std::ceil(delta * per_rate_);
+  const double steps = std::ceil(delta / rate());
   if (!(std::fabs(steps) < static_cast<double>(kHorizon))) {
     return Nanoseconds{saturating_add(anchor_t_, steps > 0 ? kHorizon : -kHorizon)};
   }

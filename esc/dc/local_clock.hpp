@@ -63,7 +63,6 @@ class LocalClock {
   // 1 + ppm * 1e-6 + correction, kept with them (same value as computed
   // on each use: at() runs for every DC register access).
   double rate_ = 1.0;
-  double per_rate_ = 1.0;  // 1 / rate_, for when()'s first guess
   void update_rate() noexcept;
   void anchor_at(Nanoseconds t) noexcept;  // moves the anchor to t, the clock unchanged
 };
