@@ -96,17 +96,14 @@ void BM_Cycle_CspPhases(benchmark::State& state) {
 }
 BENCHMARK(BM_Cycle_CspPhases)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
-// BM_Cycle_Csp with the drives in DC Sync0 mode (1C32h:01 = 2), as
-// servo drives run under TwinCAT, SOEM or IgH with DC: the application
-// cycle runs on SYNC0 (half a cycle after the frames) instead of the
-// free-run timer, and the firmware also answers each LRW's SM2 event (new
-// outputs noted against SYNC0, ETG.1020 §5.2.2). The drives must still be
-// in Op with no sync error after the measured cycles.
-void BM_Cycle_CspDc(benchmark::State& state) {
+// BM_Cycle_Csp with the drives switched to another synchronisation mode by
+// `to_mode` (a DriveLine member); the drives must still be in Op after the
+// measured cycles.
+void run_in_mode(benchmark::State& state, void (DriveLine::*to_mode)()) {
   std::unique_ptr<DriveLine> line = make_line(state);
   if (!line) return;
   try {
-    line->to_dc_sync0();
+    ((*line).*to_mode)();
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
     return;
@@ -123,32 +120,18 @@ void BM_Cycle_CspDc(benchmark::State& state) {
   }
   report(state, *line);
 }
+
+// DC Sync0 mode (1C32h:01 = 2), as servo drives run under TwinCAT, SOEM or
+// IgH with DC: the application cycle runs on SYNC0 (half a cycle after the
+// frames) instead of the free-run timer, and the firmware also answers each
+// LRW's SM2 event (new outputs noted against SYNC0, ETG.1020 §5.2.2); a sync
+// error would take a drive out of Op.
+void BM_Cycle_CspDc(benchmark::State& state) { run_in_mode(state, &DriveLine::to_dc_sync0); }
 BENCHMARK(BM_Cycle_CspDc)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
-// BM_Cycle_Csp with the drives SM-synchronous (1C32h:01 = 1, 1C33h:01 =
-// 22h): the application cycle runs on each SM2 event, as under a master
-// without DC (SOEM's and IgH's default). The drives must still be in Op.
-void BM_Cycle_CspSm(benchmark::State& state) {
-  std::unique_ptr<DriveLine> line = make_line(state);
-  if (!line) return;
-  try {
-    line->to_sm_synchronous();
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  for (auto _ : state) line->cycle();
-  const auto n = static_cast<std::size_t>(state.range(0));
-  for (std::size_t d = 0; d < n; ++d) {
-    if (line->al_status(d) != static_cast<std::uint16_t>(od::EsmState::Op)) {
-      state.SkipWithError(("slave " + std::to_string(d) + " left Op, AL status " +
-                           std::to_string(line->al_status(d)))
-                              .c_str());
-      return;
-    }
-  }
-  report(state, *line);
-}
+// SM-synchronous (1C32h:01 = 1, 1C33h:01 = 22h): the application cycle runs
+// on each SM2 event, as under a master without DC (SOEM's and IgH's default).
+void BM_Cycle_CspSm(benchmark::State& state) { run_in_mode(state, &DriveLine::to_sm_synchronous); }
 BENCHMARK(BM_Cycle_CspSm)->Apply(iterations_from_env)->Arg(1)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
 constexpr std::uint16_t kWkcLrwBoth = 3;  // read +1, write +2 (ETG.1000.4 §5.4.3)

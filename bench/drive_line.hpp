@@ -363,7 +363,11 @@ class DriveLine {
   }
 
   // CSP, the set-point where each drive stands, the power state machine
-  // walked to Operation enabled (from Fault first when `reset`).
+  // walked to Operation enabled (from Fault first when `reset`). The
+  // constructor walks the same sequence in its own lines on purpose:
+  // calling this from it would change bench_cycle's code, which the
+  // free-run cases compare between commits (bench_cycle.cpp.o stays
+  // byte-identical; docs/performance-log.md "Session 30" and "Session 31").
   void enable_drives(bool reset) {
     target_.clear();
     for (std::size_t d = 0; d < n_; ++d) {
