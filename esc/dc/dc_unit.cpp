@@ -48,8 +48,9 @@ void DcUnit::reset(std::uint16_t sync_pulse_length) noexcept {
 // Current values of the registers that are not plain storage, only those
 // the read covers: a firmware in DC mode reads 0x098E (the SYNC0
 // acknowledge) and 0x0990 every cycle, and building the whole block for
-// each (the system time, the loop's registers rounded, the latches) was
-// about 700 instructions of a DC cycle's ~1,000 in DcUnit (issue 30).
+// each (the system time, the loop's registers rounded, the latches) cost
+// ~400 instructions a drive and cycle (issue 30; docs/performance-log.md
+// "Session 31").
 void DcUnit::render(std::span<std::uint8_t, kSize> view, Nanoseconds t, Side side, std::uint16_t first,
                     std::uint16_t end) const noexcept {
   std::copy(regs_.begin() + first, regs_.begin() + end, view.begin() + first);
