@@ -9,6 +9,7 @@
 #include <memory>
 #include <type_traits>
 
+#include "esc/register_masks.hpp"
 #include "esc/registers.hpp"
 
 namespace ecat::esc {
@@ -274,12 +275,40 @@ bool Esc::pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noex
     for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(v >> (8 * i));
     return true;
   }
+  if (address >= reg::kSyncManagerBase && end <= reg_layout::kSmEnd) {
+    // The SM registers (a firmware's look at SM2's status every cycle, the
+    // mailbox's at SM0/SM1 at every poll): stored bytes, of which a PDI read
+    // of status or activate acknowledges, as reg_read_byte does byte by byte.
+    std::memcpy(out.data(), mem_.get() + address, out.size());
+    pdi_sm_registers_read(address, end);
+    return true;
+  }
   const int n = pdi_sm_for(address, end);
   if (n < 0) return false;
   SmSignals sig;
   if (!sms_[n].read(Side::Pdi, address, out, sig)) std::fill(out.begin(), out.end(), std::uint8_t{0});
   apply(static_cast<unsigned>(n), sig);
   return true;
+}
+
+// What a PDI read of SM registers [address, end) acknowledges (Section II
+// 0x0805, 0x0806): the SM activation event (0x0220 bit 4) with an activate
+// byte, SM n's event (bit 8+n) with its status byte where
+// EscConfig::sm_status_read_clears_event says so; SMs the ESC lacks have none.
+void Esc::pdi_sm_registers_read(std::uint32_t address, std::uint32_t end) noexcept {
+  if (config_.sync_manager_count == 0) return;
+  const std::uint32_t first = (address - reg::kSyncManagerBase) / reg::kSyncManagerStride;
+  const std::uint32_t last = std::min<std::uint32_t>((end - 1 - reg::kSyncManagerBase) / reg::kSyncManagerStride,
+                                                     config_.sync_manager_count - 1u);
+  for (std::uint32_t n = first; n <= last; ++n) {
+    const std::uint32_t base = reg::kSyncManagerBase + n * reg::kSyncManagerStride;
+    const std::uint32_t status = base + reg::sm::kStatus;
+    const std::uint32_t activate = base + reg::sm::kActivate;
+    if (config_.sm_status_read_clears_event && address <= status && status < end) {
+      clear_al_event(1u << (bits::kAlEventSmShift + n));
+    }
+    if (address <= activate && activate < end) clear_al_event(bits::kAlEventSmActivation);
+  }
 }
 
 bool Esc::pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {

@@ -337,6 +337,7 @@ class Esc final : public Pdi {
   void pdi_watchdog_trigger(Nanoseconds t) noexcept;
   // PDI fast paths (esc.cpp): true when the access was carried out.
   bool pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noexcept;
+  void pdi_sm_registers_read(std::uint32_t address, std::uint32_t end) noexcept;
   bool pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in) noexcept;
   int pdi_sm_for(std::uint32_t address, std::uint32_t end) const noexcept;
   // The 3-buffer SM a whole-buffer PDI access in place goes to (fast path,

@@ -412,8 +412,10 @@ TEST_P(EscPdiFastPathRandom, SameAsCheckedPath) {
         if (pick(0, 1)) {
           t.pdi_write(static_cast<std::uint16_t>(reg::sync_manager(n) + reg::sm::kPdiControl),
                       Data{static_cast<std::uint8_t>(pick(0, 3) == 0)});
-        } else {
+        } else if (pick(0, 1)) {
           t.pdi_read(reg::sync_manager(n), reg::kSyncManagerStride);
+        } else {  // a part of the SM registers: one byte (status, activate), or across two SMs' blocks
+          t.pdi_read(static_cast<std::uint16_t>(reg::sync_manager(n) + pick(0, 7)), pick(1, 12));
         }
         break;
       case 9:  // watchdog divider and times
