@@ -291,23 +291,16 @@ bool Esc::pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noex
   return true;
 }
 
-// What a PDI read of SM registers [address, end) acknowledges (Section II
-// 0x0805, 0x0806): the SM activation event (0x0220 bit 4) with an activate
-// byte, SM n's event (bit 8+n) with its status byte where
-// EscConfig::sm_status_read_clears_event says so; SMs the ESC lacks have none.
+// What a PDI read of SM registers [address, end) acknowledges: the status
+// and activate bytes it covers, as reg_read_byte takes them one by one.
 void Esc::pdi_sm_registers_read(std::uint32_t address, std::uint32_t end) noexcept {
-  if (config_.sync_manager_count == 0) return;
   const std::uint32_t first = (address - reg::kSyncManagerBase) / reg::kSyncManagerStride;
-  const std::uint32_t last = std::min<std::uint32_t>((end - 1 - reg::kSyncManagerBase) / reg::kSyncManagerStride,
-                                                     config_.sync_manager_count - 1u);
+  const std::uint32_t last = (end - 1 - reg::kSyncManagerBase) / reg::kSyncManagerStride;
   for (std::uint32_t n = first; n <= last; ++n) {
     const std::uint32_t base = reg::kSyncManagerBase + n * reg::kSyncManagerStride;
-    const std::uint32_t status = base + reg::sm::kStatus;
-    const std::uint32_t activate = base + reg::sm::kActivate;
-    if (config_.sm_status_read_clears_event && address <= status && status < end) {
-      clear_al_event(1u << (bits::kAlEventSmShift + n));
+    for (const unsigned off : {reg::sm::kStatus, reg::sm::kActivate}) {
+      if (address <= base + off && base + off < end) pdi_sm_read_acknowledge(n, off);
     }
-    if (address <= activate && activate < end) clear_al_event(bits::kAlEventSmActivation);
   }
 }
 

@@ -338,6 +338,18 @@ class Esc final : public Pdi {
   // PDI fast paths (esc.cpp): true when the access was carried out.
   bool pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noexcept;
   void pdi_sm_registers_read(std::uint32_t address, std::uint32_t end) noexcept;
+  // What a PDI read of byte `off` of SM n's registers acknowledges (Section
+  // II 0x0805, 0x0806): an activate byte the SM activation event (0x0220 bit
+  // 4); a status byte SM n's event (bit 8+n), which mirrors status bits 0/1
+  // that on silicon only an access to the buffer clears (Section II 0x0220,
+  // 0x0805; EscConfig::sm_status_read_clears_event). SMs the ESC lacks: none.
+  void pdi_sm_read_acknowledge(unsigned n, unsigned off) noexcept {
+    if (n >= config_.sync_manager_count) return;
+    if (off == reg::sm::kActivate) clear_al_event(bits::kAlEventSmActivation);
+    if (off == reg::sm::kStatus && config_.sm_status_read_clears_event) {
+      clear_al_event(1u << (bits::kAlEventSmShift + n));
+    }
+  }
   bool pdi_write_fast(std::uint16_t address, std::span<const std::uint8_t> in) noexcept;
   int pdi_sm_for(std::uint32_t address, std::uint32_t end) const noexcept;
   // The 3-buffer SM a whole-buffer PDI access in place goes to (fast path,

@@ -88,15 +88,8 @@ std::uint8_t Esc::reg_read_byte(std::uint16_t a, Side side) noexcept {
     } else if (a == reg::kWatchdogStatusProcessData) {
       clear_al_event(bits::kAlEventWatchdog);
     } else if (in(a, reg::kSyncManagerBase, kSmEnd)) {
-      const unsigned n = (a - reg::kSyncManagerBase) / reg::kSyncManagerStride;
-      const unsigned off = (a - reg::kSyncManagerBase) % reg::kSyncManagerStride;
-      if (n < config_.sync_manager_count && off == reg::sm::kActivate) clear_al_event(bits::kAlEventSmActivation);
-      // The SM interrupt bits 8+n mirror SM status bits 0/1, which on silicon
-      // only an access to the buffer clears (Section II 0x0220, 0x0805); see
-      // EscConfig::sm_status_read_clears_event.
-      if (config_.sm_status_read_clears_event && n < config_.sync_manager_count && off == reg::sm::kStatus) {
-        clear_al_event(1u << (bits::kAlEventSmShift + n));
-      }
+      pdi_sm_read_acknowledge((a - reg::kSyncManagerBase) / reg::kSyncManagerStride,
+                              (a - reg::kSyncManagerBase) % reg::kSyncManagerStride);
     }
   } else {
     // ECAT reads that acknowledge: AL status (0x0210.3), DL status (0x0210.2), SM status.
