@@ -17,6 +17,9 @@
 #include <vector>
 
 #include "bench/mini_master.hpp"
+#include "coe/coe_header.hpp"
+#include "coe/mailbox_header.hpp"
+#include "coe/sdo_command.hpp"
 #include "common/le.hpp"
 #include "esc/dc/dc_registers.hpp"
 #include "esi/device_loader.hpp"
@@ -291,15 +294,6 @@ class DriveLine {
   static constexpr std::uint16_t kDcStartTime = esc::reg::kDcBase + esc::dcreg::kStartTimeCyclicOperation;
   static constexpr std::uint16_t kDcSync0Cycle = esc::reg::kDcBase + esc::dcreg::kSync0CycleTime;
   static constexpr std::uint16_t kDcCyclicUnitControl = esc::reg::kDcBase + esc::dcreg::kCyclicUnitControl;
-  // Mailbox and CoE framing of an expedited SDO download (ETG.1000.6
-  // §5.6.2.1, CiA 301 §7.2.4.3.3; shared/spec coe-mailbox.md).
-  static constexpr std::size_t kMailboxHeaderBytes = 6;
-  static constexpr std::uint8_t kMailboxTypeCoe = 0x03;
-  static constexpr unsigned kMailboxCounterShift = 4;
-  static constexpr std::uint8_t kCoeSdoRequestHigh = 0x20;  // CoE header bits 15:12 = 2
-  static constexpr std::uint8_t kSdoDownloadExpedited2 = 0x2B;  // ccs 1, 2 bytes, expedited, size indicated
-  static constexpr std::uint8_t kSdoDownloadResponse = 0x60;
-  static constexpr std::uint16_t kSdoRequestBytes = 10;  // CoE header + command, index, subindex, 4 data bytes
   static constexpr std::size_t kDatagramOverheadBytes = 12;
   static constexpr std::uint16_t kCwFaultReset = 0x0080;
 
@@ -338,16 +332,27 @@ class DriveLine {
                         std::uint16_t value, std::uint8_t counter) {
     const od::SyncManagerConfig& out = dev.sync_managers.at(0);
     const od::SyncManagerConfig& in = dev.sync_managers.at(1);
+    // An expedited download of 2 bytes (ETG.1000.6 §5.6.2.1, CiA 301
+    // §7.2.4.3.3), framed with the stack's own mailbox and CoE headers.
+    constexpr std::size_t kValueBytes = sizeof(std::uint16_t);
     Data request(out.default_size, 0);
-    request[0] = static_cast<std::uint8_t>(kSdoRequestBytes);
-    request[5] = static_cast<std::uint8_t>(kMailboxTypeCoe | (counter << kMailboxCounterShift));
-    request[kMailboxHeaderBytes + 1] = kCoeSdoRequestHigh;
-    request[kMailboxHeaderBytes + 2] = kSdoDownloadExpedited2;
-    request[kMailboxHeaderBytes + 3] = static_cast<std::uint8_t>(index);
-    request[kMailboxHeaderBytes + 4] = static_cast<std::uint8_t>(index >> 8);
-    request[kMailboxHeaderBytes + 5] = sub;
-    request[kMailboxHeaderBytes + 6] = static_cast<std::uint8_t>(value);
-    request[kMailboxHeaderBytes + 7] = static_cast<std::uint8_t>(value >> 8);
+    coe::MailboxHeader header;
+    header.length = static_cast<std::uint16_t>(coe::CoeHeader::kSize + coe::sdo::kHeaderSize);
+    header.type = static_cast<std::uint8_t>(coe::MailboxType::CoE);
+    header.counter = counter;
+    header.pack(Bytes(request.data(), coe::MailboxHeader::kSize));
+    ByteWriter w(Bytes(request.data() + coe::MailboxHeader::kSize, coe::CoeHeader::kSize + coe::sdo::kHeaderSize));
+    coe::CoeHeader::write(w, coe::CoeService::SdoRequest);
+    w.u8(coe::sdo::command(coe::sdo::kCcsInitiateDownload,
+                           static_cast<std::uint8_t>(coe::sdo::kExpedited | coe::sdo::kSizeIndicated |
+                                                     ((coe::sdo::kExpeditedMax - kValueBytes)
+                                                      << coe::sdo::kUnusedShift))));
+    w.u16(index);
+    w.u8(sub);
+    w.u32(value);
+    // The answer: an initiate download response (scs 3) in the same place.
+    constexpr std::size_t kCommandAt = coe::MailboxHeader::kSize + coe::CoeHeader::kSize;
+    const std::uint8_t answered = coe::sdo::command(coe::sdo::kScsInitiateDownload);
     per_slave_frames(out.default_size, [&](Frame& f, std::size_t i) {
       return f.add(Command::Fpwr, device_address(station(i), out.start_address), request);
     }, nullptr);
@@ -355,9 +360,9 @@ class DriveLine {
       return f.add(Command::Fprd, device_address(station(i), in.start_address), in.default_size);
     }, [&](const Frame& f, std::size_t i, std::size_t k) {
       const auto reply = f.dg(k).data();
-      if (reply[kMailboxHeaderBytes + 2] != kSdoDownloadResponse) {
+      if (reply[kCommandAt] != answered) {
         throw std::runtime_error("slave " + std::to_string(i) + ": SDO download of " + std::to_string(index) +
-                                 " answered with command " + std::to_string(reply[kMailboxHeaderBytes + 2]));
+                                 " answered with command " + std::to_string(reply[kCommandAt]));
       }
     });
   }
