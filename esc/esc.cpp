@@ -283,6 +283,12 @@ bool Esc::pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noex
     pdi_sm_registers_read(address, end);
     return true;
   }
+  if (address >= reg::kDcBase && end <= reg::kDcEnd && config_.dc) {
+    // Inside the DC block (a firmware's SYNC acknowledge, 0x098E, every DC
+    // cycle): the DC unit's read, as mem_read's reg_read takes it.
+    dc_.read(static_cast<std::uint16_t>(address - reg::kDcBase), out, now_, Side::Pdi);
+    return true;
+  }
   const int n = pdi_sm_for(address, end);
   if (n < 0) return false;
   SmSignals sig;

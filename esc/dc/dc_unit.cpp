@@ -84,6 +84,10 @@ void DcUnit::read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds
     std::array<std::uint8_t, kU64> value{};
     store_le(value.data(), system_time(t) - (side == Side::Ecat ? delay() : 0u));
     std::copy_n(value.begin() + (offset - kSystemTime), n, out.begin());
+  } else if (offset >= kSync0Status && offset + n <= kSync0Status + kSyncSignals) {
+    // SYNC0/SYNC1 status alone (a firmware's acknowledge in DC mode, every
+    // cycle): the outputs' levels, as render() puts them there.
+    for (std::uint16_t i = 0; i < n; ++i) out[i] = sync_level_[offset - kSync0Status + i] ? 1 : 0;
   } else {
     std::array<std::uint8_t, kSize> view;  // only [offset, offset + n) is read back
     render(view, t, side, offset, static_cast<std::uint16_t>(offset + n));
@@ -98,17 +102,16 @@ void DcUnit::read(std::uint16_t offset, std::span<std::uint8_t> out, Nanoseconds
 // 0x0980 as it is written (after_write), not at the next read.
 void DcUnit::after_read(std::uint16_t first, std::uint16_t end, Side side, Nanoseconds t) noexcept {
   constexpr std::uint16_t kLatchTimesEnd = kLatch1TimeNegative + kU64;
-  if (!touches(first, end, kSync0Status, static_cast<std::uint16_t>(kSyncSignals)) &&
-      !touches(first, end, kLatch0TimePositive, kLatchTimesEnd - kLatch0TimePositive)) {
-    return;
-  }
-  if (side == Side::Pdi) {
+  if (side == Side::Pdi && touches(first, end, kSync0Status, static_cast<std::uint16_t>(kSyncSignals))) {
     for (unsigned s = 0; s < kSyncSignals; ++s) {
       if (!touches(first, end, static_cast<std::uint16_t>(kSync0Status + s), 1)) continue;
       al_events_ &= ~(s == 0 ? kAlEventSync0 : kAlEventSync1);
       if (acknowledge_mode() && sync_level_[s]) set_sync_level(s, false, t);
     }
   }
+  // The latch events change only where a latch time is read (set_latch_input
+  // and after_write keep them up to date otherwise).
+  if (!touches(first, end, kLatch0TimePositive, kLatchTimesEnd - kLatch0TimePositive)) return;
   constexpr std::array<std::uint8_t, kLatchInputs> kOwnerPdi{kLatch0OwnerPdi, kLatch1OwnerPdi};
   constexpr std::array<std::uint16_t, kLatchInputs> kPositive{kLatch0TimePositive, kLatch1TimePositive};
   constexpr std::array<std::uint16_t, kLatchInputs> kNegative{kLatch0TimeNegative, kLatch1TimeNegative};

@@ -161,6 +161,8 @@ class DcUnit : private SyncUnit::Sink {
   void activation_written(Nanoseconds t) noexcept;
   void start_time_written(std::uint16_t first, std::uint16_t end, Nanoseconds t) noexcept;
   void set_sync_level(unsigned signal, bool level, Nanoseconds t) noexcept;
+  // The same at the true time this ESC's system time reaches `system`.
+  void set_sync_level_at_system(unsigned signal, bool level, std::uint64_t system) noexcept;
   static bool touches_high(std::uint16_t first, std::uint16_t end) noexcept;
   void end_pulses(std::uint64_t system_now) noexcept;
   void update_latch_events() noexcept;

@@ -68,13 +68,12 @@ bool DcUnit::touches_high(std::uint16_t first, std::uint16_t end) noexcept {
 // mode (0x0982 = 0) when the PDI reads 0x098E/0x098F.
 void DcUnit::pulse(const SyncUnit::Pulse& p) noexcept {
   if (p.signal == 0 && sync0_inhibited_) return;  // fault sync0_stopped: the pulse never comes out
-  const Nanoseconds t = when_system(p.time);
   if (sync_level_[p.signal] && !acknowledge_mode()) {
-    set_sync_level(p.signal, false, when_system(std::min(pulse_end_[p.signal], p.time)));
+    set_sync_level_at_system(p.signal, false, std::min(pulse_end_[p.signal], p.time));
   }
   al_events_ |= p.signal == 0 ? kAlEventSync0 : kAlEventSync1;
   pulse_end_[p.signal] = p.time + load_le<std::uint16_t>(&regs_[kSyncPulseLength]) * kPulseLengthUnitNs;
-  if (!sync_level_[p.signal]) set_sync_level(p.signal, true, t);
+  if (!sync_level_[p.signal]) set_sync_level_at_system(p.signal, true, p.time);
 }
 
 void DcUnit::set_sync_level(unsigned signal, bool level, Nanoseconds t) noexcept {
@@ -82,10 +81,18 @@ void DcUnit::set_sync_level(unsigned signal, bool level, Nanoseconds t) noexcept
   if (observer_ != nullptr) observer_->on_sync(signal, level, t);
 }
 
+// Only the observer needs the edge's true time: without one it is not
+// computed (LocalClock::when, ~70 instructions; a pulse a drive and DC
+// cycle, issue 30).
+void DcUnit::set_sync_level_at_system(unsigned signal, bool level, std::uint64_t system) noexcept {
+  sync_level_[signal] = level;
+  if (observer_ != nullptr) observer_->on_sync(signal, level, when_system(system));
+}
+
 void DcUnit::end_pulses(std::uint64_t system_now) noexcept {
   if (acknowledge_mode()) return;
   for (unsigned s = 0; s < kSyncSignals; ++s) {
-    if (sync_level_[s] && pulse_end_[s] <= system_now) set_sync_level(s, false, when_system(pulse_end_[s]));
+    if (sync_level_[s] && pulse_end_[s] <= system_now) set_sync_level_at_system(s, false, pulse_end_[s]);
   }
 }
 

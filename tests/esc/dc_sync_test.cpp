@@ -67,6 +67,8 @@ class DcSyncTest : public ::testing::Test {
       const std::uint64_t seen = dc.system_time(pulses[k]);
       EXPECT_GE(seen, target) << k;
       EXPECT_LT(seen, target + kTick) << k;
+      // The edge's true time is the earliest at which the system time reaches it.
+      EXPECT_LT(dc.system_time(pulses[k] - Nanoseconds{1}), target) << k;
     }
   }
 

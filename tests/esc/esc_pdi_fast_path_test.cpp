@@ -11,6 +11,7 @@
 #include <cstring>
 #include <random>
 
+#include "esc/dc/dc_registers.hpp"
 #include "esc/register_bits.hpp"
 #include "esc/sii_interface.hpp"
 #include "esc_fixture.hpp"
@@ -367,6 +368,17 @@ TEST_P(EscPdiFastPathRandom, SameAsCheckedPath) {
   bool links[4] = {};
   constexpr std::uint8_t kPortsClosed = 0xFC;  // 0x0101: ports 1-3 closed, port 0 auto
   for (unsigned n = 0; n < 4; ++n) t.sm(n, areas[n].start, areas[n].length, areas[n].control);
+  // SYNC0 every 1 ms from 0.1 ms on (Section II 0x09A0, 0x0990, 0x0981):
+  // pulses and their AL event for the DC block's reads below.
+  constexpr std::uint32_t kSync0Ns = 1'000'000;
+  constexpr std::uint64_t kStartNs = 100'000;
+  constexpr std::uint8_t kSyncUnitAndSync0 = 0x03;  // 0x0981 bits 0 and 1
+  t.ecat(Command::Fpwr, fp(kStation, reg::kDcBase + dcreg::kSync0CycleTime), le32(kSync0Ns));
+  Data start = le32(static_cast<std::uint32_t>(kStartNs));
+  const Data start_high = le32(static_cast<std::uint32_t>(kStartNs >> 32));
+  start.insert(start.end(), start_high.begin(), start_high.end());
+  t.ecat(Command::Fpwr, fp(kStation, reg::kDcBase + dcreg::kStartTimeCyclicOperation), start);
+  t.ecat(Command::Fpwr, fp(kStation, reg::kDcBase + dcreg::kActivation), Data{kSyncUnitAndSync0});
   auto near_area = [&](unsigned n) {
     const Area& a = areas[n];
     return static_cast<std::uint16_t>(a.start + pick(0, a.length + 2) - pick(0, 1) * 2);
@@ -376,7 +388,7 @@ TEST_P(EscPdiFastPathRandom, SameAsCheckedPath) {
     SCOPED_TRACE(testing::Message() << "seed " << GetParam() << " op " << op);
     const unsigned n = pick(0, 3);
     const Area& a = areas[n];
-    const unsigned kind = pick(0, 15);
+    const unsigned kind = pick(0, 16);
     switch (kind) {
       case 0:  // reconfigure an SM: another place (maybe overlapping another), length, or disabled
         areas[n].start = pick(0, 3) ? areas[n].start : static_cast<std::uint16_t>(0x1000 + pick(0, 0x210));
@@ -465,6 +477,16 @@ TEST_P(EscPdiFastPathRandom, SameAsCheckedPath) {
         } else {
           t.pdi_write_buffer(near_area(n), bytes(pick(1, a.length + 3)));
         }
+        break;
+      case 16:  // the DC block: the SYNC status alone (the acknowledge), around it, anywhere in it
+        if (pick(0, 1)) {
+          t.pdi_read(static_cast<std::uint16_t>(reg::kDcBase + dcreg::kSync0Status + pick(0, 1)), pick(1, 2));
+        } else if (pick(0, 1)) {
+          t.pdi_read(static_cast<std::uint16_t>(reg::kDcBase + dcreg::kSync0Status - pick(0, 8)), pick(1, 16));
+        } else {
+          t.pdi_read(static_cast<std::uint16_t>(reg::kDcBase + pick(0, dcreg::kBlockEnd)), pick(1, 8));
+        }
+        t.pdi_read(reg::kAlEventRequest, 4);
         break;
       default:
         t.advance(Nanoseconds{pick(0, 3'000'000)});
