@@ -283,17 +283,20 @@ bool Esc::pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noex
     pdi_sm_registers_read(address, end);
     return true;
   }
-  if (address >= reg::kDcBase && end <= reg::kDcEnd && config_.dc) {
-    // Inside the DC block (a firmware's SYNC acknowledge, 0x098E, every DC
-    // cycle): the DC unit's read, as mem_read's reg_read takes it.
-    dc_.read(static_cast<std::uint16_t>(address - reg::kDcBase), out, now_, Side::Pdi);
-    return true;
-  }
   const int n = pdi_sm_for(address, end);
-  if (n < 0) return false;
+  if (n < 0) return pdi_read_dc(address, end, out);
   SmSignals sig;
   if (!sms_[n].read(Side::Pdi, address, out, sig)) std::fill(out.begin(), out.end(), std::uint8_t{0});
   apply(static_cast<unsigned>(n), sig);
+  return true;
+}
+
+// Inside the DC block (a firmware's SYNC acknowledge, 0x098E, every DC
+// cycle): the DC unit's read, as mem_read's reg_read takes it. Out of
+// pdi_read_fast's line, asked last: its other reads keep their code.
+bool Esc::pdi_read_dc(std::uint32_t address, std::uint32_t end, std::span<std::uint8_t> out) noexcept {
+  if (address < reg::kDcBase || end > reg::kDcEnd || !config_.dc) return false;
+  dc_.read(static_cast<std::uint16_t>(address - reg::kDcBase), out, now_, Side::Pdi);
   return true;
 }
 

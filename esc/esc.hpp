@@ -337,6 +337,7 @@ class Esc final : public Pdi {
   void pdi_watchdog_trigger(Nanoseconds t) noexcept;
   // PDI fast paths (esc.cpp): true when the access was carried out.
   bool pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noexcept;
+  [[gnu::noinline]] bool pdi_read_dc(std::uint32_t address, std::uint32_t end, std::span<std::uint8_t> out) noexcept;
   void pdi_sm_registers_read(std::uint32_t address, std::uint32_t end) noexcept;
   // What a PDI read of byte `off` of SM n's registers acknowledges (Section
   // II 0x0805, 0x0806): an activate byte the SM activation event (0x0220 bit
