@@ -8,6 +8,7 @@
 
 #include "esc/esc.hpp"
 #include "esc/registers.hpp"
+#include "esc/small_copy.hpp"
 
 namespace ecat::esc {
 
@@ -51,7 +52,7 @@ bool Esc::mem_read(std::uint16_t address, std::span<std::uint8_t> out, Side side
     const Guard g = find_guard(sms_, sm_enabled_, pos, limit);
     auto part = out.subspan(pos - address, g.end - pos);
     if (g.sm < 0) {
-      std::memcpy(part.data(), mem_.get() + pos, part.size());
+      copy_small(part.data(), mem_.get() + pos, part.size());
       any = true;
     } else {
       SmSignals sig;
@@ -85,7 +86,7 @@ bool Esc::mem_write(std::uint16_t address, std::span<const std::uint8_t> in, Sid
     const Guard g = find_guard(sms_, sm_enabled_, pos, limit);
     auto part = in.subspan(pos - address, g.end - pos);
     if (g.sm < 0) {
-      std::memcpy(mem_.get() + pos, part.data(), part.size());
+      copy_small(mem_.get() + pos, part.data(), part.size());  // often a 2- or 4-byte FPWR
       any = true;
     } else {
       SmSignals sig;
