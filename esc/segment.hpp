@@ -23,6 +23,7 @@
 #include <span>
 #include <vector>
 
+#include "common/cache_line.hpp"
 #include "common/clock.hpp"
 #include "common/frame_parser.hpp"
 #include "esc/esc.hpp"
@@ -145,7 +146,13 @@ class Segment {
     return send(frame, now, 0).returned();
   }
   // The same, sent on master port `master_port`; says where it came back.
-  Delivery send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port = 0) noexcept;
+  // The frame's way along a line (send, carry_line, carry_dense_line,
+  // carry_one) starts each on a cache line: code added anywhere before them
+  // in the library otherwise moves their loops against the fetch blocks (a
+  // change elsewhere in esc/ made the FPRD through 100 ESCs 1.06-1.08x
+  // slower with the same instructions; docs/performance-log.md "Session 32").
+  [[gnu::aligned(kCacheLineBytes)]] Delivery send(std::span<std::uint8_t> frame, Nanoseconds now,
+                                                 unsigned master_port = 0) noexcept;
 
   // Runs every ESC's timers; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
@@ -185,15 +192,18 @@ class Segment {
   void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
   // A line frame that skips (one that enters every ESC takes carry_dense:
   // enters_every).
-  Delivery carry_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  [[gnu::aligned(kCacheLineBytes)]] Delivery carry_line(DatagramView first, std::size_t count,
+                                                       Nanoseconds now) noexcept;
   // The line without skipping: every ESC entered until the frame turns back
   // (inline in send).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Its two bodies, out of line: with the one-ESC body inline in send the
   // one-ESC frames took 0.94-0.97x the time, but the one-drive cycle 1.07x
   // in every round (the code's layout; docs/performance-log.md "Session 23").
-  [[gnu::noinline]] Delivery carry_dense_line(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
-  [[gnu::noinline]] Delivery carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
+  [[gnu::noinline, gnu::aligned(kCacheLineBytes)]] Delivery carry_dense_line(DatagramView first, std::size_t count,
+                                                                          Nanoseconds now) noexcept;
+  [[gnu::noinline, gnu::aligned(kCacheLineBytes)]] Delivery carry_one(DatagramView first, std::size_t count,
+                                                                   Nanoseconds now) noexcept;
   // Out of send's hot path: a malformed frame, and the port walks.
   [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
   [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,
