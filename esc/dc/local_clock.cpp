@@ -60,6 +60,7 @@ void LocalClock::anchor_at(Nanoseconds t) noexcept {
 }
 
 void LocalClock::set_rate_correction(Nanoseconds t, double correction) noexcept {
+  if (correction == correction_ && t.count() >= anchor_t_ && t.count() - anchor_t_ < kReanchorNs) return;
   anchor_at(t);
   correction_ = correction;
   update_rate();

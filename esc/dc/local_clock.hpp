@@ -38,7 +38,13 @@ class LocalClock {
 
   // Sets the correction applied from true time t on (dimensionless, e.g.
   // -1e-4 slows the clock by 100 ppm). The clock stays continuous at t.
+  // The correction it has, within kReanchorNs of the anchor, changes
+  // nothing (the same line: a settled time loop sets it so at every ESC
+  // every DC cycle, issue 30).
   void set_rate_correction(Nanoseconds t, double correction) noexcept;
+  // How far from its anchor the clock moves it again for an unchanged
+  // correction: (t - anchor) x rate stays exact to far below 1 ns.
+  static constexpr std::int64_t kReanchorNs = std::int64_t{1} << 32;
   double rate_correction() const noexcept { return correction_; }
   double ppm() const noexcept { return ppm_; }
   // Effective rate (local ns per true ns).

@@ -38,6 +38,34 @@ TEST(LocalClock, RateCorrectionKeepsTimeContinuous) {
   EXPECT_NEAR(static_cast<double>(c.at(ms(1010)) - before), 1e9, 1.0);  // now exactly 1 ns/ns
 }
 
+// A settled time loop sets the same correction at every ESC every DC
+// cycle: the clock answers as one that was set once - exactly while it
+// keeps its anchor, within 1 ns after it moved it (every kReanchorNs) -
+// and a new correction takes effect at once.
+TEST(LocalClock, AnUnchangedCorrectionKeepsTheSameLine) {
+  constexpr double kCorrection = 2e-5;
+  LocalClock once(37.0, 123'456);
+  LocalClock every(37.0, 123'456);
+  once.set_rate_correction(ms(1), kCorrection);
+  every.set_rate_correction(ms(1), kCorrection);
+  for (Nanoseconds t = ms(1); t < ms(10'000); t += ms(1)) {
+    every.set_rate_correction(t, kCorrection);
+    const Nanoseconds ahead = t + us(500);
+    const auto diff = static_cast<std::int64_t>(every.at(ahead) - once.at(ahead));
+    if ((t - ms(1)).count() < LocalClock::kReanchorNs) {
+      ASSERT_EQ(diff, 0) << t.count();
+      ASSERT_EQ(every.when(once.at(ahead)), once.when(once.at(ahead))) << t.count();
+    } else {
+      ASSERT_LE(std::abs(diff), 1) << t.count();
+    }
+  }
+  const Nanoseconds t = ms(10'000);
+  const std::uint64_t before = every.at(t);
+  every.set_rate_correction(t, -3e-5);
+  EXPECT_EQ(every.at(t), before);
+  EXPECT_NEAR(static_cast<double>(every.at(t + ms(1000)) - before), 1e9 * (1.0 + 37e-6 - 3e-5), 1.0);
+}
+
 // floor_to_int64 is std::floor for every value the clock meets: whole,
 // just below and above a whole number, negative fractions.
 TEST(LocalClock, FloorToInt64IsFloor) {
