@@ -11,7 +11,6 @@
 
 #include "esc/register_masks.hpp"
 #include "esc/registers.hpp"
-#include "esc/small_copy.hpp"
 
 namespace ecat::esc {
 
@@ -280,7 +279,7 @@ bool Esc::pdi_read_fast(std::uint16_t address, std::span<std::uint8_t> out) noex
     // The SM registers (a firmware's look at SM2's status every cycle, the
     // mailbox's at SM0/SM1 at every poll): stored bytes, of which a PDI read
     // of status or activate acknowledges, as reg_read_byte does byte by byte.
-    copy_small(out.data(), mem_.get() + address, out.size());  // most often SM2's status byte
+    std::memcpy(out.data(), mem_.get() + address, out.size());
     pdi_sm_registers_read(address, end);
     return true;
   }
@@ -304,11 +303,6 @@ bool Esc::pdi_read_dc(std::uint32_t address, std::uint32_t end, std::span<std::u
 // What a PDI read of SM registers [address, end) acknowledges: the status
 // and activate bytes it covers, as reg_read_byte takes them one by one.
 void Esc::pdi_sm_registers_read(std::uint32_t address, std::uint32_t end) noexcept {
-  if (end == address + 1) {  // one byte: SM2's status at every poll in SM-synchronous and DC mode
-    const std::uint32_t at = address - reg::kSyncManagerBase;
-    pdi_sm_read_acknowledge(at / reg::kSyncManagerStride, at % reg::kSyncManagerStride);
-    return;
-  }
   const std::uint32_t first = (address - reg::kSyncManagerBase) / reg::kSyncManagerStride;
   const std::uint32_t last = (end - 1 - reg::kSyncManagerBase) / reg::kSyncManagerStride;
   for (std::uint32_t n = first; n <= last; ++n) {
