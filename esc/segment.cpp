@@ -138,10 +138,10 @@ std::optional<Segment::Peer> Segment::peer(std::size_t slave, unsigned port) con
 // The frame is validated completely before the first ESC acts (a
 // malformed frame changes nothing but the error counters); then each ESC's
 // pass (esc/datagram_engine.hpp, inline) walks the datagrams in place. The
-// short healthy line (carry_dense) is compiled into this function, the
-// rest are calls (issue 30: each level of call on the way cost ~20
-// instructions of register saves per frame).
-Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept {
+// short healthy line (carry_dense) and the one ESC (carry_one) are compiled
+// into send_many and send_one, the rest are calls (issue 30: each level of
+// call on the way cost ~20 instructions of register saves per frame).
+ValidatedDatagrams Segment::validated(std::span<std::uint8_t> frame) noexcept {
   const detail::EthercatAt at = detail::find_ethercat(frame);
   ValidatedDatagrams valid;
   if (at.ok) [[likely]] {
@@ -149,18 +149,10 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   } else {
     valid.error = at.error;
   }
-  if (valid.count == 0) [[unlikely]] return reject(valid.error, now, master_port);
-  const DatagramView first(valid.first);
-  Delivery d;
-  if (master_port == 0 && path_ == LinePath::OneEsc) [[likely]] {
-    d = carry_one(first, valid.count, now);
-  } else if (master_port == 0 && path_ == LinePath::Line) [[likely]] {
-    d = !skipping_ || escs_.size() < kSkipFrom || enters_every(first, valid.count)
-            ? carry_dense(first, valid.count, now)
-            : carry_line(first, valid.count, now);
-  } else {
-    d = carry_walk(first, valid.count, now, master_port);
-  }
+  return valid;
+}
+
+Delivery Segment::delivered(Delivery d, std::span<std::uint8_t> frame) noexcept {
   if (!d.returned()) [[unlikely]] {
     ++dropped_;
     return d;
@@ -169,6 +161,27 @@ Delivery Segment::send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned 
   if (d.processed != 0) frame[kMacSize] = static_cast<std::uint8_t>(frame[kMacSize] | kSourceMacProcessedBit);
   ++processed_;
   return d;
+}
+
+Delivery Segment::send_one(std::span<std::uint8_t> frame, Nanoseconds now) noexcept {
+  const ValidatedDatagrams valid = validated(frame);
+  if (valid.count == 0) [[unlikely]] return reject(valid.error, now, 0);
+  return delivered(carry_one(DatagramView(valid.first), valid.count, now), frame);
+}
+
+Delivery Segment::send_many(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port) noexcept {
+  const ValidatedDatagrams valid = validated(frame);
+  if (valid.count == 0) [[unlikely]] return reject(valid.error, now, master_port);
+  const DatagramView first(valid.first);
+  Delivery d;
+  if (master_port == 0 && path_ == LinePath::Line) [[likely]] {
+    d = !skipping_ || escs_.size() < kSkipFrom || enters_every(first, valid.count)
+            ? carry_dense(first, valid.count, now)
+            : carry_line(first, valid.count, now);
+  } else {
+    d = carry_walk(first, valid.count, now, master_port);
+  }
+  return delivered(d, frame);
 }
 
 Delivery Segment::reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept {
@@ -393,11 +406,12 @@ Delivery Segment::carry_dense_line(DatagramView first, std::size_t count, Nanose
 }
 
 // carry_dense for a segment of one ESC (the virtual slave of most runs):
-// no loop, and nothing to hand back on the way home. send takes it on
-// LinePath::OneEsc, one test for what carry_dense would ask of the segment
-// (issue 30: the one-ESC FPRD 243 instructions against 205 at 49fab26).
+// no loop, and nothing to hand back on the way home. send takes it
+// (send_one) on LinePath::OneEsc, one test for what carry_dense would ask of
+// the segment (issue 30: the one-ESC FPRD 243 instructions against 205 at
+// 49fab26; 208 since session 32, compiled into send_one).
 // No frame ever skips on one ESC (kSkipFrom), so no pass is pending.
-Delivery Segment::carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
+inline Delivery Segment::carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
   Esc* const esc = escs_.front();
   index_stale_ = true;

@@ -146,13 +146,14 @@ class Segment {
     return send(frame, now, 0).returned();
   }
   // The same, sent on master port `master_port`; says where it came back.
-  // The frame's way along a line (send, carry_line, carry_dense_line,
-  // carry_one) starts each on a cache line: code added anywhere before them
-  // in the library otherwise moves their loops against the fetch blocks (a
-  // change elsewhere in esc/ made the FPRD through 100 ESCs 1.06-1.08x
-  // slower with the same instructions; docs/performance-log.md "Session 32").
-  [[gnu::aligned(kCacheLineBytes)]] Delivery send(std::span<std::uint8_t> frame, Nanoseconds now,
-                                                 unsigned master_port = 0) noexcept;
+  // One ESC on a line (the virtual slave of most runs) takes send_one, with
+  // its pass compiled in; every other segment send_many (issue 30: the call
+  // into a one-ESC body cost that frame ~20 instructions, its pass inline in
+  // the shared body cost every other frame 15).
+  Delivery send(std::span<std::uint8_t> frame, Nanoseconds now, unsigned master_port = 0) noexcept {
+    if (master_port == 0 && path_ == LinePath::OneEsc) [[likely]] return send_one(frame, now);
+    return send_many(frame, now, master_port);
+  }
 
   // Runs every ESC's timers; returns the earliest next deadline.
   std::optional<Nanoseconds> poll(Nanoseconds now) noexcept;
@@ -190,6 +191,20 @@ class Segment {
 
   std::size_t append(Esc& esc);
   void cable(std::size_t a, unsigned pa, std::size_t b, unsigned pb, Nanoseconds delay);
+  // send's two bodies. Each, and the frame's way along a line after them
+  // (carry_line, carry_dense_line), starts on a cache line: code added
+  // anywhere before them in the library otherwise moves their loops against
+  // the fetch blocks (a change elsewhere in esc/ made the FPRD through 100
+  // ESCs 1.06-1.08x slower with the same instructions; docs/performance-log.md
+  // "Session 32").
+  [[gnu::noinline, gnu::aligned(kCacheLineBytes)]] Delivery send_one(std::span<std::uint8_t> frame,
+                                                                     Nanoseconds now) noexcept;
+  [[gnu::noinline, gnu::aligned(kCacheLineBytes)]] Delivery send_many(std::span<std::uint8_t> frame, Nanoseconds now,
+                                                                      unsigned master_port) noexcept;
+  // The frame checked as a whole before any ESC acts (both bodies).
+  [[gnu::always_inline]] inline ValidatedDatagrams validated(std::span<std::uint8_t> frame) noexcept;
+  // What both bodies do with the frame once it is through (the counters, SOURCE_MAC[1]).
+  [[gnu::always_inline]] inline Delivery delivered(Delivery d, std::span<std::uint8_t> frame) noexcept;
   // A line frame that skips (one that enters every ESC takes carry_dense:
   // enters_every).
   [[gnu::aligned(kCacheLineBytes)]] Delivery carry_line(DatagramView first, std::size_t count,
@@ -197,13 +212,12 @@ class Segment {
   // The line without skipping: every ESC entered until the frame turns back
   // (inline in send).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
-  // Its two bodies, out of line: with the one-ESC body inline in send the
-  // one-ESC frames took 0.94-0.97x the time, but the one-drive cycle 1.07x
-  // in every round (the code's layout; docs/performance-log.md "Session 23").
+  // Its body for longer lines, out of line; the one-ESC body inline in
+  // send_one (inline in send it made the one-drive cycle 1.07x slower by the
+  // code's layout: docs/performance-log.md "Session 23").
   [[gnu::noinline, gnu::aligned(kCacheLineBytes)]] Delivery carry_dense_line(DatagramView first, std::size_t count,
                                                                           Nanoseconds now) noexcept;
-  [[gnu::noinline, gnu::aligned(kCacheLineBytes)]] Delivery carry_one(DatagramView first, std::size_t count,
-                                                                   Nanoseconds now) noexcept;
+  [[gnu::always_inline]] inline Delivery carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Out of send's hot path: a malformed frame, and the port walks.
   [[gnu::noinline]] Delivery reject(FrameError error, Nanoseconds now, unsigned master_port) noexcept;
   [[gnu::noinline]] Delivery carry_walk(DatagramView first, std::size_t count, Nanoseconds now,
