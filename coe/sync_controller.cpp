@@ -340,10 +340,12 @@ void SyncController::sync_cycle(Nanoseconds now) noexcept {
   }
   outputs_since_sync_ = false;
   publish_counters(false);
-  const std::uint16_t limit = error_limit_bytes_ != nullptr ? load_le<std::uint16_t>(error_limit_bytes_)
-                              : store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit) != nullptr
-                                  ? store_.get<std::uint16_t>(kErrorSettings, kErrorSettingsSyncErrorLimit)
-                                  : kDefaultErrorLimit;
+  std::uint16_t limit = kDefaultErrorLimit;  // without 10F1h:02
+  if (error_limit_bytes_ != nullptr) {
+    limit = load_le<std::uint16_t>(error_limit_bytes_);
+  } else if (const ObjectStore::Slot* s = store_.slot(kErrorSettings, kErrorSettingsSyncErrorLimit)) {
+    limit = store_.get<std::uint16_t>(*s);  // not a plain unsigned: one lookup, not two
+  }
   // The sequence is invalid once the counter reaches the limit (Beckhoff's
   // SSC: valid while counter < 10F1h:02; the Yaskawa Sigma-V manual trips at
   // 9 with the limit 9); a limit of 0 switches the detection off (SSC V5.13,

@@ -207,8 +207,8 @@ Delivery Segment::reject(FrameError error, Nanoseconds now, unsigned master_port
 // the line's last frame first, and all are entered in full afterwards.
 Delivery Segment::carry_walk(DatagramView first, std::size_t count, Nanoseconds now, unsigned master_port) noexcept {
   // Trees and rings skip (esc/segment_route.cpp); decided here, not in
-  // send, whose lines' path stays as it was (issue 30: every instruction
-  // there is paid by every frame).
+  // send_many, whose lines' path stays as it was (issue 30: every
+  // instruction there is paid by every frame).
   if (faults_.empty() && skipping_ && !line_) return carry_route(first, count, now, master_port);
   return carry_every(first, count, now, master_port);
 }

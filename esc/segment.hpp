@@ -210,7 +210,7 @@ class Segment {
   [[gnu::aligned(kCacheLineBytes)]] Delivery carry_line(DatagramView first, std::size_t count,
                                                        Nanoseconds now) noexcept;
   // The line without skipping: every ESC entered until the frame turns back
-  // (inline in send).
+  // (inline in send_many).
   [[gnu::always_inline]] inline Delivery carry_dense(DatagramView first, std::size_t count, Nanoseconds now) noexcept;
   // Its body for longer lines, out of line; the one-ESC body inline in
   // send_one (inline in send it made the one-drive cycle 1.07x slower by the
