@@ -80,6 +80,18 @@ Expected<std::uint64_t, MasterError> Master::configure_sync0(std::size_t slave, 
                                                              std::uint32_t shift_ns, Nanoseconds start_delay) {
   if (auto c = check_slave(slave); !c) return fail(c.error());
   if (cycle_ns == 0) return fail(MasterError::InvalidArgument);
+  for (unsigned attempt = 0; attempt < kSync0StartAttempts; ++attempt) {
+    auto start = program_sync0(slave, cycle_ns, shift_ns, start_delay);
+    if (!start) return fail(start.error());
+    auto running = sync0_started(slave);
+    if (!running) return fail(running.error());
+    if (*running) return *start;
+  }
+  return fail(MasterError::Sync0StartMissed);
+}
+
+Expected<std::uint64_t, MasterError> Master::program_sync0(std::size_t slave, std::uint32_t cycle_ns,
+                                                           std::uint32_t shift_ns, Nanoseconds start_delay) {
   const std::uint16_t station = slaves_[slave].station_address;
   if (auto r = fpwr_u8(station, reg::kDcActivation, 0); !r) return fail(r.error());
   std::uint8_t now_b[8]{};
@@ -96,6 +108,26 @@ Expected<std::uint64_t, MasterError> Master::configure_sync0(std::size_t slave, 
     return fail(r.error());
   }
   return start;
+}
+
+// The system time first, then 0x0990, which reads the time of the next
+// SYNC0 once the unit runs (ESC datasheet Section II 0x0990): a running unit's
+// next pulse lies after the time read before it; a unit still waiting for
+// its start time (in the future when 0x0981 was written) has it after too. A
+// unit whose start time had passed by then waits for the wrap of the system
+// time and reads that start time, now behind. Compared in the ESC's width (a
+// 32-bit DC unit counts and compares the low 32 bits).
+Expected<bool, MasterError> Master::sync0_started(std::size_t slave) {
+  const SlaveInfo& s = slaves_[slave];
+  std::uint8_t now_b[8]{};
+  if (auto r = fprd(s.station_address, reg::kDcSystemTime, now_b); !r) return fail(r.error());
+  std::uint8_t next_b[8]{};
+  if (auto r = fprd(s.station_address, reg::kDcStartTime, next_b); !r) return fail(r.error());
+  const std::uint64_t ahead = load_le<std::uint64_t>(next_b) - load_le<std::uint64_t>(now_b);
+  if ((s.esc.features & EscInfo::kFeatureDc64) == 0) {
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(ahead)) > 0;
+  }
+  return static_cast<std::int64_t>(ahead) > 0;
 }
 
 }  // namespace ecat::master

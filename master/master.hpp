@@ -224,13 +224,24 @@ class Master {
   // `iterations` x FRMW 0x0910:8 addressed at the reference clock (SOEM,
   // ethercrab), or ARMW by its position (TwinCAT, masters.md §3.3).
   Expected<void, MasterError> dc_static_drift_compensation(unsigned iterations, Command command = Command::Frmw);
-  // 0x0981 = 0, 0x09A0 cycle, 0x0990 start (now + start_delay aligned to the cycle + shift), 0x0981 = 3.
+  // 0x0981 = 0, 0x09A0 cycle, 0x0990 start (now + start_delay aligned to the cycle + shift), 0x0981 = 3;
+  // then 0x0910 and 0x0990 read back: a start time that had passed when 0x0981 was written (the
+  // master stalled longer than start_delay between its read of 0x0910 and that write, as on a
+  // loaded host) leaves the unit waiting for the system time's wrap, and the slave would refuse Op
+  // with 002Dh; it is programmed again from a fresh time, up to kSync0StartAttempts times in all
+  // (Sync0StartMissed after the last). Returns the start time written last.
   Expected<std::uint64_t, MasterError> configure_sync0(std::size_t slave, std::uint32_t cycle_ns,
                                                        std::uint32_t shift_ns, Nanoseconds start_delay);
+  static constexpr unsigned kSync0StartAttempts = 3;
   // Position of the first DC slave (reference clock), if any.
   std::optional<std::size_t> reference_clock() const noexcept { return reference_clock_; }
 
  private:
+  // configure_sync0's two halves: one programming of the SYNC unit, and whether it runs (or waits
+  // for a start time still ahead) rather than for the wrap.
+  Expected<std::uint64_t, MasterError> program_sync0(std::size_t slave, std::uint32_t cycle_ns, std::uint32_t shift_ns,
+                                                     Nanoseconds start_delay);
+  Expected<bool, MasterError> sync0_started(std::size_t slave);
   // Polls AL status until `wanted` or an error shows; with `ack` (the request
   // acknowledged an error) an error shown is the old one until the slave has
   // taken the request: polled on until it clears or the time is up.

@@ -27,6 +27,7 @@ enum class MasterError : std::uint8_t {
   InvalidArgument,     // caller error (slave position, sizes)
   NotConfigured,       // operation needs a step not done yet (scan, mailbox, PDO layout)
   WrongSlave,          // another device than the one scanned answers at a position (identity differs)
+  Sync0StartMissed,    // the SYNC0 start time had passed when the unit was activated, at every attempt
 };
 
 std::string_view describe(MasterError e) noexcept;

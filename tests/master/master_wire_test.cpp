@@ -2,6 +2,8 @@
 // ETG.1000.4 §5.3/§5.4; sequences per shared/spec/masters.md §1).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "master_fixture.hpp"
 
 namespace ecat::master::test {
@@ -267,6 +269,29 @@ TEST_F(MasterFixture, DcDelaysAndOffsetsFromPortTimes) {
   EXPECT_EQ(cyc[0].adp, 0x1001);
   EXPECT_EQ(cyc[0].ado, 0x0910);
   EXPECT_EQ(cyc[1].command, Command::Lrw);
+}
+
+// A 32-bit DC unit (0x0008 bit 3 clear) counts and compares the low 32 bits of
+// its system time and reads 0 in the upper bytes of 0x0910 and 0x0990: the
+// start time written near the wrap of its 32-bit time reads back small, and
+// is still ahead of the time read before it (master/dc.cpp sync0_started),
+// so the unit is programmed once. Compared in 64 bits it would look missed.
+TEST_F(MasterFixture, Sync0StartOfA32BitUnitIsComparedIn32Bits) {
+  ASSERT_EQ(master.scan().value_or(0), 1u);
+  master.slave(0).esc.features = EscInfo::kFeatureDc;
+  transport_.set_processor([this](Bytes f) {
+    fake.process(f);
+    std::fill_n(fake.mem.data() + 0x0914, 4, 0);  // 32-bit unit: upper bytes of 0x0910
+    std::fill_n(fake.mem.data() + 0x0994, 4, 0);  // ... and of 0x0990
+    clock.advance(std::chrono::microseconds(10));
+  });
+  store_le(fake.mem.data() + 0x0910, std::uint32_t{0xFFF00000});
+  clear_sent();
+  auto start = master.configure_sync0(0, 1'000'000, 0, std::chrono::milliseconds(20));
+  ASSERT_TRUE(start.has_value());
+  EXPECT_GT(*start, std::uint64_t{0xFFFFFFFF});  // computed in 64 bits, past the 32-bit wrap
+  EXPECT_EQ(sent(Command::Fpwr, 0x0981).size(), 2u);  // 0, then 3: one programming
+  EXPECT_EQ(sent(Command::Fprd, 0x0990).size(), 1u);  // the check's read
 }
 
 TEST_F(MasterFixture, NoReplyIsATimeoutAfterRetries) {
