@@ -233,15 +233,17 @@ class Master {
   Expected<std::uint64_t, MasterError> configure_sync0(std::size_t slave, std::uint32_t cycle_ns,
                                                        std::uint32_t shift_ns, Nanoseconds start_delay);
   static constexpr unsigned kSync0StartAttempts = 3;
+  // After 0x0981 activated SYNC0: true when the unit runs or waits for a start time still ahead
+  // (0x0990 read after 0x0910 lies after it), false when it missed its start and waits for the
+  // wrap of the system time. Compared in 32 bits on an ESC without 64-bit DC (0x0008 bit 3).
+  Expected<bool, MasterError> sync0_started(std::size_t slave);
   // Position of the first DC slave (reference clock), if any.
   std::optional<std::size_t> reference_clock() const noexcept { return reference_clock_; }
 
  private:
-  // configure_sync0's two halves: one programming of the SYNC unit, and whether it runs (or waits
-  // for a start time still ahead) rather than for the wrap.
+  // One programming of the SYNC unit (configure_sync0 checks it with sync0_started).
   Expected<std::uint64_t, MasterError> program_sync0(std::size_t slave, std::uint32_t cycle_ns, std::uint32_t shift_ns,
                                                      Nanoseconds start_delay);
-  Expected<bool, MasterError> sync0_started(std::size_t slave);
   // Polls AL status until `wanted` or an error shows; with `ack` (the request
   // acknowledged an error) an error shown is the old one until the slave has
   // taken the request: polled on until it clears or the time is up.

@@ -22,7 +22,7 @@ std::string_view describe(MasterError e) noexcept {
     case MasterError::InvalidArgument: return "invalid argument";
     case MasterError::NotConfigured: return "not configured";
     case MasterError::WrongSlave: return "another device answers at this position";
-    case MasterError::Sync0StartMissed: return "SYNC0 start time passed before the activation (every attempt)";
+    case MasterError::Sync0StartMissed: return "0x0990 read back behind 0x0910 after every SYNC0 activation (start time missed)";
   }
   return "unknown master error";
 }

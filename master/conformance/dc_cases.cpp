@@ -122,7 +122,8 @@ class SyncRestore {
 
 // The SYNC unit programmed as masters do it (ETG.1020 §22.2, SOEM ecx_dcsync0;
 // esc-registers.md §10): 0x0981 = 0, 0x09A0 = cycle, 0x0990 = system time +
-// kStartDelay, then 0x0981 = activation (nothing more when 0).
+// kStartDelay, then 0x0981 = activation (nothing more when 0), read back
+// (Master::sync0_started).
 Expected<std::uint64_t, std::string> program_sync(Context& ctx, std::uint32_t cycle, std::uint8_t activation) {
   const std::uint16_t station = ctx.info().station_address;
   auto w = [&](std::uint16_t reg, ConstBytes b) -> Expected<void, std::string> {
@@ -136,14 +137,28 @@ Expected<std::uint64_t, std::string> program_sync(Context& ctx, std::uint32_t cy
   std::uint8_t c[4];
   store_le(c, cycle);
   if (auto r = w(reg::kDcSync0CycleTime, c); !r) return fail(r.error());
-  auto now = read_u64(ctx, reg::kDcSystemTime);
-  if (!now) return fail(now.error());
-  const std::uint64_t start = *now + static_cast<std::uint64_t>(kStartDelay.count());
-  std::uint8_t t[8];
-  store_le(t, start);
-  if (auto r = w(reg::kDcStartTime, t); !r) return fail(r.error());
-  if (auto r = w(reg::kDcActivation, ConstBytes(&activation, 1)); !r) return fail(r.error());
-  return start;
+  // A runner held up past kStartDelay before the activation (a loaded host,
+  // a slow link) leaves the unit waiting for the wrap, and the case would
+  // judge the device by the runner's delay: programmed again then, as
+  // Master::configure_sync0 does (docs/master.md step 9).
+  for (unsigned attempt = 0; attempt < Master::kSync0StartAttempts; ++attempt) {
+    if (attempt > 0) {
+      if (auto r = w(reg::kDcActivation, ConstBytes(&off, 1)); !r) return fail(r.error());
+    }
+    auto now = read_u64(ctx, reg::kDcSystemTime);
+    if (!now) return fail(now.error());
+    const std::uint64_t start = *now + static_cast<std::uint64_t>(kStartDelay.count());
+    std::uint8_t t[8];
+    store_le(t, start);
+    if (auto r = w(reg::kDcStartTime, t); !r) return fail(r.error());
+    if (auto r = w(reg::kDcActivation, ConstBytes(&activation, 1)); !r) return fail(r.error());
+    auto started = ctx.master().sync0_started(ctx.slave());
+    if (!started) return fail(fmt::format("SYNC0 start check: {}", describe(started.error())));
+    if (*started) return start;
+  }
+  return fail(fmt::format("0x0990 read back behind 0x0910 after each of {} activations (the start time passed "
+                          "before it, or 0x0990 does not read the next SYNC0)",
+                          Master::kSync0StartAttempts));
 }
 
 // PreOp with process data, 1C32h:01 = `mode`, the SYNC unit with `cycle` and

@@ -14,9 +14,11 @@
 
 #include "coe/object_store.hpp"
 #include "common/frame.hpp"
+#include "common/frame_parser.hpp"
 #include "conformance_proofs.hpp"
 #include "in_process_bus.hpp"
 #include "master/conformance/suite.hpp"
+#include "master/registers.hpp"
 #include "slave/fault_catalogue.hpp"
 
 namespace ecat::master::test {
@@ -315,6 +317,29 @@ TEST_F(EscCases, ActivationSequenceFailsWhenTheUnitDrops) {
     (void)master.fpwr_u8(master.slave(0).station_address, 0x0981, 0);  // the unit switches itself off
   };
   expect_fail("dc.activation_sequence", "after the start 0x0981 0x00", "after the start 0x0981 0x03");
+}
+
+// The runner held up past its start delay (20 ms) between reading 0x0910
+// and activating the unit, as on a loaded host: the unit would wait for the
+// wrap and the case fail the device for the runner's stall. program_sync
+// reads the unit back (Master::sync0_started) and programs it again.
+TEST_F(EscCases, ActivationSequencePassesWhenTheRunnerStallsBeforeTheActivation) {
+  int stalls = 1;
+  bus.transport.set_processor([this, &stalls](Bytes f) {
+    if (auto view = parse_frame(f); view && stalls > 0) {
+      view->for_each([&](DatagramView d) {
+        if (d.command() == Command::Fpwr && d.ado() == reg::kDcActivation && !d.data().empty() &&
+            d.data()[0] == (reg::kDcActivateCyclic | reg::kDcActivateSync0)) {
+          --stalls;
+          bus.clock.advance(std::chrono::milliseconds(30));
+        }
+      });
+    }
+    if (!bus.chain().process_frame(f, bus.clock.now())) bus.transport.drop_next(1);
+    bus.clock.advance(InProcessBus::kFrameTime);
+  });
+  expect_pass("dc.activation_sequence");
+  EXPECT_EQ(stalls, 0);
 }
 
 TEST_F(EscCases, Sync0WithoutFramesFailsWhenSync0Stops) {
