@@ -189,6 +189,51 @@ TEST_F(PdoTest, CyclesFollowARemap) {
   EXPECT_EQ(data.output_items()[0].bits, 8u);
 }
 
+// A plan of three copies (entries whose values do not follow each other in
+// the store, so no two join) copies every entry, without heap; back to the
+// default mapping, one block again. (Session 33 tried the first copies in
+// the SM's own cache line, the rest elsewhere: this is the case that reaches
+// past them; docs/performance-log.md "Session 33".)
+TEST_F(PdoTest, APlanLongerThanItsLineCopiesEveryEntry) {
+  configure_sm(2, 7);
+  configure_sm(3, 5);
+  // 1600h: 7002h (4 bytes), 7001h, 7000h: each value elsewhere in the store.
+  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 1, 0x70020020, 4), 0u);
+  EXPECT_EQ(write(0x1600, 2, 0x70010008, 4), 0u);
+  EXPECT_EQ(write(0x1600, 3, 0x70000010, 4), 0u);
+  EXPECT_EQ(write(0x1600, 0, 3, 1), 0u);
+  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
+  ASSERT_EQ(pdo.outputs().byte_length(), 7u);
+  auto& mem = rig.esc.memory();
+  const Frame sm2{0x44, 0x33, 0x22, 0x11, 0xAB, 0x34, 0x12};
+  std::copy(sm2.begin(), sm2.end(), mem.begin() + 0x1100);
+  {
+    ecat::test::AllocCounter allocs;
+    data.read_outputs(rig.esc);
+    data.write_inputs(rig.esc);
+    EXPECT_EQ(allocs.count(), 0u);
+  }
+  EXPECT_EQ(rig.store.get<std::uint32_t>(0x7002, 0), 0x11223344u);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xAB);
+  EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x1234);
+  // The default mapping (7000h, 7001h) again: one block, in the line.
+  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
+  EXPECT_EQ(write(0x1600, 1, 0x70000010, 4), 0u);
+  EXPECT_EQ(write(0x1600, 2, 0x70010008, 4), 0u);
+  EXPECT_EQ(write(0x1600, 0, 2, 1), 0u);
+  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
+  mem[0x1100] = 0x78;
+  mem[0x1101] = 0x56;
+  mem[0x1102] = 0xCD;
+  data.read_outputs(rig.esc);
+  EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x5678);
+  EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xCD);
+  EXPECT_EQ(rig.store.get<std::uint32_t>(0x7002, 0), 0x11223344u);  // no longer mapped: kept
+}
+
 // write_inputs zeroes the buffer only when its copies do not write every
 // byte (issue 8); the bytes of an SM longer than the image are 0 whatever
 // the scratch held before (here the outputs read just before), and a buffer
