@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <initializer_list>
 #include <memory>
 
 #include "coe/pdo_config.hpp"
@@ -22,6 +23,16 @@ class PdoTest : public ::testing::Test {
     Frame reply = rig.sdo_request(sdo(cmd, index, sub, value));
     if (reply[2] == 0x60) return 0;
     return static_cast<std::uint32_t>(reply[6] | (reply[7] << 8) | (reply[8] << 16) | (reply[9] << 24));
+  }
+  // 1C12h:01 = 1600h mapping `entries` (index << 16 | subindex << 8 | bits),
+  // written as a master remaps: the assignment cleared first, set again last.
+  void map_outputs(std::initializer_list<std::uint32_t> entries) {
+    EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
+    EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
+    std::uint8_t sub = 0;
+    for (const std::uint32_t e : entries) EXPECT_EQ(write(0x1600, ++sub, e, 4), 0u);
+    EXPECT_EQ(write(0x1600, 0, sub, 1), 0u);
+    EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
   }
   void configure_sm(unsigned n, std::uint16_t len, bool enable = true) {
     rig.esc.configure_sm(n, n == 2 ? 0x1100 : 0x1180, len, n == 2 ? 0x64 : 0x20, enable);
@@ -164,12 +175,7 @@ TEST_F(PdoTest, CyclesFollowARemap) {
   ASSERT_EQ(data.output_items().size(), 2u);
   EXPECT_EQ(data.output_items()[0].bits, 16u);
   // 1600h: 7001h first, then 7000h.
-  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
-  EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
-  EXPECT_EQ(write(0x1600, 1, 0x70010008, 4), 0u);
-  EXPECT_EQ(write(0x1600, 2, 0x70000010, 4), 0u);
-  EXPECT_EQ(write(0x1600, 0, 2, 1), 0u);
-  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
+  map_outputs({0x70010008, 0x70000010});
   ASSERT_EQ(pdo.outputs().byte_length(), 3u);
   ASSERT_EQ(data.output_items().size(), 2u);
   EXPECT_EQ(data.output_items()[0].bits, 8u);
@@ -198,13 +204,7 @@ TEST_F(PdoTest, APlanLongerThanItsLineCopiesEveryEntry) {
   configure_sm(2, 7);
   configure_sm(3, 5);
   // 1600h: 7002h (4 bytes), 7001h, 7000h: each value elsewhere in the store.
-  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
-  EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
-  EXPECT_EQ(write(0x1600, 1, 0x70020020, 4), 0u);
-  EXPECT_EQ(write(0x1600, 2, 0x70010008, 4), 0u);
-  EXPECT_EQ(write(0x1600, 3, 0x70000010, 4), 0u);
-  EXPECT_EQ(write(0x1600, 0, 3, 1), 0u);
-  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
+  map_outputs({0x70020020, 0x70010008, 0x70000010});
   ASSERT_EQ(pdo.outputs().byte_length(), 7u);
   auto& mem = rig.esc.memory();
   const Frame sm2{0x44, 0x33, 0x22, 0x11, 0xAB, 0x34, 0x12};
@@ -218,16 +218,10 @@ TEST_F(PdoTest, APlanLongerThanItsLineCopiesEveryEntry) {
   EXPECT_EQ(rig.store.get<std::uint32_t>(0x7002, 0), 0x11223344u);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xAB);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x1234);
-  // The default mapping (7000h, 7001h) again: one block, in the line.
-  EXPECT_EQ(write(0x1C12, 0, 0, 1), 0u);
-  EXPECT_EQ(write(0x1600, 0, 0, 1), 0u);
-  EXPECT_EQ(write(0x1600, 1, 0x70000010, 4), 0u);
-  EXPECT_EQ(write(0x1600, 2, 0x70010008, 4), 0u);
-  EXPECT_EQ(write(0x1600, 0, 2, 1), 0u);
-  EXPECT_EQ(write(0x1C12, 0, 1, 1), 0u);
-  mem[0x1100] = 0x78;
-  mem[0x1101] = 0x56;
-  mem[0x1102] = 0xCD;
+  // The default mapping (7000h, 7001h) again: one block.
+  map_outputs({0x70000010, 0x70010008});
+  const Frame sm2_default{0x78, 0x56, 0xCD};
+  std::copy(sm2_default.begin(), sm2_default.end(), mem.begin() + 0x1100);
   data.read_outputs(rig.esc);
   EXPECT_EQ(rig.store.get<std::uint16_t>(0x7000, 0), 0x5678);
   EXPECT_EQ(rig.store.get<std::uint8_t>(0x7001, 0), 0xCD);

@@ -2,8 +2,8 @@
 // the master reads the slave's system time (0x0910), computes a start time
 // start_delay ahead, and activates the SYNC unit (0x0981 = 3). A master held
 // up between the read and the activation for longer than start_delay (a
-// loaded host: ecat-master's start-up gaps reached 42 ms beside a test
-// build, against its 20 ms start delay) activates a unit whose start time has
+// loaded host: ecat-master's start-up gaps reached 42 ms among scripts/test's
+// live tests, against its 20 ms start delay) activates a unit whose start time has
 // passed, and the ESC then waits for the 64-bit system time to wrap (ESC
 // datasheet Section II 0x0981, docs/dc.md "SYNC generation"): no SYNC0 ever,
 // and the slave refuses Op with 002Dh. The master reads 0x0910 and 0x0990
