@@ -118,6 +118,7 @@ Expected<std::uint64_t, MasterError> Master::program_sync0(std::size_t slave, st
 // time and reads that start time, now behind. Compared in the ESC's width (a
 // 32-bit DC unit counts and compares the low 32 bits).
 Expected<bool, MasterError> Master::sync0_started(std::size_t slave) {
+  if (auto c = check_slave(slave); !c) return fail(c.error());
   const SlaveInfo& s = slaves_[slave];
   std::uint8_t now_b[8]{};
   if (auto r = fprd(s.station_address, reg::kDcSystemTime, now_b); !r) return fail(r.error());

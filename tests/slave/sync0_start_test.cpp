@@ -72,6 +72,10 @@ TEST(Sync0Start, WithoutAStallTheUnitIsProgrammedOnce) {
   auto start = r.master.configure_sync0(0, kCycleNs, 0, kStartDelay);
   ASSERT_TRUE(start) << master::describe(start.error());
   EXPECT_EQ(r.activations, (std::vector<std::uint8_t>{0x00, kActivateCyclicSync0}));
+  EXPECT_EQ(r.master.sync0_started(0).value_or(false), true);
+  auto nobody = r.master.sync0_started(1);  // no second slave
+  ASSERT_FALSE(nobody);
+  EXPECT_EQ(nobody.error(), master::MasterError::InvalidArgument);
   EXPECT_EQ(*start % kCycleNs, 0u);
   EXPECT_EQ(r.next_sync0(), *start);  // ahead, not yet reached
   EXPECT_GT(*start, r.system_time());
