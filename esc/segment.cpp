@@ -409,7 +409,7 @@ Delivery Segment::carry_dense_line(DatagramView first, std::size_t count, Nanose
 // no loop, and nothing to hand back on the way home. send takes it
 // (send_one) on LinePath::OneEsc, one test for what carry_dense would ask of
 // the segment (issue 30: the one-ESC FPRD 243 instructions against 205 at
-// 49fab26; 208 since session 32, compiled into send_one).
+// 49fab26; 195 since session 32, compiled into send_one).
 // No frame ever skips on one ESC (kSkipFrom), so no pass is pending.
 inline Delivery Segment::carry_one(DatagramView first, std::size_t count, Nanoseconds now) noexcept {
   Delivery d;
