@@ -40,17 +40,6 @@ constexpr std::uint32_t kSupportsCsp = 1u << 7;
 constexpr std::uint16_t kModesOfOperation = 0x6060;
 constexpr std::uint8_t kCyclicSynchronousPosition = 8;
 
-const char* state_name(std::uint8_t s) {
-  switch (s) {
-    case 1: return "Init";
-    case 2: return "PreOp";
-    case 3: return "Boot";
-    case 4: return "SafeOp";
-    case 8: return "Op";
-    default: return "?";
-  }
-}
-
 // The SII's process-data SMs are SM2 (outputs) and SM3 (inputs) at most.
 bool standard_process_sms(const master::SiiInfo& sii) {
   constexpr std::size_t kOutputSm = 2, kInputSm = 3;
@@ -195,27 +184,15 @@ Expected<void, std::string> Session::bring_up() {
       phase_.emplace(pc);
     }
   }
-  for (auto target : {master::AlState::SafeOp, master::AlState::Op}) {
-    if (target == master::AlState::Op && o_.dc) {
-      // A DC slave counts SYNC0s without new outputs from its first cycle in
-      // Op (docs/dc.md): Op is asked of all at once while the cycle runs.
-      if (auto ok = request_op_cycling(); !ok) return ok;
-      break;
-    }
-    for (std::size_t i = 0; i < *n; ++i) {
-      auto st = master_.request_state(i, target);
-      if (!st) return fail(fmt::format("slave {}: {}: {}", i + 1, state_name(static_cast<std::uint8_t>(target)), error_text(st.error())));
-      if (st->error()) {
-        return fail(fmt::format("slave {}: {} refused, AL status code 0x{:04X}", i + 1,
-                                state_name(static_cast<std::uint8_t>(target)), st->code));
-      }
-      if (target == master::AlState::SafeOp && i + 1 == *n) {
-        // Valid outputs before Op (ETG.1000.6 §6.4.1: SafeOp->Op checks them).
-        const unsigned warmup = phase_ ? kSafeOpPhaseLockCycles : kSafeOpWarmupCycles;
-        for (unsigned c = 0; c < warmup; ++c) (void)cycle_exchange();
-      }
-    }
+  for (std::size_t i = 0; i < *n; ++i) {
+    auto st = master_.request_state(i, master::AlState::SafeOp);
+    if (!st) return fail(fmt::format("slave {}: SafeOp: {}", i + 1, error_text(st.error())));
+    if (st->error()) return fail(fmt::format("slave {}: SafeOp refused, AL status code 0x{:04X}", i + 1, st->code));
   }
+  // Valid outputs before Op (ETG.1000.6 §6.4.1: SafeOp->Op checks them).
+  const unsigned warmup = phase_ ? kSafeOpPhaseLockCycles : kSafeOpWarmupCycles;
+  for (unsigned c = 0; c < warmup; ++c) (void)cycle_exchange();
+  if (auto ok = request_op_cycling(); !ok) return ok;
   if (o_.verbose) std::printf("all %zu slave(s) in Op\n", *n);
   return {};
 }
@@ -250,30 +227,56 @@ Expected<master::CyclicResult, master::MasterError> Session::cycle_exchange() {
   return r;
 }
 
+// Op is asked of every slave at once and the cycle runs until all are in
+// it, as SOEM's examples and IgH's applications do (masters.md): the
+// outputs keep each slave's SM watchdog fed while the others take their
+// time, and a DC slave counts SYNC0s without new outputs from its first
+// cycle in Op (docs/dc.md). Asked one slave at a time with no cycle
+// between (the start-up without DC until 2026-12-01), each request took a
+// few frames and, on a busy host, the waits for them: beside two CPU
+// burners the later of 250 drives saw no outputs for longer than their
+// 100 ms SM watchdog before their turn and refused Op with 001Bh
+// (docs/e2e.md "Op with the cycle running").
+//
+// The request: one BWR of AL control; a slave that did not take it (WKC
+// short: a µC that has not read its previous request yet, 0x0120 without
+// device emulation) is asked again with FPWR, one slave a cycle. The
+// check: one BRD of AL status a cycle - the state bits ORed equal Op with
+// WKC = every slave only when all are in Op without ErrInd; with ErrInd
+// the slaves are read one by one to name the one that refused.
 Expected<void, std::string> Session::request_op_cycling() {
   const auto op = static_cast<std::uint16_t>(master::AlState::Op);
-  for (std::size_t i = 0; i < report_.slaves; ++i) {
-    if (auto ok = master_.fpwr_u16(master_.slave(i).station_address, master::reg::kAlControl, op); !ok) {
-      return fail(fmt::format("slave {}: Op: {}", i + 1, error_text(ok.error())));
-    }
-  }
-  std::vector<bool> in_op(report_.slaves, false);
-  std::size_t reached = 0;
-  for (unsigned c = 0; c < kOpRequestCycles && reached < report_.slaves; ++c) {
+  const std::size_t n = report_.slaves;
+  std::uint8_t control[2];
+  store_le(control, op);
+  auto taken = master_.bwr(master::reg::kAlControl, control);
+  if (!taken) return fail(fmt::format("Op: {}", error_text(taken.error())));
+  std::size_t ask_next = *taken == n ? n : 0;  // the next slave asked by FPWR, n: none
+  for (unsigned c = 0; c < kOpRequestCycles; ++c) {
     (void)cycle_exchange();
-    for (std::size_t i = 0; i < report_.slaves; ++i) {
-      if (in_op[i]) continue;
-      auto st = master_.read_al_status(i);
-      if (!st) continue;  // a lost frame: read again next cycle
-      if (st->error()) return fail(fmt::format("slave {}: Op refused, AL status code 0x{:04X}", i + 1, st->code));
-      if (st->is(master::AlState::Op)) {
-        in_op[i] = true;
-        ++reached;
-      }
+    if (ask_next < n) {
+      // Only a WKC error (not taken yet) is asked again; a lost frame too.
+      if (master_.fpwr_u16(master_.slave(ask_next).station_address, master::reg::kAlControl, op)) ++ask_next;
+      continue;
     }
+    std::uint8_t status[2]{};  // 0x0130 of every slave ORed
+    auto wkc = master_.transact(Command::Brd, device_address(0, master::reg::kAlStatus), status);
+    if (!wkc) continue;  // a lost frame: read again next cycle
+    if ((status[0] & master::kAlErrorBit) != 0) {
+      for (std::size_t i = 0; i < n; ++i) {
+        auto st = master_.read_al_status(i);
+        if (st && st->error()) return fail(fmt::format("slave {}: Op refused, AL status code 0x{:04X}", i + 1, st->code));
+      }
+      continue;  // acknowledged meanwhile, or a read lost: look again
+    }
+    if (*wkc == n && (status[0] & master::kAlStateMask) == op) return {};
   }
-  if (reached < report_.slaves) return fail(fmt::format("Op: {} of {} slave(s) reached it", reached, report_.slaves));
-  return {};
+  std::size_t reached = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    auto st = master_.read_al_status(i);
+    reached += st && st->is(master::AlState::Op) && !st->error();
+  }
+  return fail(fmt::format("Op: {} of {} slave(s) reached it", reached, n));
 }
 
 void Session::drive_cycle(std::uint64_t cycle) {

@@ -1,0 +1,117 @@
+// ecat-master's way to Op (app::Session::bring_up): every slave is asked at
+// once and the cycle runs until all are in Op, so that each slave's SM
+// watchdog (100 ms by the ESC's defaults) is fed while the others take their
+// time. Against in-process drives on simulated time, with the master held up
+// after each frame that asks for or reads an AL state - a busy host - the
+// way the later of 250 drives refused Op with 001Bh when the master asked
+// them one at a time without cycling (docs/e2e.md "Op with the cycle
+// running").
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+
+#include "apps/ecat-master/session.hpp"
+#include "common/frame_parser.hpp"
+#include "esc/registers.hpp"
+#include "tests/slave/inprocess_fixture.hpp"
+
+namespace ecat::test {
+namespace {
+
+using std::chrono::milliseconds;
+
+constexpr std::size_t kDrives = 8;
+// The SM watchdog's default time: divider 0x0400 = 2498 (100 us), 0x0420 = 1000.
+constexpr Nanoseconds kSmWatchdog = milliseconds(100);
+// How long the master is held up after each AL control or AL status frame:
+// four of them span more than the watchdog.
+constexpr Nanoseconds kHeldUp = milliseconds(30);
+constexpr std::uint16_t kAlStatusCodeSmWatchdog = 0x001B;
+constexpr std::uint8_t kOp = 0x08;
+
+struct SlowMaster : InProcess {
+  Nanoseconds held_up{0};          // after each frame with an AL control or status datagram
+  Nanoseconds stall_after_op{0};  // once, after the first request for Op reached the slaves
+  std::uint32_t op_request_frames = 0;  // frames that write Op to AL control
+  bool op_broadcast = false;            // ... as a BWR
+
+  SlowMaster() {
+    add_default(kDrives);
+    wire.set_processor([this](Bytes frame) {
+      bool state = false;
+      bool op = false;
+      if (auto view = parse_frame(frame)) {
+        view->for_each([&](DatagramView d) {
+          state = state || d.ado() == esc::reg::kAlControl || d.ado() == esc::reg::kAlStatus;
+          if (d.ado() == esc::reg::kAlControl && !d.data().empty() && d.data()[0] == kOp) {
+            op = true;
+            op_broadcast = op_broadcast || d.command() == Command::Bwr;
+          }
+        });
+      }
+      clock.advance(kWireTime);
+      (void)chain.process_frame(frame, clock.now());
+      if (state) advance(held_up);
+      if (op) {
+        ++op_request_frames;
+        advance(std::exchange(stall_after_op, Nanoseconds{0}));
+      }
+    });
+  }
+
+  app::Session session() {
+    app::SessionOptions o;
+    o.expect_slaves = kDrives;
+    o.verbose = false;
+    return app::Session(
+        master, clock,
+        [this](Nanoseconds at) {
+          if (at > clock.now()) advance(at - clock.now());
+        },
+        o);
+  }
+  std::uint16_t read_u16(std::size_t i, std::uint16_t reg) {
+    std::uint8_t b[2]{};
+    chain[i].esc().read(reg, b);
+    return static_cast<std::uint16_t>(b[0] | (b[1] << 8));
+  }
+};
+
+TEST(SessionOp, EveryDriveReachesOpWhenEachStateFrameHoldsTheMasterUp) {
+  SlowMaster m;
+  m.held_up = kHeldUp;
+  // Asked one by one, the eight drives' requests alone would take longer
+  // than the watchdog.
+  ASSERT_GT(kHeldUp * static_cast<std::int64_t>(kDrives), kSmWatchdog);
+  app::Session s = m.session();
+  const auto ok = s.bring_up();
+  ASSERT_TRUE(ok) << ok.error();
+  for (std::size_t i = 0; i < kDrives; ++i) {
+    EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatus), kOp) << "slave " << i + 1;
+    EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatusCode), 0x0000) << "slave " << i + 1;
+  }
+  EXPECT_EQ(m.op_request_frames, 1u);
+  EXPECT_TRUE(m.op_broadcast);
+}
+
+// A slave that does not stay in Op is named with its AL status code: the
+// master held up longer than the watchdog right after asking for Op, so
+// every drive's watchdog expires in Op and it goes back to SafeOp with
+// ErrInd and 001Bh (ETG.1000.6 Table 11); the BRD of the next cycle shows
+// ErrInd, and the slaves are read one by one.
+TEST(SessionOp, ADriveThatLeavesOpIsNamedWithItsCode) {
+  SlowMaster m;
+  m.stall_after_op = kSmWatchdog + milliseconds(10);
+  app::Session s = m.session();
+  const auto ok = s.bring_up();
+  ASSERT_FALSE(ok);
+  EXPECT_EQ(ok.error(), "slave 1: Op refused, AL status code 0x001B");
+  for (std::size_t i = 0; i < kDrives; ++i) {
+    EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatus), 0x0014) << "slave " << i + 1;  // SafeOp + ErrInd
+    EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatusCode), kAlStatusCodeSmWatchdog) << "slave " << i + 1;
+  }
+}
+
+}  // namespace
+}  // namespace ecat::test
