@@ -242,14 +242,14 @@ e2e_judge_master_run() {
         *) E2E_VERDICT="start-up refused with $refused, not one the spec allows a late master ($allowed)"; return 1 ;;
       esac
     elif ! grep -qiE 'timeout|timed out|no reply|lost' "$E2E_TMP/$mlog.log" || [ "$stale" -le 0 ]; then
-      E2E_VERDICT="start-up failed: $(grep -m1 '^ecat-master: ' "$E2E_TMP/$mlog.log")"
+      E2E_VERDICT="start-up failed: $(grep -m1 -o 'ecat-master: .*' "$E2E_TMP/$mlog.log")"
       return 1
     fi
     if [ "$late" = no ]; then
-      E2E_VERDICT="start-up failed ($(grep -m1 '^ecat-master: ' "$E2E_TMP/$mlog.log")) while neither master nor slave was late"
+      E2E_VERDICT="start-up failed ($(grep -m1 -o 'ecat-master: .*' "$E2E_TMP/$mlog.log")) while neither master nor slave was late"
       return 1
     fi
-    E2E_VERDICT="late start-up: $(grep -m1 '^ecat-master: ' "$E2E_TMP/$mlog.log" | sed 's/^ecat-master: //'); $(grep -m1 '^start-up-cycle-gap-max-us' "$E2E_TMP/$mlog.log"), slave stale-dropped $stale"
+    E2E_VERDICT="late start-up: $(grep -m1 -o 'ecat-master: .*' "$E2E_TMP/$mlog.log" | sed 's/^ecat-master: //'); $(grep -m1 '^start-up-cycle-gap-max-us' "$E2E_TMP/$mlog.log"), slave stale-dropped $stale"
     return 2
   fi
   lost=$(sed -n 's/.* lost \([0-9]*\) .*/\1/p' <<< "$line")
@@ -272,7 +272,7 @@ e2e_judge_master_run() {
     return 1
   fi
   if [ "${state:-0}" = 0 ] && [ "${lost:-0}" = 0 ] && [ "${wkc:-0}" = 0 ] && [ "$wd" -eq 0 ]; then
-    E2E_VERDICT="exit $rc with no lost frame, WKC error or state error: $(grep -m1 '^ecat-master: ' "$E2E_TMP/$mlog.log")"
+    E2E_VERDICT="exit $rc with no lost frame, WKC error or state error: $(grep -m1 -o 'ecat-master: .*' "$E2E_TMP/$mlog.log")"
     return 1
   fi
   E2E_VERDICT="late run (lost $lost, wkc-errors $wkc, state-errors $state, AL codes ${codes:-none}, slave stale-dropped $stale; master $(sed -n 's/.*\(cycle-jitter-max-us [0-9.]*\).*/\1/p' <<< "$line"))"
