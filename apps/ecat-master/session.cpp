@@ -25,7 +25,8 @@ constexpr unsigned kSafeOpWarmupCycles = 10;
 // settle (dc_phase_test: |phase error| < 1 us after ~150 frames) before Op,
 // where a late frame counts as a missed SM event.
 constexpr unsigned kSafeOpPhaseLockCycles = 300;
-// Op requested with the cycle running: at most this many cycles to reach it.
+// Op requested with the cycle running: the cycles it waits at least (and
+// at least the master's state timeout).
 constexpr unsigned kOpRequestCycles = 3000;
 constexpr unsigned kDcDriftIterations = 1000;
 constexpr std::uint16_t kSyncManagerOutputsParameter = 0x1C32;
@@ -243,7 +244,10 @@ Expected<master::CyclicResult, master::MasterError> Session::cycle_exchange() {
 // device emulation) is asked again with FPWR, one slave a cycle. The
 // check: one BRD of AL status a cycle - the state bits ORed equal Op with
 // WKC = every slave only when all are in Op without ErrInd; with ErrInd
-// the slaves are read one by one to name the one that refused.
+// the slaves are read one by one to name the one that refused. It waits
+// at least kOpRequestCycles cycles and at least the master's state timeout
+// (5 s, what one slave's request_state waits): at a short period the
+// cycles alone were a fraction of a second.
 Expected<void, std::string> Session::request_op_cycling() {
   const auto op = static_cast<std::uint16_t>(master::AlState::Op);
   const std::size_t n = report_.slaves;
@@ -252,7 +256,8 @@ Expected<void, std::string> Session::request_op_cycling() {
   auto taken = master_.bwr(master::reg::kAlControl, control);
   if (!taken) return fail(fmt::format("Op: {}", error_text(taken.error())));
   std::size_t ask_next = *taken == n ? n : 0;  // the next slave asked by FPWR, n: none
-  for (unsigned c = 0; c < kOpRequestCycles; ++c) {
+  const Nanoseconds deadline = clock_.now() + master_.config().state_timeout;
+  for (unsigned c = 0; c < kOpRequestCycles || clock_.now() < deadline; ++c) {
     (void)cycle_exchange();
     if (ask_next < n) {
       // Only a WKC error (not taken yet) is asked again; a lost frame too.

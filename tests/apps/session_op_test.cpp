@@ -29,10 +29,14 @@ constexpr Nanoseconds kSmWatchdog = milliseconds(100);
 constexpr Nanoseconds kHeldUp = milliseconds(30);
 constexpr std::uint16_t kAlStatusCodeSmWatchdog = 0x001B;
 constexpr std::uint8_t kOp = 0x08;
+constexpr std::uint8_t kSafeOp = 0x04;
 
 struct SlowMaster : InProcess {
   Nanoseconds held_up{0};          // after each frame with an AL control or status datagram
   Nanoseconds stall_after_op{0};  // once, after the first request for Op reached the slaves
+  // Until then a BRD of AL status comes back showing SafeOp (0x04) in place
+  // of Op: slaves that take this long to report Op.
+  Nanoseconds op_shown_from{0};
   std::uint32_t op_request_frames = 0;  // frames that write Op to AL control
   bool op_broadcast = false;            // ... as a BWR
 
@@ -52,6 +56,16 @@ struct SlowMaster : InProcess {
       }
       clock.advance(kWireTime);
       (void)chain.process_frame(frame, clock.now());
+      if (clock.now() < op_shown_from) {
+        if (auto view = parse_frame(frame)) {
+          view->for_each([&](DatagramView d) {
+            if (d.command() == Command::Brd && d.ado() == esc::reg::kAlStatus && !d.data().empty() &&
+                d.data()[0] == kOp) {
+              d.data()[0] = kSafeOp;
+            }
+          });
+        }
+      }
       if (state) advance(held_up);
       if (op) {
         ++op_request_frames;
@@ -60,10 +74,11 @@ struct SlowMaster : InProcess {
     });
   }
 
-  app::Session session() {
+  app::Session session(Nanoseconds period = milliseconds(1)) {
     app::SessionOptions o;
     o.expect_slaves = kDrives;
     o.verbose = false;
+    o.period = period;
     return app::Session(
         master, clock,
         [this](Nanoseconds at) {
@@ -111,6 +126,24 @@ TEST(SessionOp, ADriveThatLeavesOpIsNamedWithItsCode) {
     EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatus), 0x0014) << "slave " << i + 1;  // SafeOp + ErrInd
     EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatusCode), kAlStatusCodeSmWatchdog) << "slave " << i + 1;
   }
+}
+
+// At a short period the 3000 cycles Op is waited for at least are 0.3 s;
+// slaves that report Op only after a second still get there: the wait is
+// also at least the master's state timeout (5 s, what one slave's
+// request_state waits).
+TEST(SessionOp, OpIsWaitedForAsLongAsTheStateTimeoutAtAShortPeriod) {
+  SlowMaster m;
+  const Nanoseconds period = std::chrono::microseconds(100);
+  app::Session s = m.session(period);
+  // The start-up reaches the Op request within 10 ms of simulated time.
+  m.op_shown_from = std::chrono::seconds(1);
+  ASSERT_LT(period * 3000, m.op_shown_from);
+  ASSERT_LT(m.op_shown_from, m.master.config().state_timeout);
+  const auto ok = s.bring_up();
+  ASSERT_TRUE(ok) << ok.error();
+  EXPECT_GE(m.clock.now(), m.op_shown_from);
+  EXPECT_EQ(m.op_request_frames, 1u);
 }
 
 }  // namespace
