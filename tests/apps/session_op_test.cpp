@@ -37,6 +37,10 @@ struct SlowMaster : InProcess {
   // Until then a BRD of AL status comes back showing SafeOp (0x04) in place
   // of Op: slaves that take this long to report Op.
   Nanoseconds op_shown_from{0};
+  // The BWR of Op comes back with its WKC one short: as if a slave had not
+  // taken it (its µC had not read the previous request yet).
+  bool op_broadcast_short = false;
+  std::uint32_t op_fpwr_frames = 0;  // frames that write Op to one slave's AL control
   std::uint32_t op_request_frames = 0;  // frames that write Op to AL control
   bool op_broadcast = false;            // ... as a BWR
 
@@ -56,6 +60,15 @@ struct SlowMaster : InProcess {
       }
       clock.advance(kWireTime);
       (void)chain.process_frame(frame, clock.now());
+      if (op) {
+        if (auto view = parse_frame(frame)) {
+          view->for_each([&](DatagramView d) {
+            if (d.ado() != esc::reg::kAlControl) return;
+            if (d.command() == Command::Fpwr) ++op_fpwr_frames;
+            if (d.command() == Command::Bwr && op_broadcast_short) d.set_wkc(static_cast<std::uint16_t>(d.wkc() - 1));
+          });
+        }
+      }
       if (clock.now() < op_shown_from) {
         if (auto view = parse_frame(frame)) {
           view->for_each([&](DatagramView d) {
@@ -144,6 +157,19 @@ TEST(SessionOp, OpIsWaitedForAsLongAsTheStateTimeoutAtAShortPeriod) {
   ASSERT_TRUE(ok) << ok.error();
   EXPECT_GE(m.clock.now(), m.op_shown_from);
   EXPECT_EQ(m.op_request_frames, 1u);
+}
+
+// A BWR of Op that not every slave took (WKC short) is followed by an FPWR
+// of Op to each slave, one a cycle, before the state is read.
+TEST(SessionOp, ABroadcastNotTakenByEverySlaveIsFollowedByOneWriteEach) {
+  SlowMaster m;
+  m.op_broadcast_short = true;
+  app::Session s = m.session();
+  const auto ok = s.bring_up();
+  ASSERT_TRUE(ok) << ok.error();
+  EXPECT_EQ(m.op_fpwr_frames, kDrives);
+  EXPECT_EQ(m.op_request_frames, 1 + kDrives);
+  for (std::size_t i = 0; i < kDrives; ++i) EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatus), kOp) << "slave " << i + 1;
 }
 
 }  // namespace
