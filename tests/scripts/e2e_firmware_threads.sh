@@ -36,8 +36,8 @@ stop_slave() {
     kill -9 "$slave_pid" 2> /dev/null
   else
     wait "$slave_pid"
-    local src=$?
-    [ "$src" -eq 0 ] || fail "${1}ecat-slave exit $src after SIGTERM: $(tail -3 "$2")"
+    local rc=$?
+    [ "$rc" -eq 0 ] || fail "${1}ecat-slave exit $rc after SIGTERM: $(tail -3 "$2")"
   fi
   slave_pid=""
 }
@@ -56,7 +56,7 @@ start_run() {
   port=$((port + 1))
   "$slave" --udp "127.0.0.1:$port" --count $n "$@" > "$out/$name.log" 2>&1 &
   slave_pid=$!
-  for _ in $(seq 50); do grep -q "slave(s) on udp" "$out/$name.log" && break; sleep 0.1; done
+  for _ in $(seq 50); do grep -q "slave(s) on udp" "$out/$name.log" 2> /dev/null && break; sleep 0.1; done
   timeout 120 "$master" --udp "127.0.0.1:$port" --expect-slaves $n --cycles "$cycles" > "$out/$name-master.log" 2>&1
   rc=$?
   kill -USR1 "$slave_pid"
