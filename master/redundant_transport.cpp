@@ -77,6 +77,7 @@ RedundantTransport::Seen RedundantTransport::poll(transport::Transport& port, By
                                                   Nanoseconds wait) {
   auto got = port.receive(into, wait);
   if (!got) return Seen::Nothing;  // timeout, or a port that cannot receive (link down)
+  (&port == &primary_ ? primary_heard_ : secondary_heard_) = true;
   const Bytes frame(into.data(), *got);
   auto view = parse_frame(frame);
   if (!view || view->size() == 0 || (*view)[0].index() != index_) {
@@ -102,8 +103,14 @@ void RedundantTransport::finish(RingState s) noexcept {
   switch (s) {
     case RingState::Intact: ++stats_.intact; break;
     case RingState::Broken: ++stats_.broken; break;
-    case RingState::PrimaryLinkDown: ++stats_.primary_down; break;
-    case RingState::SecondaryLinkDown: ++stats_.secondary_down; break;
+    case RingState::PrimaryLinkDown:
+      ++stats_.primary_down;
+      primary_heard_ = false;
+      break;
+    case RingState::SecondaryLinkDown:
+      ++stats_.secondary_down;
+      secondary_heard_ = false;
+      break;
     case RingState::NoReply: ++stats_.no_reply; break;
     case RingState::Unknown: break;
   }
@@ -164,14 +171,27 @@ Expected<std::size_t, transport::TransportError> RedundantTransport::receive(Byt
       finish(RingState::Intact);
       return deliver(rx_secondary_, secondary_length, buffer);
     }
+    // A port found down in the last exchange is looked at once more before
+    // the other's frame settles the exchange: its reply may have come in
+    // while the other port was waited on.
+    const bool secondary_was_down = state_ == RingState::SecondaryLinkDown;
+    const bool primary_was_down = state_ == RingState::PrimaryLinkDown;
+    if (secondary_was_down && on_primary == Seen::PrimaryFrame && on_secondary == Seen::Nothing) {
+      on_secondary = poll(secondary_, rx_secondary_, secondary_length, Nanoseconds{0});
+    }
+    if (primary_was_down && on_secondary == Seen::SecondaryFrame && on_primary == Seen::Nothing) {
+      on_primary = poll(primary_, rx_primary_, primary_length, Nanoseconds{0});
+    }
     if (on_primary == Seen::PrimaryFrame && on_secondary == Seen::SecondaryFrame) {
       secondary_side_slaves_ = dummy_wkc();
       finish(RingState::Broken);
       return resend_on_secondary(Bytes(rx_primary_.data(), primary_length), buffer, timeout);
     }
-    // A port found down in the last exchange is not waited for again.
-    if (on_primary == Seen::PrimaryFrame && state_ == RingState::SecondaryLinkDown) break;
-    if (on_primary == Seen::Nothing && on_secondary == Seen::SecondaryFrame && state_ == RingState::PrimaryLinkDown) {
+    // Such a port is not waited for again, unless a frame has come in on it
+    // since it was found down (a late reply of an earlier exchange: a host
+    // that was held up, not a cut cable).
+    if (secondary_was_down && on_primary == Seen::PrimaryFrame && !secondary_heard_) break;
+    if (primary_was_down && on_secondary == Seen::SecondaryFrame && on_primary == Seen::Nothing && !primary_heard_) {
       break;
     }
   }

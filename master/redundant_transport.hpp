@@ -110,6 +110,9 @@ class RedundantTransport final : public transport::Transport {
   std::size_t tx_length_ = 0;
   std::size_t dummy_length_ = 0;
   RingState state_ = RingState::Unknown;
+  // A frame came in on the port since the port was last found down.
+  bool primary_heard_ = false;
+  bool secondary_heard_ = false;
   std::uint16_t secondary_side_slaves_ = 0;
   RedundancyStats stats_{};
   std::array<std::uint8_t, transport::kMaxFrameSize> tx_{};

@@ -36,10 +36,14 @@ class FakeRing {
       return {};
     }
     Expected<std::size_t, transport::TransportError> receive(Bytes buffer, Nanoseconds) override {
-      return queue.pop(buffer);
+      ++polls;
+      auto got = queue.pop(buffer);
+      if (!primary_) ring_.release_late_primary_returns();
+      return got;
     }
     ecat::test::FrameQueue queue;
     std::size_t sent = 0;
+    std::size_t polls = 0;  // receive() calls
 
    private:
     FakeRing& ring_;
@@ -53,6 +57,12 @@ class FakeRing {
   // Cut the cable after slave `k` (k = -1: between the primary port and slave
   // 0; k = N-1: between the last slave and the secondary port); empty = intact.
   void cut_after(std::optional<long> k) { cut_ = k; }
+
+  // A host held up: the next `n` frames the primary side returns are lost.
+  void lose_primary_returns(std::size_t n) { lose_primary_returns_ = n; }
+  // The primary side's returns come in only while the master waits on the
+  // secondary port (after its next receive there): a host slower on one side.
+  void late_primary_returns(bool late) { late_primary_returns_ = late; }
 
   std::vector<FakeEsc> escs;
   Port primary;
@@ -77,7 +87,15 @@ class FakeRing {
     if (from_primary) {
       if (k < 0) return;  // no link on the primary port: lost
       process(f, 0, static_cast<std::size_t>(k + 1));
-      primary.queue.push_back(std::move(f));
+      if (lose_primary_returns_ > 0) {
+        --lose_primary_returns_;
+        return;
+      }
+      if (late_primary_returns_) {
+        held_.push_back(std::move(f));
+      } else {
+        primary.queue.push_back(std::move(f));
+      }
     } else {
       if (k >= n - 1) return;  // no link on the secondary port: lost
       processed_by_secondary_side += static_cast<std::size_t>(n - 1 - k);
@@ -86,7 +104,17 @@ class FakeRing {
     }
   }
 
+  void release_late_primary_returns() {
+    while (!held_.empty()) {
+      primary.queue.push_back(std::move(held_.front()));
+      held_.pop_front();
+    }
+  }
+
   std::optional<long> cut_;
+  std::size_t lose_primary_returns_ = 0;
+  bool late_primary_returns_ = false;
+  std::deque<std::vector<std::uint8_t>> held_;
 };
 
 }  // namespace ecat::master::test

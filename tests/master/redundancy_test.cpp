@@ -167,5 +167,50 @@ TEST(Redundancy, EitherMasterCableCut) {
   }
 }
 
+// A broken ring whose primary side once did not answer (a host held up, as
+// e2e_redundancy on a loaded CI machine): that exchange finds the primary
+// link down and gets only the secondary side's WKC. The primary side's
+// frames then come in while the master waits on the secondary port; each
+// following exchange must find the break again, not "primary link down" with
+// the secondary side's WKC from then on.
+TEST(Redundancy, ALostReplyOnABrokenRingIsNotTakenForACutPrimaryCable) {
+  RingRig rig;
+  rig.ring.cut_after(1);  // between slave 2 and slave 3
+  rig.bring_up();
+  rig.ring.late_primary_returns(true);
+  rig.cycle(1);
+  ASSERT_EQ(rig.red.state(), RingState::Broken);
+
+  rig.ring.lose_primary_returns(1);
+  auto lost = rig.master.exchange_process_data();
+  ASSERT_TRUE(lost.has_value());
+  EXPECT_EQ(rig.red.state(), RingState::PrimaryLinkDown);
+  EXPECT_EQ(lost->wkc, 3 * (kSlaves - 2));  // only slaves 3..5 had the frame
+
+  for (std::uint8_t n = 3; n <= 10; ++n) {
+    rig.cycle(n);
+    ASSERT_EQ(rig.red.state(), RingState::Broken) << int(n);
+  }
+  auto where = rig.red.ring_break(kSlaves);
+  ASSERT_TRUE(where.has_value());
+  EXPECT_EQ(where->last_primary_side, 1u);
+  EXPECT_EQ(where->first_secondary_side, 2u);
+  EXPECT_EQ(rig.red.stats().primary_down, 1u);
+}
+
+// A cut primary cable is still not waited for: once found down, an exchange
+// looks at the primary port once before and once after the dummy is back.
+TEST(Redundancy, ACutPrimaryCableIsNotWaitedForAgain) {
+  RingRig rig;
+  rig.ring.cut_after(-1);
+  rig.bring_up();
+  rig.cycle(1);
+  ASSERT_EQ(rig.red.state(), RingState::PrimaryLinkDown);
+  const std::size_t before = rig.ring.primary.polls;
+  rig.cycle(2);
+  EXPECT_EQ(rig.red.state(), RingState::PrimaryLinkDown);
+  EXPECT_EQ(rig.ring.primary.polls - before, 2u);
+}
+
 }  // namespace
 }  // namespace ecat::master::test
