@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <vector>
 #include <memory>
@@ -59,6 +60,24 @@ void sleep_until(ecat::Nanoseconds deadline) {
   ts.tv_nsec = static_cast<long>(deadline.count() % kNsPerSecond);
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
   }
+}
+
+// SIGINT or SIGTERM during the cyclic run end it at the next cycle, and the
+// statistics are printed as after the last cycle (as ping does on Ctrl-C):
+// a test that stops the master still gets its figures, lateness included.
+// A second signal does the same (no SA_RESETHAND): `timeout` sends its
+// SIGTERM to the program and again to its process group, and the second
+// must not kill it before the report. Installed only for the cyclic run: a
+// signal during the scan or the start-up ends the program as before.
+volatile std::sig_atomic_t stop_requested = 0;
+void on_stop_signal(int) { stop_requested = 1; }
+void stop_on_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
 }
 
 int report(const ecat::app::SessionReport& r, const Options& o) {
@@ -313,6 +332,7 @@ int main(int argc, char** argv) {
     std::printf("captured %zu slave(s) into %s, %zu note(s)\n", captured->slaves, o.capture.c_str(), captured->notes);
     return 0;
   }
+  o.session.stop = &stop_requested;
   ecat::app::Session session(master, clock, wait, o.session);
   if (auto ok = session.bring_up(); !ok) {
     std::fprintf(stderr, "ecat-master: %s\n", ok.error().c_str());
@@ -325,11 +345,16 @@ int main(int argc, char** argv) {
     if (ring) report_ring(*ring, master.slave_count());
     return 0;
   }
+  stop_on_signals();
   auto r = session.run();
   if (ring) report_ring(*ring, master.slave_count());
   if (!r) {
     std::fprintf(stderr, "ecat-master: %s\n", r.error().c_str());
     return kExitFailure;
+  }
+  if (r->stopped) {
+    std::fprintf(stderr, "ecat-master: stopped by a signal after %llu of %llu cycles\n",
+                 static_cast<unsigned long long>(r->cycles), static_cast<unsigned long long>(o.session.cycles));
   }
   return report(*r, o);
 }

@@ -385,6 +385,10 @@ Expected<SessionReport, std::string> Session::run() {
   report_.margin_min = o_.period;
   record_lateness_ = true;
   for (std::uint64_t c = 0; c < o_.cycles; ++c) {
+    if (o_.stop != nullptr && *o_.stop != 0) {
+      report_.stopped = true;
+      break;
+    }
     if (o_.move) drive_cycle(c);
     auto r = cycle_exchange();
     ++report_.cycles;

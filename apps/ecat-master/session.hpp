@@ -4,6 +4,7 @@
 // CiA402 drive in cyclic synchronous position mode.
 #pragma once
 
+#include <csignal>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -40,6 +41,10 @@ struct SessionOptions {
   // --sdo-read: objects uploaded from every CoE slave in PreOp and printed
   // ("slave N sdo IIIIh:SS = bytes"), e.g. to check a firmware's dictionary.
   std::vector<std::pair<std::uint16_t, std::uint8_t>> sdo_reads;
+  // Set to non-zero (by a signal handler: SIGINT, SIGTERM) to end run()
+  // before its next cycle; the report then covers the cycles run so far.
+  // Null: every one of `cycles` runs.
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 struct SessionReport {
@@ -69,6 +74,7 @@ struct SessionReport {
   std::vector<std::uint32_t> reconnected;
   std::vector<std::int32_t> final_positions;  // 6064h per drive after --move
   bool moved_ok = true;
+  bool stopped = false;  // run() ended before `cycles` because `stop` was set
 };
 
 // Waits until `deadline` on the session's clock: sleeps on a live clock,

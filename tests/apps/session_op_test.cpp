@@ -8,6 +8,7 @@
 // running").
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdint>
 #include <string>
 
@@ -168,6 +169,42 @@ TEST(SessionOp, ABroadcastNotTakenByEverySlaveIsFollowedByOneWriteEach) {
   EXPECT_EQ(m.op_fpwr_frames, kDrives);
   EXPECT_EQ(m.op_request_frames, 1 + kDrives);
   for (std::size_t i = 0; i < kDrives; ++i) EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatus), kOp) << "slave " << i + 1;
+}
+
+// ecat-master's SIGINT/SIGTERM (apps/ecat-master/main.cpp): the handler
+// sets the flag SessionOptions::stop points to, and the run ends before its
+// next cycle with the report of the cycles run so far; the drives stay in Op.
+// The flag is set here from the wait of the 100th cycle.
+TEST(SessionRun, AStopRequestEndsTheRunBeforeItsNextCycle) {
+  for (const bool stop : {true, false}) {
+    SCOPED_TRACE(stop);
+    SlowMaster m;
+    volatile std::sig_atomic_t flag = 0;
+    std::uint64_t waits = 0;
+    bool counting = false;
+    app::SessionOptions o;
+    o.expect_slaves = kDrives;
+    o.verbose = false;
+    o.cycles = 1000;
+    o.stop = &flag;
+    app::Session s(
+        m.master, m.clock,
+        [&](Nanoseconds at) {
+          if (at > m.clock.now()) m.advance(at - m.clock.now());
+          if (counting && ++waits == 100 && stop) flag = 1;
+        },
+        o);
+    const auto up = s.bring_up();
+    ASSERT_TRUE(up) << up.error();
+    counting = true;
+    const auto r = s.run();
+    ASSERT_TRUE(r) << r.error();
+    EXPECT_EQ(r->stopped, stop);
+    EXPECT_EQ(r->cycles, stop ? 100u : 1000u);
+    EXPECT_EQ(r->lost_frames, 0u);
+    EXPECT_EQ(r->wkc_errors, 0u);
+    for (std::size_t i = 0; i < kDrives; ++i) EXPECT_EQ(m.read_u16(i, esc::reg::kAlStatus), kOp) << "slave " << i + 1;
+  }
 }
 
 }  // namespace

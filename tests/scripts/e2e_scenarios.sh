@@ -27,11 +27,13 @@ master=$build/bin/ecat-master
 e2e_use_realtime
 work=$(mktemp -d /tmp/e2e_scenarios.XXXXXX)
 trap 'kill $(jobs -p) 2>/dev/null; rm -rf "$work"' EXIT
+E2E_TMP=$work  # the lib's log helpers take names in this folder
 port=$((40000 + $$ % 20000))
 failures=0
 
 # run NAME FILE MASTER_ARGS...: the slave's exit status in $rc, the master's
-# in $mrc (143 when it still ran at the end and was stopped), their output in
+# in $mrc (when it still ran at the end, it is stopped with SIGTERM, prints
+# its statistics and exits 0, or 1 after a lost frame, WKC or state error), their output in
 # $work/NAME.log and $work/NAME.master.log; the slave's own arguments in the
 # array slave_args.
 slave_args=()
@@ -51,6 +53,45 @@ run() {
   mrc=$?
 }
 
+# check NAME: whether the run just made passed; the reason in $why when not.
+check() {
+  local name=$1
+  why=""
+  if [ "$rc" -ne 0 ] || ! grep -q 'failures="0"' "$work/$name.xml" 2> /dev/null; then
+    why="ecat-slave exit $rc (0 expected): $(grep -m1 '^  FAIL' "$work/$name.log")"
+  elif [ -n "$master_exit" ] && [ "$mrc" != "$master_exit" ]; then
+    why="ecat-master exit $mrc ($master_exit expected)"
+  elif [ -n "$master_output" ] && ! grep -qF -- "$master_output" "$work/$name.master.log"; then
+    why="ecat-master did not print '$master_output'"
+  elif [ -z "$master_exit" ] && ! { grep -q '^ecat-master: stopped by a signal after ' "$work/$name.master.log" &&
+    grep -q '^cycles ' "$work/$name.master.log"; }; then
+    # Still cycling when the scenario ended: SIGTERM ends its run with the statistics.
+    why="ecat-master, stopped by SIGTERM, did not print its statistics"
+  fi
+  [ -z "$why" ]
+}
+
+# late NAME: the evidence that master or slave was held up in the run just
+# made (lib/netns.sh "Live timing under load"), in $evidence; false if none.
+late() {
+  local name=$1 stale
+  stale=$(e2e_slave_stale "$name")
+  evidence=""
+  if e2e_master_was_late "$name.master" "$period_us"; then
+    evidence="master: $(grep -m1 -oE '(cycle-jitter-max-us|start-up-cycle-gap-max-us) [0-9.]+' "$work/$name.master.log")"
+  fi
+  [ "$stale" -gt 0 ] && evidence="${evidence:+$evidence, }slave stale-dropped $stale"
+  [ -n "$evidence" ]
+}
+
+# Each scenario is run up to E2E_LIVE_ATTEMPTS times: a failed run is run
+# again only when master or slave was late in it (a busy host, as in every
+# live script); a failure without that evidence fails at once. Unlike the
+# other live scripts, a scenario that failed in every attempt fails even when
+# each was late: that evidence is weak here (on the 2-vCPU VM an idle run
+# shows cycle-jitter-max-us of 1-4 ms and a few stale frames at start-up),
+# and a scenario's failure is not judged by kind (an allowed AL code, a WKC),
+# so only a pass shows nothing was wrong.
 for file in "$src"/examples/scenarios/*.yaml; do
   name=$(basename "$file" .yaml)
   if grep -q '^# transport: redundant' "$file"; then
@@ -60,25 +101,25 @@ for file in "$src"/examples/scenarios/*.yaml; do
   args=$(sed -n 's/^# master: //p' "$file" | head -1)
   [ -n "$args" ] || { echo "FAIL: $name: no '# master: ARGS' line"; failures=$((failures + 1)); continue; }
   read -r -a argv <<< "$args"
-  read -r -a slave_args <<< "$(sed -n 's/^# slave: //p' "$file" | head -1)"
+  period_us=$(sed -n 's/.*--period-us \([0-9]*\).*/\1/p' <<< "$args")
+  period_us=${period_us:-1000}
   master_exit=$(sed -n 's/^# master-exit: //p' "$file" | head -1)
   master_output=$(sed -n 's/^# master-output: //p' "$file" | head -1)
-  run "$name" "$file" "${argv[@]}"
-  slave_args=()
-  sed -n '/^  \(PASS\|FAIL\|SKIP\)/p;/^scenario /p' "$work/$name.log"
-  if [ "$rc" -ne 0 ] || ! grep -q 'failures="0"' "$work/$name.xml" 2> /dev/null; then
-    echo "FAIL: $name: ecat-slave exit $rc (0 expected); its log and the master's:"
+  for try in $(seq 1 "$E2E_LIVE_ATTEMPTS"); do
+    read -r -a slave_args <<< "$(sed -n 's/^# slave: //p' "$file" | head -1)"
+    run "$name" "$file" "${argv[@]}"
+    slave_args=()
+    sed -n '/^  \(PASS\|FAIL\|SKIP\)/p;/^scenario /p' "$work/$name.log"
+    check "$name" && break
+    if [ "$try" -lt "$E2E_LIVE_ATTEMPTS" ] && late "$name"; then
+      echo "$name (attempt $try): $why - the host was late ($evidence), trying again"
+      continue
+    fi
+    echo "FAIL: $name (attempt $try): $why; its log and the master's:"
     cat "$work/$name.log" "$work/$name.master.log"
     failures=$((failures + 1))
-  elif [ -n "$master_exit" ] && [ "$mrc" != "$master_exit" ]; then
-    echo "FAIL: $name: ecat-master exit $mrc ($master_exit expected); its log:"
-    cat "$work/$name.master.log"
-    failures=$((failures + 1))
-  elif [ -n "$master_output" ] && ! grep -qF -- "$master_output" "$work/$name.master.log"; then
-    echo "FAIL: $name: ecat-master did not print '$master_output'; its log:"
-    cat "$work/$name.master.log"
-    failures=$((failures + 1))
-  fi
+    break
+  done
 done
 
 # A scenario the master cannot pass: it never asks for Bootstrap.
