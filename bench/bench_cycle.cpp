@@ -90,6 +90,25 @@ void run_cycles(benchmark::State& state, bool skipping, bool control = false, st
 void BM_Cycle_Csp(benchmark::State& state) { run_cycles(state, true); }
 BENCHMARK(BM_Cycle_Csp)->Apply(iterations_from_env)->Arg(1)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
+// BM_Cycle_Csp as ecat-slave's live loop runs it: every read of the slaves'
+// clock also costs a read of the host's steady clock (bench/bench_clock.hpp),
+// which the simulated clock of the other cases does not. reads_per_drive:
+// the clock reads a drive's cycle makes (the chain's, its ESC's and its
+// firmware's), counted.
+void BM_Cycle_CspLiveClock(benchmark::State& state) {
+  std::unique_ptr<DriveLine> line = make_line(state);
+  if (!line) return;
+  line->clock().live_reads(true);
+  const std::uint64_t before = line->clock().reads();
+  for (auto _ : state) line->cycle();
+  const std::uint64_t reads = line->clock().reads() - before;
+  line->clock().live_reads(false);
+  report(state, *line);
+  state.counters["reads_per_drive"] = static_cast<double>(reads) /
+                                      static_cast<double>(state.iterations() * static_cast<std::uint64_t>(state.range(0)));
+}
+BENCHMARK(BM_Cycle_CspLiveClock)->Apply(iterations_from_env)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
 // BM_Cycle_Csp with the firmware on state.range(1) threads (issue 30 item
 // 3, slave::Chain::set_firmware_threads), in wall time: the helpers spin,
 // so the CPU time they add is the cost and the wall time the gain. The

@@ -16,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "bench/bench_clock.hpp"
 #include "bench/mini_master.hpp"
 #include "coe/coe_header.hpp"
 #include "coe/mailbox_header.hpp"
@@ -222,6 +223,7 @@ class DriveLine {
   }
   std::uint16_t al_status(std::size_t d) noexcept { return chain_[d].esc().register_u16(esc::reg::kAlStatus); }
   slave::Chain& chain() noexcept { return chain_; }
+  BenchClock& clock() noexcept { return clock_; }
   // The built-in generic servo (esi::load_default_device).
   static std::shared_ptr<const od::DeviceDescription> default_device() {
     auto loaded = esi::load_default_device();
@@ -450,7 +452,7 @@ class DriveLine {
     return v;
   }
 
-  ManualClock clock_;
+  BenchClock clock_;
   slave::Chain chain_;
   std::size_t n_;
   std::size_t out_ = 0;
