@@ -223,7 +223,7 @@ void Esc::load_eeprom(bool power_on) noexcept {
 // compares the two.
 void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
   touch();
-  const Nanoseconds t = clock_.now();
+  const Nanoseconds t = pdi_now();
   run_timers(t);
   now_ = t;
   if (!config_.fast_paths || !pdi_read_fast(address, out)) {
@@ -239,7 +239,7 @@ void Esc::read(std::uint16_t address, std::span<std::uint8_t> out) noexcept {
 
 void Esc::write(std::uint16_t address, std::span<const std::uint8_t> in) noexcept {
   touch();
-  const Nanoseconds t = clock_.now();
+  const Nanoseconds t = pdi_now();
   run_timers(t);
   now_ = t;
   if (!config_.fast_paths || !pdi_write_fast(address, in)) {
@@ -347,7 +347,7 @@ std::span<const std::uint8_t> Esc::read_buffer(std::uint16_t address, std::span<
     read(address, scratch);
     return scratch;
   }
-  const Nanoseconds t = clock_.now();
+  const Nanoseconds t = pdi_now();
   run_timers(t);
   now_ = t;
   SmSignals sig;
@@ -376,7 +376,7 @@ void Esc::write_buffer_commit(std::uint16_t address, std::span<const std::uint8_
     write(address, bytes);  // the caller's scratch (or, against the contract, a stale place)
     return;
   }
-  const Nanoseconds t = clock_.now();
+  const Nanoseconds t = pdi_now();
   run_timers(t);
   now_ = t;
   SmSignals sig;

@@ -109,8 +109,15 @@ Nanoseconds VirtualSlave::advance(Nanoseconds now) noexcept {
   // The firmware sleeps unless the ESC raised its IRQ or its deadline came.
   if (!has_firmware_) return esc_wake_;
   const Nanoseconds fw =
-      firmware_->wants_poll(now, lines()) ? firmware_->advance(now, lines()) : firmware_->wake_time();
+      firmware_->wants_poll(now, lines()) ? run_firmware(now) : firmware_->wake_time();
   return std::min(esc_wake_, fw);
+}
+
+Nanoseconds VirtualSlave::run_firmware(Nanoseconds now) noexcept {
+  esc_->pin_pdi_time();
+  const Nanoseconds wake = firmware_->advance(now, lines());
+  esc_->unpin_pdi_time();
+  return wake;
 }
 
 void VirtualSlave::after_frame(Nanoseconds now) noexcept {
@@ -119,7 +126,7 @@ void VirtualSlave::after_frame(Nanoseconds now) noexcept {
   if (esc_wake_ <= now) {  // max when the ESC has nothing armed
     (void)advance(now);
   } else if (has_firmware_ && firmware_->wants_poll(now, lines())) {
-    (void)firmware_->advance(now, lines());
+    (void)run_firmware(now);
   }
 }
 

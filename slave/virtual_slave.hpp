@@ -126,6 +126,9 @@ class alignas(64) VirtualSlave {  // one cache line for the hot members below
   void shutdown() noexcept;
 
  private:
+  // The firmware's run at `now`, its accesses to the ESC at one time
+  // (esc::Esc::pin_pdi_time): one read of a live run's clock, not one per access.
+  Nanoseconds run_firmware(Nanoseconds now) noexcept;
   VirtualSlave() = default;
   // The emulated SPI chip on esc_ and the firmware's SPI backend to it
   // (options_.pdi Lan9252/Et1100Spi), brought up as at power-on.

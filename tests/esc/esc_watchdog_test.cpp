@@ -138,6 +138,30 @@ TEST_F(WdTest, PdiWatchdog) {
   EXPECT_EQ(esc().register_u16(reg::kDlStatus) & bits::kDlPdiWatchdogOk, bits::kDlPdiWatchdogOk);
 }
 
+// A firmware run's accesses take one time (Esc::pin_pdi_time): the clock's
+// at the pin, however it moves before the unpin; the PDI watchdog counts
+// from there. Unpinned, each access takes the clock's time again.
+TEST_F(WdTest, PinnedPdiAccessesTakeTheTimeOfThePin) {
+  at(1s);
+  esc().pin_pdi_time();
+  at(1s + 30ms);
+  (void)esc().read_u16(reg::kAlControl);
+  std::uint8_t outputs[4]{};
+  (void)esc().read_buffer(kOutputs, outputs);  // SM2, in place
+  esc().unpin_pdi_time();
+  EXPECT_EQ(esc().poll(1s + 30ms), 1s + 100ms);
+  esc().poll(1s + 100ms - 1ns);
+  EXPECT_EQ(esc().register_u16(reg::kDlStatus) & bits::kDlPdiWatchdogOk, bits::kDlPdiWatchdogOk);
+  esc().poll(1s + 100ms);
+  EXPECT_EQ(esc().register_u16(reg::kDlStatus) & bits::kDlPdiWatchdogOk, 0);
+  EXPECT_EQ(esc().memory()[reg::kWatchdogCounterPdi], 1);
+  at(2s);
+  (void)esc().read_u16(reg::kAlControl);
+  at(2s + 30ms);
+  (void)esc().read_u16(reg::kAlControl);
+  EXPECT_EQ(esc().poll(2s + 30ms), 2s + 130ms);
+}
+
 // Section II 0x0802: an SM of length 1 is not activated ("shall be greater
 // 1"), but an ECAT write to its byte still triggers the watchdog if control
 // bit 6 is set - by FPWR, through a byte FMMU (routed LWR) and through a

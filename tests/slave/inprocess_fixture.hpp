@@ -3,6 +3,7 @@
 // clock by a fixed wire time per frame.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -19,9 +20,26 @@ namespace ecat::test {
 
 inline constexpr Nanoseconds kWireTime = std::chrono::microseconds(5);
 
+// The chain's view of the simulated clock, with its reads counted (how
+// often the slaves read the time: a live run's clock costs a vDSO call a read).
+class CountedClock final : public Clock {
+ public:
+  explicit CountedClock(const Clock& clock) noexcept : clock_(clock) {}
+  Nanoseconds now() const noexcept override {
+    ++reads_;
+    return clock_.now();
+  }
+  std::uint64_t reads() const noexcept { return reads_; }
+
+ private:
+  const Clock& clock_;
+  mutable std::uint64_t reads_ = 0;
+};
+
 struct InProcess {
   ManualClock clock;
-  slave::Chain chain{clock};
+  CountedClock chain_clock{clock};
+  slave::Chain chain{chain_clock};
   transport::InMemoryTransport wire{[this](Bytes frame) {
     clock.advance(kWireTime);
     (void)chain.process_frame(frame, clock.now());
