@@ -15,6 +15,7 @@
 #include "apps/ecat-master/session.hpp"
 #include "common/frame_parser.hpp"
 #include "common/le.hpp"
+#include "esc/al_status_code.hpp"
 #include "esc/register_bits.hpp"
 #include "esc/registers.hpp"
 #include "tests/slave/inprocess_fixture.hpp"
@@ -31,8 +32,8 @@ constexpr Nanoseconds kSmWatchdog = milliseconds(100);
 // four of them span more than the watchdog.
 constexpr Nanoseconds kHeldUp = milliseconds(30);
 constexpr std::uint16_t kAlStatusCodeSmWatchdog = 0x001B;
-constexpr std::uint8_t kOp = 0x08;
-constexpr std::uint8_t kSafeOp = 0x04;
+constexpr auto kOp = static_cast<std::uint8_t>(esc::AlState::Op);
+constexpr auto kSafeOp = static_cast<std::uint8_t>(esc::AlState::SafeOp);
 constexpr std::uint16_t kSafeOpWithErrInd = kSafeOp | esc::bits::kAlErrorInd;
 
 struct SlowMaster : InProcess {
